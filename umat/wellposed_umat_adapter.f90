@@ -1,0 +1,176 @@
+!> The UMAT contract implemented on typed arguments: validation, unpacking
+!> of PROPS/STATEV into wellposed's types, the call, packing back, and the
+!> contract's error behaviour. The external `umat` (umat.f90) only forwards
+!> here and prints the message of an invalid input; hosts and tests that
+!> want the message as a value call umat_update directly.
+module wellposed_umat_adapter
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
+  use wellposed_tensor, only: ntens6
+  use wellposed_elasticity, only: elastic_t, stiffness, apply_compliance
+  use wellposed_dp_params, only: dp_params_t, new_dp_params, real_text
+  use wellposed_dp_model, only: dp_state_t, dp_output_t, dp_update
+  use wellposed_abaqus, only: stress_to_mandel, stress_from_mandel, strain_to_mandel, &
+                              strain_from_mandel, tangent_from_mandel
+  use wellposed_umat_layout
+  implicit none
+  private
+  public :: umat_update, cutback_factor
+
+  !> PNEWDT requested on status -2 (a smaller increment may succeed).
+  real(dp), parameter :: cutback_factor = 0.5_dp
+
+contains
+
+  !> One UMAT increment. Arguments as in the Abaqus UMAT. On failure `err`
+  !> is allocated (status -1 invalid input, -2 cut back), STATEV(12) holds the
+  !> status when NSTATV >= 12, PNEWDT < 1, STRESS and the other STATEV slots
+  !> are untouched and DDSDDE is the elastic stiffness where K and G are valid.
+  subroutine umat_update(stress, statev, ddsdde, sse, spd, dstran, stran, dtime, ndi, nshr, &
+                         ntens, nstatv, props, nprops, pnewdt, err)
+    integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops
+    real(dp), intent(inout) :: stress(ntens), statev(nstatv), ddsdde(ntens, ntens)
+    real(dp), intent(inout) :: sse, spd, pnewdt
+    real(dp), intent(in) :: dstran(ntens), stran(ntens), dtime, props(nprops)
+    type(error_t), allocatable, intent(out) :: err
+    type(dp_params_t) :: p
+    type(dp_state_t) :: state
+    type(dp_output_t) :: out
+    real(dp) :: pr(nprops_known), sig(ntens6), sig_n(ntens6), tangent(ntens6, ntens6)
+    logical :: want_tangent
+
+    call check_layout(ndi, nshr, ntens, nstatv, nprops, props, err)
+    if (allocated(err)) then
+      call fail(); return
+    end if
+    pr = 0.0_dp
+    pr(1:min(nprops, nprops_known)) = props(1:min(nprops, nprops_known))
+    call new_dp_params(p, pr(prop_bulk), pr(prop_shear), pr(prop_beta), pr(prop_beta_p), &
+                       pr(prop_k0), pr(prop_h), pr(prop_k_lim), pr(prop_z_ref), pr(prop_p_v), &
+                       pr(prop_p_d), pr(prop_tau), pr(prop_h_zeta), pr(prop_length), err)
+    if (allocated(err)) then
+      err%message = slot_text(err%key)//err%message
+      call fail(); return
+    end if
+    if (pr(prop_explicit) /= 0.0_dp .and. pr(prop_explicit) /= 1.0_dp) then
+      call new_error(err, status_invalid, 'explicit', slot_text('explicit')//'explicit = '// &
+        real_text(pr(prop_explicit))//' is out of range: valid is 0 (compute DDSDDE) or 1 '// &
+        '(explicit host: no tangent)')
+      call fail(); return
+    end if
+    if (.not. (ieee_is_finite(dtime) .and. dtime >= 0.0_dp)) then
+      call new_error(err, status_invalid, '', 'DTIME = '//real_text(dtime)// &
+        ' is out of range: valid is a finite time increment >= 0')
+      call fail(); return
+    end if
+    if (.not. (all(ieee_is_finite(stress)) .and. all(ieee_is_finite(dstran)) .and. &
+               all(ieee_is_finite(stran)) .and. all(ieee_is_finite(statev(1:nstatv_min))))) then
+      call new_error(err, status_cutback, '', 'non-finite STRESS, STRAN, DSTRAN or STATEV '// &
+        'on input')
+      call fail(); return
+    end if
+
+    state%z = statev(sv_z)
+    state%zeta = statev(sv_zeta)
+    state%eps_p = strain_to_mandel(statev(sv_eps_p:sv_eps_p + 5), ntens6)
+    sig_n = stress_to_mandel(stress, ntens)
+    sig = sig_n
+    want_tangent = pr(prop_explicit) == 0.0_dp
+    if (want_tangent) then
+      call dp_update(p, sig, state, strain_to_mandel(dstran, ntens), dtime, &
+                     statev(sv_avg_dlambda), out, tangent, err)
+    else
+      call dp_update(p, sig, state, strain_to_mandel(dstran, ntens), dtime, &
+                     statev(sv_avg_dlambda), out, err=err)
+    end if
+    if (allocated(err)) then
+      call fail(); return
+    end if
+
+    stress = stress_from_mandel(sig, ntens)
+    if (want_tangent) ddsdde = tangent_from_mandel(tangent, ntens)
+    statev(sv_z) = state%z
+    statev(sv_dlambda) = out%dlambda
+    statev(sv_zeta) = state%zeta
+    statev(sv_eps_p:sv_eps_p + 5) = strain_from_mandel(state%eps_p)
+    statev(sv_f) = out%f
+    statev(sv_status) = real(out%status, dp)
+    sse = 0.5_dp*dot_product(sig, apply_compliance(p%el, sig))
+    spd = spd + 0.5_dp*dot_product(sig_n + sig, strain_to_mandel(dstran, ntens) &
+                                   - apply_compliance(p%el, sig - sig_n))
+
+  contains
+
+    !> The contract's failure: status slot, PNEWDT, elastic DDSDDE.
+    subroutine fail()
+      if (nstatv >= nstatv_min) statev(sv_status) = real(err%status, dp)
+      if (err%status == status_invalid) then
+        pnewdt = -1.0_dp
+      else
+        pnewdt = min(pnewdt, cutback_factor)
+      end if
+      if (nprops >= prop_shear .and. ntens >= 4 .and. ntens <= 6) then
+        if (ieee_is_finite(props(prop_bulk)) .and. ieee_is_finite(props(prop_shear)) .and. &
+            props(prop_bulk) > 0.0_dp .and. props(prop_shear) > 0.0_dp) then
+          ddsdde = tangent_from_mandel(stiffness(elastic_t(props(prop_bulk), &
+                                                           props(prop_shear))), ntens)
+        end if
+      end if
+    end subroutine fail
+
+  end subroutine umat_update
+
+  !> Dimensions and array sizes the contract supports.
+  pure subroutine check_layout(ndi, nshr, ntens, nstatv, nprops, props, err)
+    integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops
+    real(dp), intent(in) :: props(nprops)
+    type(error_t), allocatable, intent(out) :: err
+    integer :: i
+    if (.not. ((ntens == 6 .and. ndi == 3 .and. nshr == 3) .or. &
+               (ntens == 4 .and. ndi == 3 .and. nshr == 1))) then
+      call new_error(err, status_invalid, '', 'NTENS = '//int_text(ntens)//' (NDI = '// &
+        int_text(ndi)//', NSHR = '//int_text(nshr)//') is not supported: valid are NTENS = 6 '// &
+        '(NDI = 3, NSHR = 3) and NTENS = 4 (plane strain or axisymmetric, NDI = 3, NSHR = 1); '// &
+        'plane stress is not')
+      return
+    end if
+    if (nstatv < nstatv_min) then
+      call new_error(err, status_invalid, '', 'NSTATV = '//int_text(nstatv)// &
+        ' is too small: the contract needs NSTATV >= '//int_text(nstatv_min))
+      return
+    end if
+    if (nprops < nprops_min) then
+      call new_error(err, status_invalid, '', 'NPROPS = '//int_text(nprops)// &
+        ' is too small: K, G, beta, beta_p and k0 (PROPS 1-5) are required')
+      return
+    end if
+    do i = nprops_known + 1, nprops
+      if (props(i) /= 0.0_dp) then
+        call new_error(err, status_invalid, '', 'PROPS('//int_text(i)//') = '// &
+          real_text(props(i))//' is not a wellposed slot: valid are PROPS 1-'// &
+          int_text(nprops_known)//'; extra entries must be 0')
+        return
+      end if
+    end do
+  end subroutine check_layout
+
+  !> "PROPS(n) " for a parameter symbol, empty when it has no slot.
+  pure function slot_text(key) result(text)
+    character(len=*), intent(in) :: key
+    character(len=:), allocatable :: text
+    integer :: slot
+    slot = prop_slot(key)
+    text = ''
+    if (slot > 0) text = 'PROPS('//int_text(slot)//') '
+  end function slot_text
+
+  pure function int_text(i) result(text)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: text
+    character(len=16) :: buffer
+    write (buffer, '(i0)') i
+    text = trim(buffer)
+  end function int_text
+
+end module wellposed_umat_adapter
