@@ -1,0 +1,290 @@
+!> Deck reading for the drivers. A deck is a plain-text file of Fortran
+!> namelist groups (`&group key = value, ... /`), the format a legacy batch
+!> job can write with one WRITE statement and a person can edit; `!` starts
+!> a comment. A driver declares one variable per key, sets each to its
+!> default (or to the sentinel `unset` for required keys), reads the group
+!> with `read (unit, nml=group, iostat=ios, iomsg=msg)` and turns a failure
+!> into a message with `namelist_error`, then validates every value with
+!> `check_required`, `check_finite` and `check_range`. Every message names
+!> the file, the group, the key and what was expected.
+module wellposed_deck
+  use, intrinsic :: iso_fortran_env, only: iostat_end
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid
+  implicit none
+  private
+  public :: read_text_file, namelist_error, check_required, check_finite, check_range, &
+            unset, is_set, real_str, has_group
+
+  !> Sentinel for "not given in the deck": a required real key is set to
+  !> `unset` before the READ and tested with `is_set` after it.
+  real(dp), parameter :: unset = -huge(1.0_dp)
+
+  !> Validate that a real value is finite (scalar or array).
+  interface check_finite
+    module procedure check_finite_scalar, check_finite_array
+  end interface check_finite
+
+  !> Validate lo <= value <= hi (reals or integers).
+  interface check_range
+    module procedure check_range_real, check_range_int
+  end interface check_range
+
+contains
+
+  !> True when a real key was given (differs from the sentinel `unset`).
+  elemental logical function is_set(x)
+    real(dp), intent(in) :: x
+    is_set = x /= unset
+  end function is_set
+
+  !> The whole file `path` as one string (lines separated by new_line('a')).
+  subroutine read_text_file(path, text, err)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable, intent(out) :: text
+    type(error_t), allocatable, intent(out) :: err
+    integer :: unit, ios, nbytes
+    character(len=512) :: msg
+    logical :: exists
+    inquire (file=path, exist=exists, size=nbytes)
+    if (.not. exists) then
+      call new_error(err, status_invalid, path, 'deck file "'//path//'" does not exist')
+      return
+    end if
+    open (newunit=unit, file=path, access='stream', form='unformatted', action='read', &
+          status='old', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
+      return
+    end if
+    allocate (character(len=max(nbytes, 0)) :: text)
+    if (nbytes > 0) read (unit, iostat=ios, iomsg=msg) text
+    close (unit)
+    if (ios /= 0) then
+      call new_error(err, status_invalid, path, 'cannot read "'//path//'": '//trim(msg))
+    end if
+  end subroutine read_text_file
+
+  !> True when the text of a deck holds the namelist group `&group`
+  !> (case-insensitive, outside comments), so an optional group can be
+  !> skipped without reading it.
+  pure logical function has_group(text, group)
+    character(len=*), intent(in) :: text, group
+    character(len=:), allocatable :: low, key
+    integer :: i
+    logical :: in_comment
+    low = lower(text)
+    key = '&'//lower(group)
+    has_group = .false.
+    in_comment = .false.
+    do i = 1, len(low) - len(key) + 1
+      if (low(i:i) == new_line('a')) then
+        in_comment = .false.
+      else if (low(i:i) == '!') then
+        in_comment = .true.
+      end if
+      if (in_comment) cycle
+      if (low(i:i + len(key) - 1) == key) then
+        if (i + len(key) > len(low)) then
+          has_group = .true.; return
+        end if
+        if (verify(low(i + len(key):i + len(key)), ' ,/'//new_line('a')//char(9)//char(13)) &
+            == 0) then
+          has_group = .true.; return
+        end if
+      end if
+    end do
+  end function has_group
+
+  !> The error for a failed namelist READ of group `group` from `path`,
+  !> quoting gfortran's iomsg. gfortran reports a value it cannot read
+  !> (text for a number, "2.5" for an integer) as "Cannot match namelist
+  !> object name <token>", the same words as for an unknown key; when the
+  !> deck's `text` is given, the token is located in it and a token that
+  !> follows "key =" is reported as a bad value of that key.
+  function namelist_error(path, group, iostat, iomsg, text) result(err)
+    character(len=*), intent(in) :: path, group, iomsg
+    integer, intent(in) :: iostat
+    character(len=*), intent(in), optional :: text
+    type(error_t), allocatable :: err
+    character(len=:), allocatable :: hint, token, key
+    character(len=*), parameter :: marker = 'Cannot match namelist object name '
+    integer :: at
+    if (iostat == iostat_end) then
+      call new_error(err, status_invalid, group, path//': namelist group &'//group// &
+        ' not found (the deck must contain "&'//group//' ... /")')
+      return
+    end if
+    hint = ''
+    at = index(iomsg, marker)
+    if (at > 0) then
+      token = trim(iomsg(at + len(marker):))
+      key = ''
+      if (present(text)) key = key_of_value(text, token)
+      if (len(key) > 0) then
+        hint = ' (key '//key//': a value of the wrong type or a malformed number)'
+      else if (is_name(token)) then
+        hint = ' (unknown key "'//token//'": see the README for the keys of &'//group//')'
+      else
+        hint = ' (a value of the wrong type or a malformed number)'
+      end if
+    else if (index(lower(iomsg), 'bad') > 0) then
+      hint = ' (a value of the wrong type, or a missing value)'
+    end if
+    call new_error(err, status_invalid, group, path//': cannot read namelist group &'// &
+      group//': '//trim(iomsg)//hint)
+  end function namelist_error
+
+  !> The key whose value contains `token` in the deck text ("key = value"),
+  !> or '' when `token` is not part of a value.
+  pure function key_of_value(text, token) result(key)
+    character(len=*), intent(in) :: text, token
+    character(len=:), allocatable :: key, low
+    integer :: at, i, j
+    character(len=*), parameter :: stops = ' ,='//char(9)//char(10)//char(13)
+    key = ''
+    if (len(token) == 0) return
+    low = lower(text)
+    at = index(low, lower(token))
+    if (at == 0) return
+    i = at - 1
+    do while (i >= 1)                    ! back to the start of the value
+      if (index(stops, low(i:i)) > 0) exit
+      i = i - 1
+    end do
+    do while (i >= 1)                    ! blanks before it
+      if (low(i:i) /= ' ' .and. low(i:i) /= char(9)) exit
+      i = i - 1
+    end do
+    if (i < 1) return
+    if (low(i:i) /= '=') return
+    i = i - 1
+    do while (i >= 1)
+      if (low(i:i) /= ' ' .and. low(i:i) /= char(9)) exit
+      i = i - 1
+    end do
+    j = i
+    do while (i >= 1)
+      if (.not. is_name(low(i:i)) .and. low(i:i) /= '(' .and. low(i:i) /= ')' .and. &
+          index('0123456789', low(i:i)) == 0) exit
+      i = i - 1
+    end do
+    if (j > i) key = text(i + 1:j)
+  end function key_of_value
+
+  !> True for a Fortran name (a letter, then letters, digits, underscores).
+  pure logical function is_name(token)
+    character(len=*), intent(in) :: token
+    character(len=*), parameter :: letters = 'abcdefghijklmnopqrstuvwxyz'
+    is_name = .false.
+    if (len(token) == 0) return
+    if (index(letters, lower(token(1:1))) == 0) return
+    is_name = verify(lower(token), letters//'0123456789_') == 0
+  end function is_name
+
+  !> Error unless `is_set`: the required key `key` of group `group` is missing.
+  subroutine check_required(path, group, key, is_set, err)
+    character(len=*), intent(in) :: path, group, key
+    logical, intent(in) :: is_set
+    type(error_t), allocatable, intent(out) :: err
+    if (.not. is_set) then
+      call new_error(err, status_invalid, key, path//': &'//group//': key '//key// &
+        ' is required but not given')
+    end if
+  end subroutine check_required
+
+  !> Error unless `value` is a finite number (not NaN, not Inf).
+  subroutine check_finite_scalar(path, group, key, value, err)
+    character(len=*), intent(in) :: path, group, key
+    real(dp), intent(in) :: value
+    type(error_t), allocatable, intent(out) :: err
+    if (.not. ieee_is_finite(value)) then
+      call new_error(err, status_invalid, key, path//': &'//group//': '//key//' = '// &
+        real_str(value)//' is not a finite number')
+    end if
+  end subroutine check_finite_scalar
+
+  !> Error unless every element of `value` is finite; names the first bad one.
+  subroutine check_finite_array(path, group, key, value, err)
+    character(len=*), intent(in) :: path, group, key
+    real(dp), intent(in) :: value(:)
+    type(error_t), allocatable, intent(out) :: err
+    integer :: i
+    character(len=16) :: idx
+    do i = 1, size(value)
+      if (.not. ieee_is_finite(value(i))) then
+        write (idx, '(i0)') i
+        call new_error(err, status_invalid, key, path//': &'//group//': '//key//'('// &
+          trim(idx)//') = '//real_str(value(i))//' is not a finite number')
+        return
+      end if
+    end do
+  end subroutine check_finite_array
+
+  !> Error unless lo <= value <= hi (and value is finite).
+  subroutine check_range_real(path, group, key, value, lo, hi, err)
+    character(len=*), intent(in) :: path, group, key
+    real(dp), intent(in) :: value, lo, hi
+    type(error_t), allocatable, intent(out) :: err
+    call check_finite_scalar(path, group, key, value, err)
+    if (allocated(err)) return
+    if (value < lo .or. value > hi) then
+      call new_error(err, status_invalid, key, path//': &'//group//': '//key//' = '// &
+        real_str(value)//' is out of range: valid is ['//real_str(lo)//', '// &
+        real_str(hi)//']')
+    end if
+  end subroutine check_range_real
+
+  !> Error unless lo <= value <= hi.
+  subroutine check_range_int(path, group, key, value, lo, hi, err)
+    character(len=*), intent(in) :: path, group, key
+    integer, intent(in) :: value, lo, hi
+    type(error_t), allocatable, intent(out) :: err
+    character(len=24) :: v, l, h
+    if (value < lo .or. value > hi) then
+      write (v, '(i0)') value
+      write (l, '(i0)') lo
+      write (h, '(i0)') hi
+      call new_error(err, status_invalid, key, path//': &'//group//': '//key//' = '// &
+        trim(v)//' is out of range: valid is ['//trim(l)//', '//trim(h)//']')
+    end if
+  end subroutine check_range_int
+
+  !> A real as short text (ES format; NaN, Inf and `unset` spelled out).
+  pure function real_str(x) result(text)
+    real(dp), intent(in) :: x
+    character(len=:), allocatable :: text
+    character(len=32) :: buffer
+    if (x == unset) then
+      text = '(not set)'
+      return
+    end if
+    if (abs(x) >= 1.0e-3_dp .and. abs(x) < 1.0e6_dp .or. x == 0.0_dp) then
+      write (buffer, '(g0)') x
+      text = trim(adjustl(buffer))
+      ! trim trailing zeros of g0's long mantissa
+      if (index(text, '.') > 0 .and. index(text, 'E') == 0) then
+        do while (text(len(text):len(text)) == '0')
+          text = text(1:len(text) - 1)
+        end do
+        if (text(len(text):len(text)) == '.') text = text//'0'
+      end if
+    else
+      write (buffer, '(es12.5)') x
+      text = trim(adjustl(buffer))
+    end if
+  end function real_str
+
+  pure function lower(text) result(low)
+    character(len=*), intent(in) :: text
+    character(len=len(text)) :: low
+    integer :: i, c
+    low = text
+    do i = 1, len(text)
+      c = iachar(text(i:i))
+      if (c >= iachar('A') .and. c <= iachar('Z')) low(i:i) = achar(c + 32)
+    end do
+  end function lower
+
+end module wellposed_deck

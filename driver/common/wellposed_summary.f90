@@ -1,0 +1,108 @@
+!> summary.txt of a run: one `key = value` line per figure that matters,
+!> optionally followed by `  # comment`. Reals are written with 16
+!> significant digits (ES format), logicals as true/false, integers plain.
+!> Regression tests read these lines back and compare with tolerances.
+module wellposed_summary
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_fs, only: rename_path, process_id, int_text
+  implicit none
+  private
+  public :: summary_t
+
+  type :: line_t
+    character(len=:), allocatable :: text
+  end type line_t
+
+  !> The lines of a summary, in the order added.
+  type :: summary_t
+    type(line_t), allocatable :: lines(:)
+    integer :: n = 0
+  contains
+    procedure, private :: add_real, add_int, add_logical, add_char
+    !> add(key, value[, comment]) for real(dp), integer, logical, character.
+    generic :: add => add_real, add_int, add_logical, add_char
+    procedure :: write => summary_write
+  end type summary_t
+
+contains
+
+  subroutine push(self, key, value, comment)
+    class(summary_t), intent(inout) :: self
+    character(len=*), intent(in) :: key, value
+    character(len=*), intent(in), optional :: comment
+    type(line_t), allocatable :: grown(:)
+    character(len=:), allocatable :: line
+    if (.not. allocated(self%lines)) allocate (self%lines(16))
+    if (self%n == size(self%lines)) then
+      allocate (grown(2*self%n))
+      grown(1:self%n) = self%lines(1:self%n)
+      call move_alloc(grown, self%lines)
+    end if
+    line = trim(key)//' = '//value
+    if (present(comment)) then
+      if (len_trim(comment) > 0) line = line//'  # '//trim(comment)
+    end if
+    self%n = self%n + 1
+    self%lines(self%n)%text = line
+  end subroutine push
+
+  subroutine add_real(self, key, value, comment)
+    class(summary_t), intent(inout) :: self
+    character(len=*), intent(in) :: key
+    real(dp), intent(in) :: value
+    character(len=*), intent(in), optional :: comment
+    character(len=32) :: buffer
+    write (buffer, '(es23.15e3)') value
+    call push(self, key, trim(adjustl(buffer)), comment)
+  end subroutine add_real
+
+  subroutine add_int(self, key, value, comment)
+    class(summary_t), intent(inout) :: self
+    character(len=*), intent(in) :: key
+    integer, intent(in) :: value
+    character(len=*), intent(in), optional :: comment
+    call push(self, key, int_text(value), comment)
+  end subroutine add_int
+
+  subroutine add_logical(self, key, value, comment)
+    class(summary_t), intent(inout) :: self
+    character(len=*), intent(in) :: key
+    logical, intent(in) :: value
+    character(len=*), intent(in), optional :: comment
+    if (value) then
+      call push(self, key, 'true', comment)
+    else
+      call push(self, key, 'false', comment)
+    end if
+  end subroutine add_logical
+
+  subroutine add_char(self, key, value, comment)
+    class(summary_t), intent(inout) :: self
+    character(len=*), intent(in) :: key, value
+    character(len=*), intent(in), optional :: comment
+    call push(self, key, trim(value), comment)
+  end subroutine add_char
+
+  !> Write the lines to `path` (through a temporary name, then rename).
+  subroutine summary_write(self, path, err)
+    class(summary_t), intent(in) :: self
+    character(len=*), intent(in) :: path
+    type(error_t), allocatable, intent(out) :: err
+    character(len=:), allocatable :: tmp
+    character(len=512) :: msg
+    integer :: unit, ios, i
+    tmp = path//'.tmp.'//int_text(process_id())
+    open (newunit=unit, file=tmp, status='replace', action='write', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call new_error(err, status_invalid, path, 'cannot write "'//path//'": '//trim(msg))
+      return
+    end if
+    do i = 1, self%n
+      write (unit, '(a)') self%lines(i)%text
+    end do
+    close (unit)
+    call rename_path(tmp, path, err)
+  end subroutine summary_write
+
+end module wellposed_summary
