@@ -6,7 +6,7 @@ module wellposed_test_support
   use wellposed_umat_interface, only: umat
   implicit none
   private
-  public :: call_umat, fd_tangent, seed_props, seed_stress, nsv
+  public :: call_umat, fd_tangent, seed_props, seed_stress, nsv, axial_increment
 
   !> STATEV length used by the tests (the contract's minimum).
   integer, parameter :: nsv = 12
@@ -78,5 +78,52 @@ contains
       t(:, j) = (sp - sm)/(2.0_dp*h)
     end do
   end function fd_tangent
+
+  !> One increment of axial strain `de_axial` (component 1) with the lateral
+  !> stresses (2, 3) held at their start values and shear strains zero, as in
+  !> uniaxial-stress and triaxial tests: Newton on the lateral strains with
+  !> DDSDDE, backtracking when the residual grows (an incrementally nonlinear
+  !> model switches branch as the lateral strains change). Returns the
+  !> iteration count, or -1 without convergence.
+  function axial_increment(props, stress, statev, de_axial) result(iterations)
+    real(dp), intent(in) :: props(:), de_axial
+    real(dp), intent(inout) :: stress(6), statev(:)
+    integer :: iterations
+    real(dp) :: s0(6), sv0(size(statev)), de(6), step(2), r(2), rnorm, trial_norm, dd(6, 6)
+    real(dp) :: a(2, 2), lam
+    integer :: it, cut
+    s0 = stress; sv0 = statev
+    de = 0.0_dp; de(1) = de_axial
+    call residual(de, r, dd)
+    rnorm = norm2(r)
+    iterations = -1
+    do it = 1, 50
+      if (rnorm <= 1.0e-9_dp*maxval(abs(stress))) then
+        iterations = it - 1
+        return
+      end if
+      a = dd(2:3, 2:3)
+      step = -[a(2, 2)*r(1) - a(1, 2)*r(2), a(1, 1)*r(2) - a(2, 1)*r(1)] &
+             /(a(1, 1)*a(2, 2) - a(1, 2)*a(2, 1))
+      lam = 1.0_dp
+      do cut = 1, 30
+        de(2:3) = de(2:3) + lam*step
+        call residual(de, r, dd)
+        trial_norm = norm2(r)
+        if (trial_norm < rnorm) exit
+        de(2:3) = de(2:3) - lam*step
+        lam = 0.5_dp*lam
+      end do
+      rnorm = trial_norm
+    end do
+  contains
+    subroutine residual(e, res, tangent)
+      real(dp), intent(in) :: e(6)
+      real(dp), intent(out) :: res(2), tangent(6, 6)
+      stress = s0; statev = sv0
+      call call_umat(props, stress, statev, tangent, e, 6)
+      res = stress(2:3) - s0(2:3)
+    end subroutine residual
+  end function axial_increment
 
 end module wellposed_test_support
