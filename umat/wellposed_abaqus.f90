@@ -22,14 +22,15 @@ contains
     m(4:ntens) = sqrt2*s(4:ntens)
   end function stress_to_mandel
 
-  !> Mandel stress to Abaqus order (first ntens components).
-  pure function stress_from_mandel(m, ntens) result(s)
+  !> Mandel stress to Abaqus order (first ntens components), written into
+  !> the caller's array (no temporary of run-time size).
+  pure subroutine stress_from_mandel(m, ntens, s)
     integer, intent(in) :: ntens
     real(dp), intent(in) :: m(ntens6)
-    real(dp) :: s(ntens)
+    real(dp), intent(out) :: s(ntens)
     s = m(1:ntens)
     s(4:ntens) = m(4:ntens)/sqrt2
-  end function stress_from_mandel
+  end subroutine stress_from_mandel
 
   !> Abaqus strain (engineering shears) to Mandel; missing shears are zero.
   pure function strain_to_mandel(e, ntens) result(m)
@@ -50,14 +51,20 @@ contains
   end function strain_from_mandel
 
   !> DDSDDE = d sigma_abaqus / d strain_abaqus from the Mandel tangent:
-  !> D^-1 T D^-1 with D = diag(1, 1, 1, sqrt2, sqrt2, sqrt2), cut to ntens.
-  pure function tangent_from_mandel(t, ntens) result(d)
+  !> D^-1 T D^-1 with D = diag(1, 1, 1, sqrt2, sqrt2, sqrt2), cut to ntens,
+  !> written into the caller's array.
+  pure subroutine tangent_from_mandel(t, ntens, d)
     integer, intent(in) :: ntens
     real(dp), intent(in) :: t(ntens6, ntens6)
-    real(dp) :: d(ntens, ntens)
-    d = t(1:ntens, 1:ntens)
-    d(4:ntens, :) = d(4:ntens, :)/sqrt2
-    d(:, 4:ntens) = d(:, 4:ntens)/sqrt2
-  end function tangent_from_mandel
+    real(dp), intent(out) :: d(ntens, ntens)
+    integer :: i, j
+    real(dp), parameter :: scale(ntens6) = [1.0_dp, 1.0_dp, 1.0_dp, 1.0_dp/sqrt2, &
+                                             1.0_dp/sqrt2, 1.0_dp/sqrt2]
+    do j = 1, ntens
+      do i = 1, ntens
+        d(i, j) = t(i, j)*(scale(i)*scale(j))
+      end do
+    end do
+  end subroutine tangent_from_mandel
 
 end module wellposed_abaqus

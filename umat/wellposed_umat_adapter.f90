@@ -4,8 +4,8 @@
 !> here and prints the message of an invalid input; hosts and tests that
 !> want the message as a value call umat_update directly.
 module wellposed_umat_adapter
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
+  use wellposed_finite, only: is_finite, all_finite
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_tensor, only: ntens6
   use wellposed_elasticity, only: elastic_t, stiffness, apply_compliance
@@ -38,6 +38,7 @@ contains
     type(dp_state_t) :: state
     type(dp_output_t) :: out
     real(dp) :: pr(nprops_known), sig(ntens6), sig_n(ntens6), tangent(ntens6, ntens6)
+    real(dp) :: deps(ntens6), eps_p_n(ntens6)
     logical :: want_tangent
 
     call check_layout(ndi, nshr, ntens, nstatv, nprops, props, err)
@@ -59,13 +60,13 @@ contains
         '(explicit host: no tangent)')
       call fail(); return
     end if
-    if (.not. (ieee_is_finite(dtime) .and. dtime >= 0.0_dp)) then
+    if (.not. (is_finite(dtime) .and. dtime >= 0.0_dp)) then
       call new_error(err, status_invalid, '', 'DTIME = '//real_text(dtime)// &
         ' is out of range: valid is a finite time increment >= 0')
       call fail(); return
     end if
-    if (.not. (all(ieee_is_finite(stress)) .and. all(ieee_is_finite(dstran)) .and. &
-               all(ieee_is_finite(stran)) .and. all(ieee_is_finite(statev(1:nstatv_min))))) then
+    if (.not. (all_finite(stress) .and. all_finite(dstran) .and. all_finite(stran) .and. &
+               all_finite(statev(1:nstatv_min)))) then
       call new_error(err, status_cutback, '', 'non-finite STRESS, STRAN, DSTRAN or STATEV '// &
         'on input')
       call fail(); return
@@ -73,32 +74,32 @@ contains
 
     state%z = statev(sv_z)
     state%zeta = statev(sv_zeta)
-    state%eps_p = strain_to_mandel(statev(sv_eps_p:sv_eps_p + 5), ntens6)
+    eps_p_n = strain_to_mandel(statev(sv_eps_p:sv_eps_p + 5), ntens6)
+    state%eps_p = eps_p_n
     sig_n = stress_to_mandel(stress, ntens)
     sig = sig_n
+    deps = strain_to_mandel(dstran, ntens)
     want_tangent = pr(prop_explicit) == 0.0_dp
     if (want_tangent) then
-      call dp_update(p, sig, state, strain_to_mandel(dstran, ntens), dtime, &
-                     statev(sv_avg_dlambda), out, tangent, err)
+      call dp_update(p, sig, state, deps, dtime, statev(sv_avg_dlambda), out, tangent, err)
     else
-      call dp_update(p, sig, state, strain_to_mandel(dstran, ntens), dtime, &
-                     statev(sv_avg_dlambda), out, err=err)
+      call dp_update(p, sig, state, deps, dtime, statev(sv_avg_dlambda), out, err=err)
     end if
     if (allocated(err)) then
       call fail(); return
     end if
 
-    stress = stress_from_mandel(sig, ntens)
-    if (want_tangent) ddsdde = tangent_from_mandel(tangent, ntens)
+    call stress_from_mandel(sig, ntens, stress)
+    if (want_tangent) call tangent_from_mandel(tangent, ntens, ddsdde)
     statev(sv_z) = state%z
     statev(sv_dlambda) = out%dlambda
     statev(sv_zeta) = state%zeta
     statev(sv_eps_p:sv_eps_p + 5) = strain_from_mandel(state%eps_p)
     statev(sv_f) = out%f
     statev(sv_status) = real(out%status, dp)
+    ! Elastic energy density and plastic dissipation (trapezoidal rule).
     sse = 0.5_dp*dot_product(sig, apply_compliance(p%el, sig))
-    spd = spd + 0.5_dp*dot_product(sig_n + sig, strain_to_mandel(dstran, ntens) &
-                                   - apply_compliance(p%el, sig - sig_n))
+    spd = spd + 0.5_dp*dot_product(sig_n + sig, state%eps_p - eps_p_n)
 
   contains
 
@@ -111,10 +112,10 @@ contains
         pnewdt = min(pnewdt, cutback_factor)
       end if
       if (nprops >= prop_shear .and. ntens >= 4 .and. ntens <= 6) then
-        if (ieee_is_finite(props(prop_bulk)) .and. ieee_is_finite(props(prop_shear)) .and. &
+        if (is_finite(props(prop_bulk)) .and. is_finite(props(prop_shear)) .and. &
             props(prop_bulk) > 0.0_dp .and. props(prop_shear) > 0.0_dp) then
-          ddsdde = tangent_from_mandel(stiffness(elastic_t(props(prop_bulk), &
-                                                           props(prop_shear))), ntens)
+          call tangent_from_mandel(stiffness(elastic_t(props(prop_bulk), props(prop_shear))), &
+                                   ntens, ddsdde)
         end if
       end if
     end subroutine fail

@@ -2,7 +2,7 @@
 !> (eq. 1.5), in the Mandel form of wellposed_tensor.
 module wellposed_elasticity
   use wellposed_kinds, only: dp
-  use wellposed_tensor, only: ntens6, trace, deviator, projector_vol, projector_dev
+  use wellposed_tensor, only: ntens6, trace, deviator
   implicit none
   private
   public :: elastic_t, stiffness, apply_stiffness, apply_compliance
@@ -15,11 +15,17 @@ module wellposed_elasticity
 
 contains
 
-  !> The 6x6 Mandel stiffness C.
+  !> The 6x6 Mandel stiffness C = 3K Pvol + 2G Pdev: 2G on the diagonal,
+  !> K - 2G/3 added on the normal-normal block.
   pure function stiffness(el) result(c)
     type(elastic_t), intent(in) :: el
     real(dp) :: c(ntens6, ntens6)
-    c = 3.0_dp*el%bulk*projector_vol() + 2.0_dp*el%shear*projector_dev()
+    integer :: i
+    c = 0.0_dp
+    c(1:3, 1:3) = el%bulk - 2.0_dp*el%shear/3.0_dp
+    do i = 1, ntens6
+      c(i, i) = c(i, i) + 2.0_dp*el%shear
+    end do
   end function stiffness
 
   !> C : eps without forming C.

@@ -3,8 +3,8 @@
 !> Duvaut-Lions eq. 2.10, overlocal eq. 2.12-2.14), validated once by
 !> new_dp_params. A zero switches an optional feature off.
 module wellposed_dp_params
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
+  use wellposed_finite, only: is_finite
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_elasticity, only: elastic_t
   use wellposed_hardening, only: hardening_t, min_strength_slope
@@ -48,7 +48,7 @@ contains
 
     values = [bulk, shear, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, h_zeta, length]
     do i = 1, size(values)
-      if (.not. ieee_is_finite(values(i))) then
+      if (.not. is_finite(values(i))) then
         call new_error(err, status_invalid, trim(names(i)), trim(names(i))//' = '// &
           real_text(values(i))//' is not a finite number')
         return

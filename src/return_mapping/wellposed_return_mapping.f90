@@ -14,7 +14,7 @@
 module wellposed_return_mapping
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_cutback
-  use wellposed_tensor, only: ntens6, sqrt2, identity2, trace, deviator, norm
+  use wellposed_tensor, only: ntens6, sqrt2, identity2, trace, deviator, norm, outer
   use wellposed_elasticity, only: stiffness
   use wellposed_hardening, only: strength, strength_slope, is_linear
   use wellposed_dp_params, only: dp_params_t, real_text
@@ -215,8 +215,7 @@ contains
         ds = strength_slope(p%hard, z_n + ret%dz)/(3.0_dp*p%beta)
         e_hat = 0.0_dp
         if (ret%dz > 0.0_dp) e_hat = ret%deps_p/ret%dz
-        tangent = (ds/(1.0_dp + ds*trace(e_hat)/(3.0_dp*bulk)))* &
-                  spread(identity2, 2, ntens6)*spread(e_hat, 1, ntens6)
+        tangent = (ds/(1.0_dp + ds*trace(e_hat)/(3.0_dp*bulk)))*outer(identity2, e_hat)
       end if
     end associate
   end subroutine apex_return
