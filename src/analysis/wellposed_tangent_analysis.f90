@@ -19,8 +19,8 @@ module wellposed_tangent_analysis
   use wellposed_efr, only: efr_direction
   implicit none
   private
-  public :: continuum_tangent, stress_rate, directional_stiffness, lode_direction, &
-            lode_basis
+  public :: continuum_tangent, stress_rate, directional_stiffness, stiffness_ratio, &
+            lode_direction, lode_basis
 
 contains
 
@@ -105,5 +105,14 @@ contains
     r = dot_product(deps, stress_rate(p, sig, z, deps)) &
         /dot_product(deps, apply_stiffness(p%el, deps))
   end function directional_stiffness
+
+  !> R = d eps : T : d eps / (d eps : C : d eps) (eq. 2.5) of any tangent T
+  !> (a UMAT's DDSDDE in Mandel form, eq. 3.14, a fitted tangent) for the
+  !> strain-rate direction `deps`.
+  pure function stiffness_ratio(t, c, deps) result(r)
+    real(dp), intent(in) :: t(ntens6, ntens6), c(ntens6, ntens6), deps(ntens6)
+    real(dp) :: r
+    r = dot_product(deps, matmul(t, deps))/dot_product(deps, matmul(c, deps))
+  end function stiffness_ratio
 
 end module wellposed_tangent_analysis
