@@ -60,10 +60,10 @@ contains
         '(explicit host: no tangent)')
       call fail(); return
     end if
-    if (.not. (is_finite(dtime) .and. dtime >= 0.0_dp)) then
-      call new_error(err, status_invalid, '', 'DTIME = '//real_text(dtime)// &
-        ' is out of range: valid is a finite time increment >= 0')
-      call fail(); return
+    if (.not. is_finite(dtime)) then
+      call bad_dtime(); return
+    else if (dtime < 0.0_dp) then
+      call bad_dtime(); return
     end if
     if (.not. (all_finite(stress) .and. all_finite(dstran) .and. all_finite(stran) .and. &
                all_finite(statev(1:nstatv_min)))) then
@@ -111,14 +111,23 @@ contains
       else
         pnewdt = min(pnewdt, cutback_factor)
       end if
+      ! Nested so that no ordered comparison meets a NaN (a trap under
+      ! -ffpe-trap=invalid): Fortran's .and. need not short-circuit.
       if (nprops >= prop_shear .and. ntens >= 4 .and. ntens <= 6) then
-        if (is_finite(props(prop_bulk)) .and. is_finite(props(prop_shear)) .and. &
-            props(prop_bulk) > 0.0_dp .and. props(prop_shear) > 0.0_dp) then
-          call tangent_from_mandel(stiffness(elastic_t(props(prop_bulk), props(prop_shear))), &
-                                   ntens, ddsdde)
+        if (all_finite(props(prop_bulk:prop_shear))) then
+          if (props(prop_bulk) > 0.0_dp .and. props(prop_shear) > 0.0_dp) then
+            call tangent_from_mandel(stiffness(elastic_t(props(prop_bulk), &
+                                                         props(prop_shear))), ntens, ddsdde)
+          end if
         end if
       end if
     end subroutine fail
+
+    subroutine bad_dtime()
+      call new_error(err, status_invalid, '', 'DTIME = '//real_text(dtime)// &
+        ' is out of range: valid is a finite time increment >= 0')
+      call fail()
+    end subroutine bad_dtime
 
   end subroutine umat_update
 
