@@ -17,10 +17,11 @@ module wellposed_tangent_analysis
   use wellposed_drucker_prager, only: yield_normal, potential_direction, normal_norm
   use wellposed_dp_params, only: dp_params_t
   use wellposed_efr, only: efr_direction
+  use wellposed_nonlocal, only: gaussian_k
   implicit none
   private
   public :: continuum_tangent, stress_rate, directional_stiffness, stiffness_ratio, &
-            lode_direction, lode_basis
+            lode_direction, lode_basis, uniaxial_modulus, overlocal_uniaxial_modulus
 
 contains
 
@@ -39,9 +40,12 @@ contains
   !> state (sig, z) for the strain rate `deps` (any magnitude; the response
   !> is homogeneous of degree one). Loading when N:C:deps > 0; the flow
   !> direction is eq. 4.35 (regular) or eq. 2.7 (EFR, direction of deps).
-  pure function stress_rate(p, sig, z, deps) result(dsig)
+  !> `modulus`, when present, replaces dk/dz (a perturbation analysis passes
+  !> its frequency-dependent effective modulus).
+  pure function stress_rate(p, sig, z, deps, modulus) result(dsig)
     type(dp_params_t), intent(in) :: p
     real(dp), intent(in) :: sig(ntens6), z, deps(ntens6)
+    real(dp), intent(in), optional :: modulus
     real(dp) :: dsig(ntens6), s_hat(ntens6), n(ntens6), ce(ntens6), m_hat(ntens6), m(ntens6)
     real(dp) :: load, hh, denom
     s_hat = deviator(sig)
@@ -51,7 +55,11 @@ contains
     dsig = ce
     load = dot_product(n, ce)
     if (.not. load > 0.0_dp) return
-    hh = strength_slope(p%hard, z)
+    if (present(modulus)) then
+      hh = modulus
+    else
+      hh = strength_slope(p%hard, z)
+    end if
     m_hat = potential_direction(s_hat, p%beta_p)
     if (p%efr) then
       m = efr_direction(p, s_hat, deps)
@@ -114,5 +122,40 @@ contains
     real(dp) :: r
     r = dot_product(deps, matmul(t, deps))/dot_product(deps, matmul(c, deps))
   end function stiffness_ratio
+
+  !> rho c^2 of a uniaxial-strain wave along axis 1 at the plastic state
+  !> (sig, z): the 11 component of the stress rate for d eps = sign e_1
+  !> (sign = +1 extension, -1 compression), divided by that strain rate.
+  !> With the regular flow rule this is the reference's closed form
+  !> K + 4G/3 - (3K beta_p - 2G/sqrt 3)(3K beta - 2G/sqrt 3)/(G + 9K beta beta_p
+  !> + h sqrt(1/2 + 3 beta_p^2)) for a triaxial-compression state.
+  pure function uniaxial_modulus(p, sig, z, sign, modulus) result(rho_c2)
+    type(dp_params_t), intent(in) :: p
+    real(dp), intent(in) :: sig(ntens6), z, sign
+    real(dp), intent(in), optional :: modulus
+    real(dp) :: rho_c2, d(ntens6), dsig(ntens6)
+    d = 0.0_dp
+    d(1) = sign
+    dsig = stress_rate(p, sig, z, d, modulus)
+    rho_c2 = dsig(1)/sign
+  end function uniaxial_modulus
+
+  !> Dispersion of the overlocal model (eq. 2.12-2.15) for uniaxial-strain
+  !> waves of wavenumber kappa (rad/m), by the perturbation method of Di Luzio
+  !> and Bazant: a harmonic perturbation of dlambda is averaged by the
+  !> normalised Gaussian, whose Fourier transform is exp(-kappa^2 L^2/(4 k^2)),
+  !> so the linearised equations are the local ones with the effective modulus
+  !> h_eff(kappa) = h_eta + h_zeta exp(-kappa^2 L^2/(4 k^2)) (reference
+  !> cases.md: h((1 - m) + m exp(...)) with h_eta = (1 - m) h, h_zeta = m h).
+  !> Returns rho c(kappa)^2; kappa -> 0 is the local model with h_eta + h_zeta,
+  !> kappa -> infinity the local model with h_eta.
+  pure function overlocal_uniaxial_modulus(p, sig, z, sign, kappa) result(rho_c2)
+    type(dp_params_t), intent(in) :: p
+    real(dp), intent(in) :: sig(ntens6), z, sign, kappa
+    real(dp) :: rho_c2, h_eff
+    h_eff = strength_slope(p%hard, z) + &
+            p%h_zeta*exp(-(kappa*p%length/(2.0_dp*gaussian_k))**2)
+    rho_c2 = uniaxial_modulus(p, sig, z, sign, h_eff)
+  end function overlocal_uniaxial_modulus
 
 end module wellposed_tangent_analysis
