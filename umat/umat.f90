@@ -11,6 +11,7 @@ subroutine umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpl
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, status_invalid
   use wellposed_umat_adapter, only: umat_update
+  use wellposed_text, only: int_text
   implicit none
   character(len=80), intent(in) :: cmname
   integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops, noel, npt, layer, kspt, kstep, kinc
@@ -26,19 +27,9 @@ subroutine umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpl
                    ntens, nstatv, props, nprops, pnewdt, err)
   if (allocated(err)) then
     if (err%status == status_invalid) then
-      write (error_unit, '(a)') 'wellposed UMAT error (element '//itoa(noel)//', point '// &
-        itoa(npt)//'): '//err%message
+      write (error_unit, '(a)') 'wellposed UMAT error (element '//int_text(noel)//', point '// &
+        int_text(npt)//'): '//err%message
     end if
   end if
-
-contains
-
-  pure function itoa(i) result(text)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=16) :: buffer
-    write (buffer, '(i0)') i
-    text = trim(buffer)
-  end function itoa
 
 end subroutine umat

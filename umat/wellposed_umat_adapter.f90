@@ -9,7 +9,8 @@ module wellposed_umat_adapter
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_tensor, only: ntens6
   use wellposed_elasticity, only: elastic_t, stiffness, apply_compliance
-  use wellposed_dp_params, only: dp_params_t, new_dp_params, real_text
+  use wellposed_dp_params, only: dp_params_t, new_dp_params
+  use wellposed_text, only: int_text, real_text
   use wellposed_dp_model, only: dp_state_t, dp_output_t, dp_update
   use wellposed_abaqus, only: stress_to_mandel, stress_from_mandel, strain_to_mandel, &
                               strain_from_mandel, tangent_from_mandel
@@ -174,13 +175,5 @@ contains
     text = ''
     if (slot > 0) text = 'PROPS('//int_text(slot)//') '
   end function slot_text
-
-  pure function int_text(i) result(text)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=16) :: buffer
-    write (buffer, '(i0)') i
-    text = trim(buffer)
-  end function int_text
 
 end module wellposed_umat_adapter

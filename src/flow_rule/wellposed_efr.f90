@@ -31,7 +31,8 @@ module wellposed_efr
   use wellposed_elasticity, only: stiffness
   use wellposed_hardening, only: strength, strength_slope
   use wellposed_drucker_prager, only: yield_normal, potential_direction
-  use wellposed_dp_params, only: dp_params_t, real_text
+  use wellposed_dp_params, only: dp_params_t
+  use wellposed_text, only: real_text
   use wellposed_return_mapping, only: return_t, regular_return, elastic_return, apex_return, &
                                       state_plastic, max_newton
   use wellposed_dense, only: solve_dense

@@ -5,6 +5,7 @@
 module wellposed_dp_params
   use wellposed_kinds, only: dp
   use wellposed_finite, only: is_finite
+  use wellposed_text, only: real_text
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_elasticity, only: elastic_t
   use wellposed_hardening, only: hardening_t, min_strength_slope
@@ -12,7 +13,7 @@ module wellposed_dp_params
   use wellposed_tensor, only: sqrt3
   implicit none
   private
-  public :: dp_params_t, new_dp_params, real_text
+  public :: dp_params_t, new_dp_params
 
   !> The validated material. Derived constants are filled by new_dp_params.
   type :: dp_params_t
@@ -127,14 +128,5 @@ contains
     end subroutine out_of_range
 
   end subroutine new_dp_params
-
-  !> A real as short text for messages (ES format, NaN and Inf spelled out).
-  pure function real_text(x) result(text)
-    real(dp), intent(in) :: x
-    character(len=:), allocatable :: text
-    character(len=32) :: buffer
-    write (buffer, '(es12.5)') x
-    text = trim(adjustl(buffer))
-  end function real_text
 
 end module wellposed_dp_params

@@ -17,7 +17,8 @@ module wellposed_return_mapping
   use wellposed_tensor, only: ntens6, sqrt2, identity2, trace, deviator, norm, outer
   use wellposed_elasticity, only: stiffness
   use wellposed_hardening, only: strength, strength_slope, is_linear
-  use wellposed_dp_params, only: dp_params_t, real_text
+  use wellposed_dp_params, only: dp_params_t
+  use wellposed_text, only: real_text
   implicit none
   private
   public :: return_t, regular_return, elastic_return, apex_return, state_elastic, state_plastic, &
