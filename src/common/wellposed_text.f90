@@ -17,13 +17,24 @@ contains
     text = trim(buffer)
   end function int_text
 
-  !> A real in ES format (6 significant digits), NaN and Inf spelled out.
+  !> A real with up to 8 significant digits and the mantissa's trailing
+  !> zeros dropped ("-1.0E+10", "-3.6769553E+10"), so round values read
+  !> cleanly and a value just past a bound does not print like the bound;
+  !> NaN and Infinity spelled out.
   pure function real_text(x) result(text)
     real(dp), intent(in) :: x
     character(len=:), allocatable :: text
     character(len=32) :: buffer
-    write (buffer, '(es12.5)') x
+    integer :: e, last
+    write (buffer, '(es15.7e2)') x
     text = trim(adjustl(buffer))
+    e = index(text, 'E')
+    if (e == 0) return
+    last = e - 1
+    do while (text(last:last) == '0' .and. text(last - 1:last - 1) /= '.')
+      last = last - 1
+    end do
+    text = text(1:last)//text(e:)
   end function real_text
 
 end module wellposed_text
