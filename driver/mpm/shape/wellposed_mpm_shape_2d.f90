@@ -1,0 +1,157 @@
+!> Shape functions of the MPM in 2D (seed eq. 4.6-4.8) on a uniform grid of
+!> cell size h, node g = i + nx*j at origin + h*(i, j), i = 0 .. nx-1:
+!>  - linear: bilinear hats at the particle centre (4 nodes);
+!>  - uGIMP: the tensor product of the 1D uGIMP weights of
+!>    wellposed_mpm_shape (undeforming rectangle of half-widths lp(1:2));
+!>    phi = Sx Sy, G = (Sx' Sy, Sx Sy') (9 nodes);
+!>  - CPDI (Sadeghirad, Brannon & Burghardt 2011; shared reference "CPDI
+!>    2D"): the particle domain is the parallelogram with half side vectors
+!>    r1 = F (lx, 0), r2 = F (0, ly) (F the particle's deformation gradient,
+!>    lx, ly its initial half-widths), corners c1 = xp - r1 - r2,
+!>    c2 = xp + r1 - r2, c3 = xp + r1 + r2, c4 = xp - r1 + r2;
+!>    phi_ip = (1/4) sum_a S_i(c_a), and with V = 4 |r1 x r2|
+!>    G_ip = [ (S_i(c1) - S_i(c3)) (r1y - r2y, r2x - r1x)
+!>           + (S_i(c2) - S_i(c4)) (r1y + r2y, -r1x - r2x) ] / V
+!>    (up to 16 nodes: the bilinear supports of the four corners).
+!> Unused entries of a support carry the particle's first node with zero
+!> weight, so loops over nsup entries need no test. Units: m, 1/m.
+module wellposed_mpm_shape_2d
+  use wellposed_kinds, only: dp
+  use wellposed_mpm_shape, only: gimp_weight
+  implicit none
+  private
+  public :: shape2d_linear, shape2d_gimp, shape2d_cpdi, shape2d_names, support_size_2d, &
+            shape_2d, cpdi_corners
+
+  !> Families in 2D.
+  integer, parameter :: shape2d_linear = 1, shape2d_gimp = 2, shape2d_cpdi = 3
+  character(len=6), parameter :: shape2d_names(3) = [character(len=6) :: 'linear', 'gimp', &
+                                                     'cpdi']
+
+contains
+
+  !> Nodes per particle: 4 linear, 9 GIMP (lp <= h/2), 16 CPDI.
+  pure integer function support_size_2d(kind)
+    integer, intent(in) :: kind
+    select case (kind)
+    case (shape2d_gimp)
+      support_size_2d = 9
+    case (shape2d_cpdi)
+      support_size_2d = 16
+    case default
+      support_size_2d = 4
+    end select
+  end function support_size_2d
+
+  !> Weights of one particle at xp (m): lp(2) the half-widths of its initial
+  !> rectangle (m), f(2, 2) the in-plane deformation gradient (CPDI only);
+  !> grid origin(2) (m), cell size h (m), nx nodes per row. nodes(:) global
+  !> node numbers, phi(:), grad(2, :) (1/m), size support_size_2d(kind).
+  pure subroutine shape_2d(kind, xp, lp, f, origin, h, nx, nodes, phi, grad)
+    integer, intent(in) :: kind, nx
+    real(dp), intent(in) :: xp(2), lp(2), f(2, 2), origin(2), h
+    integer, intent(out) :: nodes(:)
+    real(dp), intent(out) :: phi(:), grad(:, :)
+    real(dp) :: sx(3), sy(3), dsx(3), dsy(3), s(2)
+    integer :: i0(2), a, b, k
+    select case (kind)
+    case (shape2d_gimp)
+      s = (xp - origin)/h
+      i0 = nint(s) - 1
+      do a = 1, 3
+        call gimp_weight(xp(1) - (origin(1) + (i0(1) + a - 1)*h), lp(1), h, sx(a), dsx(a))
+        call gimp_weight(xp(2) - (origin(2) + (i0(2) + a - 1)*h), lp(2), h, sy(a), dsy(a))
+      end do
+      k = 0
+      do b = 1, 3
+        do a = 1, 3
+          k = k + 1
+          nodes(k) = (i0(1) + a - 1) + nx*(i0(2) + b - 1)
+          phi(k) = sx(a)*sy(b)
+          grad(:, k) = [dsx(a)*sy(b), sx(a)*dsy(b)]
+        end do
+      end do
+    case (shape2d_cpdi)
+      call cpdi_2d(xp, matmul(f, [lp(1), 0.0_dp]), matmul(f, [0.0_dp, lp(2)]), origin, h, &
+                   nx, nodes, phi, grad)
+    case default
+      call bilinear(xp, origin, h, nx, nodes(1:4), phi(1:4), grad(:, 1:4))
+    end select
+  end subroutine shape_2d
+
+  !> The four corners (2, 4) of a CPDI parallelogram, counter-clockwise.
+  pure function cpdi_corners(xp, r1, r2) result(c)
+    real(dp), intent(in) :: xp(2), r1(2), r2(2)
+    real(dp) :: c(2, 4)
+    c(:, 1) = xp - r1 - r2
+    c(:, 2) = xp + r1 - r2
+    c(:, 3) = xp + r1 + r2
+    c(:, 4) = xp - r1 + r2
+  end function cpdi_corners
+
+  !> CPDI weights (module comment) for half side vectors r1, r2 (m).
+  pure subroutine cpdi_2d(xp, r1, r2, origin, h, nx, nodes, phi, grad)
+    real(dp), intent(in) :: xp(2), r1(2), r2(2), origin(2), h
+    integer, intent(in) :: nx
+    integer, intent(out) :: nodes(:)
+    real(dp), intent(out) :: phi(:), grad(:, :)
+    real(dp) :: c(2, 4), sc(4, 4), gdum(2, 4), vol, w(4, 16), v13(2), v24(2)
+    integer :: nc(4, 4), a, k, m, nused
+    c = cpdi_corners(xp, r1, r2)
+    do a = 1, 4
+      call bilinear(c(:, a), origin, h, nx, nc(:, a), sc(:, a), gdum)
+    end do
+    ! distinct nodes of the four corner supports, and each corner's value there
+    nused = 0
+    w = 0.0_dp
+    do a = 1, 4
+      do m = 1, 4
+        k = findloc(nodes(1:nused), nc(m, a), dim=1)
+        if (k == 0) then
+          nused = nused + 1
+          nodes(nused) = nc(m, a)
+          k = nused
+        end if
+        w(a, k) = w(a, k) + sc(m, a)
+      end do
+    end do
+    nodes(nused + 1:) = nodes(1)
+    vol = 4.0_dp*abs(r1(1)*r2(2) - r1(2)*r2(1))
+    v13 = [r1(2) - r2(2), r2(1) - r1(1)]
+    v24 = [r1(2) + r2(2), -r1(1) - r2(1)]
+    phi = 0.0_dp
+    grad = 0.0_dp
+    do k = 1, nused
+      phi(k) = 0.25_dp*sum(w(:, k))
+      grad(:, k) = ((w(1, k) - w(3, k))*v13 + (w(2, k) - w(4, k))*v24)/vol
+    end do
+  end subroutine cpdi_2d
+
+  !> Bilinear hats of the cell holding x: 4 nodes, weights, gradients (the
+  !> cell's own gradients, also on its edges, so they always sum to zero).
+  pure subroutine bilinear(x, origin, h, nx, nodes, phi, grad)
+    real(dp), intent(in) :: x(2), origin(2), h
+    integer, intent(in) :: nx
+    integer, intent(out) :: nodes(4)
+    real(dp), intent(out) :: phi(4), grad(2, 4)
+    real(dp) :: sx(2), sy(2), dsx(2), dsy(2), s(2), fr(2)
+    integer :: i0(2), a, b, k
+    s = (x - origin)/h
+    i0 = floor(s)
+    fr = s - i0
+    sx = [1.0_dp - fr(1), fr(1)]
+    sy = [1.0_dp - fr(2), fr(2)]
+    dsx = [-1.0_dp, 1.0_dp]/h
+    dsy = dsx
+    k = 0
+    do b = 1, 2
+      do a = 1, 2
+        k = k + 1
+        nodes(k) = (i0(1) + a - 1) + nx*(i0(2) + b - 1)
+        phi(k) = sx(a)*sy(b)
+        grad(:, k) = [dsx(a)*sy(b), sx(a)*dsy(b)]
+      end do
+    end do
+  end subroutine bilinear
+
+end module wellposed_mpm_shape_2d
