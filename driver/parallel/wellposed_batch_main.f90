@@ -1,0 +1,118 @@
+!> wellposed-batch: run a batch file of decks through a driver, the jobs
+!> shared over the ranks of an MPI run (wellposed_batch_run).
+!>
+!>   [mpirun -np N] wellposed-batch [--out ROOT] [--figures K1,K2,...]
+!>                                  DRIVER BATCHFILE [DRIVER_OPTION ...]
+!>
+!> DRIVER is the driver executable (wellposed-mpm, wellposed-point or any
+!> program taking `--out ROOT DECK [ARGS]`); the options after BATCHFILE go
+!> to every job (e.g. --no-plot). Writes ROOT/<batch name>/ (ROOT = out):
+!> batch_summary.txt and .csv with each job's status, wall time and the
+!> summary.txt figures K1, K2, ... (defaults per driver). Exit status 0 when
+!> every job succeeded, 1 when any failed, 2 when the batch itself could
+!> not run. `wellposed-mpm --batch FILE` and `wellposed-point --batch FILE`
+!> do the same with themselves as DRIVER.
+program wellposed_batch_main
+  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+  use wellposed_error, only: error_t
+  use wellposed_mpi, only: comm_t, comm_start, comm_stop
+  use wellposed_batch_run, only: run_batch, default_figures
+  use wellposed_fs, only: shell_quote
+  implicit none
+
+  type(comm_t) :: comm
+  type(error_t), allocatable :: err
+  character(len=:), allocatable :: out_root, driver, batch_file, command, arg, figure_list
+  character(len=64), allocatable :: figures(:)
+  integer :: i, nargs, nfailed, k
+
+  call comm_start(comm, err)
+  if (allocated(err)) then
+    write (error_unit, '(a)') 'wellposed-batch: error: '//err%message
+    error stop 2
+  end if
+  out_root = 'out'
+  driver = ''
+  batch_file = ''
+  command = ''
+  figure_list = ''
+  nargs = command_argument_count()
+  i = 0
+  do while (i < nargs)
+    i = i + 1
+    arg = get_arg(i)
+    if (len(batch_file) > 0) then          ! options for every job
+      command = command//' '//shell_quote(arg)
+      cycle
+    end if
+    select case (arg)
+    case ('-h', '--help')
+      if (comm%rank == 0) call usage()
+      call comm_stop(comm)
+      stop
+    case ('--out')
+      i = i + 1
+      out_root = get_arg(i)
+    case ('--figures')
+      i = i + 1
+      figure_list = get_arg(i)
+    case default
+      if (len(driver) == 0) then
+        driver = arg
+      else
+        batch_file = arg
+      end if
+    end select
+  end do
+  if (len(batch_file) == 0) then
+    if (comm%rank == 0) then
+      write (error_unit, '(a)') 'wellposed-batch: error: need DRIVER and BATCHFILE (see --help)'
+    end if
+    call comm_stop(comm)
+    error stop 2
+  end if
+  if (len(figure_list) > 0) then
+    allocate (figures(0))
+    do while (len(figure_list) > 0)
+      k = index(figure_list, ',')
+      if (k == 0) k = len(figure_list) + 1
+      if (k > 1) figures = [character(len=64) :: figures, figure_list(1:k - 1)]
+      figure_list = figure_list(min(k + 1, len(figure_list) + 1):)
+    end do
+  else
+    figures = default_figures(driver)
+  end if
+  command = shell_quote(driver)//command
+  call run_batch(comm, batch_file, command, out_root, figures, nfailed, err)
+  call comm_stop(comm)
+  if (allocated(err)) then
+    write (error_unit, '(a)') 'wellposed-batch: error: '//err%message
+    error stop 2
+  end if
+  if (nfailed > 0) error stop 1
+
+contains
+
+  function get_arg(k) result(a)
+    integer, intent(in) :: k
+    character(len=:), allocatable :: a
+    integer :: n
+    if (k > nargs) then
+      write (error_unit, '(a)') 'wellposed-batch: error: an option needs a value'
+      error stop 2
+    end if
+    call get_command_argument(k, length=n)
+    allocate (character(len=n) :: a)
+    call get_command_argument(k, a)
+  end function get_arg
+
+  subroutine usage()
+    write (output_unit, '(a)') 'usage: [mpirun -np N] wellposed-batch [--out ROOT] '// &
+      '[--figures K1,K2,...] DRIVER BATCHFILE [DRIVER_OPTION ...]', &
+      '  BATCHFILE: one deck per line (then optional arguments for that job); # and ! '// &
+      'start comments', &
+      '  writes ROOT/<batch name>/batch_summary.txt and .csv (ROOT = out); exit 1 when '// &
+      'any job failed'
+  end subroutine usage
+
+end program wellposed_batch_main
