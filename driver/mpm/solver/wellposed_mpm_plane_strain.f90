@@ -1,0 +1,549 @@
+!> The explicit MPM of seed section 4.3 in 2D plane strain (chapter 4's
+!> plate, fig. 4.1): a rectangular body [0, width] x [0, height] on a
+!> uniform grid, 2D GIMP, CPDI or linear weights (wellposed_mpm_shape_2d),
+!> the material through the UMAT with NTENS = 4 (11, 22, 33, 12; engineering
+!> shear) and the seed's nonlocal Algorithm 1 (wellposed_mpm_nonlocal, the
+!> same code as in 1D). Update: MUSL (as the 1D driver), Jaumann rotation of
+!> the stress before the UMAT, F_{n+1} = (I + L dt) F_n, V = det F V0.
+!>
+!> Boundaries (deck): bottom 'roller' (v_y = 0 on nodes at y <= 0), 'fixed'
+!> or 'free'; top 'velocity' (nodes at y >= height get (0, v_top), ramped
+!> over ramp_time) or 'free'; sides 'free' or 'roller' (v_x = 0 on nodes at
+!> x <= 0 and x >= width). Nodes beyond a boundary line share its condition,
+!> so GIMP/CPDI supports reaching past it see the same velocity.
+!> Bulk artificial viscosity (shared reference B): q = rho (A1 c |D_kk| dx +
+!> A2 D_kk^2 dx^2) when D_kk < 0, else 0, c = sqrt(K/rho) with K probed
+!> through the UMAT; q enters the internal force as sigma - q I and is not
+!> part of the material state.
+!> Time step dt = cfl * dx / c_max, c_max = sqrt(M/rho) with the
+!> constrained modulus M probed through the UMAT. SI units, tension +.
+module wellposed_mpm_plane_strain
+  use, intrinsic :: iso_fortran_env, only: int64
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
+  use wellposed_text, only: int_text, real_text
+  use wellposed_umat_interface, only: umat
+  use wellposed_umat_layout, only: prop_k0
+  use wellposed_mpm_particles, only: particles_t, new_particles
+  use wellposed_mpm_shape_2d, only: shape_2d, support_size_2d, shape2d_cpdi, shape2d_gimp, &
+                                    shape2d_linear
+  use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nonlocal_t, nonlocal_host_t, &
+                                    new_nonlocal, nonlocal_solve
+  implicit none
+  private
+  public :: ps_config_t, ps_scene_t, new_ps_scene, ps_advance, ps_applied_stress, &
+            ps_plastic_strain, bc_roller, bc_fixed2, bc_free2, bc_velocity, bc2_names, &
+            ps_kinetic_energy
+
+  !> Boundary kinds in 2D.
+  integer, parameter :: bc_roller = 1, bc_fixed2 = 2, bc_free2 = 3, bc_velocity = 4
+  character(len=8), parameter :: bc2_names(4) = [character(len=8) :: 'roller', 'fixed', 'free', &
+                                                 'velocity']
+  integer, parameter :: max_props2 = 40
+
+  !> One plane-strain scene (defaults: the 4 m x 5 m plate of fig. 4.1 with
+  !> the local softening material of section 4.7.1, h = 0.5 m).
+  type :: ps_config_t
+    character(len=:), allocatable :: name, title
+    real(dp) :: width = 4.0_dp, height = 5.0_dp   !< m
+    real(dp) :: dx = 0.5_dp                        !< cell size h (m)
+    integer :: ppc = 2                             !< particles per cell per direction
+    integer :: pad_cells = 2
+    integer :: shape = shape2d_cpdi
+    real(dp) :: t_end = 0.02_dp, cfl = 0.2_dp      !< s, fraction of the CFL step
+    real(dp) :: density = 1000.0_dp                !< kg/m^3
+    integer :: nprops = 14
+    real(dp) :: props(max_props2) = 0.0_dp
+    integer :: nstatv = 12
+    ! weak zone: particles whose initial centre lies in it get k0 = weak_k0
+    real(dp) :: weak_x(2) = [0.0_dp, 1.0_dp], weak_y(2) = [0.0_dp, 1.0_dp]
+    real(dp) :: weak_k0 = 0.0_dp                   !< Pa; 0: no weak zone
+    ! boundaries
+    integer :: bottom = bc_roller, top = bc_velocity, sides = bc_free2
+    real(dp) :: top_velocity = -7.5_dp             !< v_y of the top (m/s, < 0 compresses)
+    real(dp) :: ramp_time = 0.0_dp                 !< s, linear ramp of the top velocity
+    ! initial state
+    real(dp) :: velocity_gradient0(2, 2) = 0.0_dp  !< initial v = L0 x (patch test), 1/s
+    ! artificial viscosity
+    real(dp) :: visc_a1 = 0.4_dp, visc_a2 = 4.0_dp
+    type(nonlocal_settings_t) :: nonlocal
+  end type ps_config_t
+
+  !> The state of a running scene.
+  type, extends(nonlocal_host_t) :: ps_scene_t
+    type(ps_config_t) :: cfg
+    type(particles_t) :: parts
+    type(nonlocal_t) :: nl
+    ! grid: node g = i + nx*j at origin + dx*(i, j)
+    integer :: nx = 0, ny = 0, nnodes = 0
+    real(dp) :: origin(2) = 0.0_dp
+    real(dp), allocatable :: gmass(:), gmom(:, :), gforce(:, :), gvel(:, :), gacc(:, :)
+    integer, allocatable :: gfix(:, :)        !< 0 free, 1 zero, 2 prescribed top (2, node)
+    real(dp) :: t = 0.0_dp, dt = 0.0_dp
+    integer :: nstep = 0
+    real(dp) :: c_max = 0.0_dp, bulk = 0.0_dp, modulus = 0.0_dp
+    real(dp), allocatable :: props_p(:, :)    !< PROPS per material (nprops, 2): 1 body, 2 weak
+    integer, allocatable :: mat(:)            !< material of each particle
+    real(dp), allocatable :: q(:)             !< artificial viscous pressure (Pa)
+    real(dp), allocatable :: s0(:, :), sv0(:, :), de(:, :)  !< start-of-step copies, increments
+    real(dp), allocatable :: lp0(:, :)        !< initial half-widths (2, p), m
+    integer :: max_substeps = 1
+    integer :: nl_iterations_step = 0
+    integer(int64) :: ticks_umat = 0, ticks_total = 0
+  contains
+    procedure :: update => ps_update
+  end type ps_scene_t
+
+contains
+
+  !> Build grid, particles, materials and the time step; errors name keys.
+  subroutine new_ps_scene(self, cfg, err)
+    type(ps_scene_t), intent(out) :: self
+    type(ps_config_t), intent(in) :: cfg
+    type(error_t), allocatable, intent(out) :: err
+    integer :: ncx, ncy, np, p, a, b, k, nsup, g, i, j
+    real(dp) :: lp, xy(2), ds(4)
+
+    call check(cfg, err)
+    if (allocated(err)) return
+    self%cfg = cfg
+    ncx = nint(cfg%width/cfg%dx)
+    ncy = nint(cfg%height/cfg%dx)
+    self%nx = ncx + 2*cfg%pad_cells + 1
+    self%ny = ncy + 2*cfg%pad_cells + 1
+    self%nnodes = self%nx*self%ny
+    self%origin = -cfg%pad_cells*cfg%dx
+    allocate (self%gmass(0:self%nnodes - 1), self%gmom(2, 0:self%nnodes - 1), &
+              self%gforce(2, 0:self%nnodes - 1), self%gvel(2, 0:self%nnodes - 1), &
+              self%gacc(2, 0:self%nnodes - 1), self%gfix(2, 0:self%nnodes - 1))
+    self%gvel = 0.0_dp
+    self%gacc = 0.0_dp
+    self%gfix = 0
+    do j = 0, self%ny - 1
+      do i = 0, self%nx - 1
+        g = i + self%nx*j
+        xy = self%origin + cfg%dx*[i, j]
+        if (xy(2) <= 0.5_dp*cfg%dx*1.0e-6_dp) then
+          if (cfg%bottom == bc_roller) self%gfix(2, g) = 1
+          if (cfg%bottom == bc_fixed2) self%gfix(:, g) = 1
+        end if
+        if (cfg%sides == bc_roller .and. (xy(1) <= 1.0e-6_dp*cfg%dx .or. &
+                                           xy(1) >= cfg%width - 1.0e-6_dp*cfg%dx)) &
+          self%gfix(1, g) = 1
+        if (cfg%top == bc_velocity .and. xy(2) >= cfg%height - 1.0e-6_dp*cfg%dx) &
+          self%gfix(:, g) = 2
+      end do
+    end do
+
+    nsup = support_size_2d(cfg%shape)
+    np = ncx*ncy*cfg%ppc**2
+    call new_particles(self%parts, np, 2, nsup, cfg%nstatv)
+    lp = 0.5_dp*cfg%dx/cfg%ppc
+    allocate (self%mat(np), self%q(np), self%s0(4, np), self%sv0(cfg%nstatv, np), &
+              self%de(4, np), self%lp0(2, np))
+    allocate (self%props_p(cfg%nprops, 2))
+    self%props_p(:, 1) = cfg%props(1:cfg%nprops)
+    self%props_p(:, 2) = cfg%props(1:cfg%nprops)
+    if (cfg%weak_k0 > 0.0_dp) self%props_p(prop_k0, 2) = cfg%weak_k0
+    p = 0
+    do b = 1, ncy*cfg%ppc
+      do a = 1, ncx*cfg%ppc
+        p = p + 1
+        self%parts%gid(p) = p
+        self%parts%x0(:, p) = [(a - 0.5_dp)*2.0_dp*lp, (b - 0.5_dp)*2.0_dp*lp]
+        self%mat(p) = 1
+        if (cfg%weak_k0 > 0.0_dp) then
+          xy = self%parts%x0(:, p)
+          if (xy(1) >= cfg%weak_x(1) .and. xy(1) <= cfg%weak_x(2) .and. &
+              xy(2) >= cfg%weak_y(1) .and. xy(2) <= cfg%weak_y(2)) self%mat(p) = 2
+        end if
+      end do
+    end do
+    self%parts%n = np
+    self%parts%x = self%parts%x0
+    do p = 1, np
+      self%parts%v(:, p) = matmul(cfg%velocity_gradient0, self%parts%x0(:, p))
+    end do
+    self%parts%lp = lp
+    self%lp0 = lp
+    self%parts%vol0 = (2.0_dp*lp)**2
+    self%parts%vol = self%parts%vol0
+    self%parts%mass = cfg%density*self%parts%vol0
+    self%parts%defgrad = 0.0_dp
+    do k = 1, 3
+      self%parts%defgrad(k, k, :) = 1.0_dp
+    end do
+    self%parts%stress = 0.0_dp
+    self%parts%stran = 0.0_dp
+    self%parts%statev = 0.0_dp
+    self%q = 0.0_dp
+
+    ! moduli through the UMAT: uniaxial strain (M) and isotropic (3K)
+    ds = probe([-1.0e-7_dp, 0.0_dp, 0.0_dp, 0.0_dp])
+    self%modulus = -ds(1)/1.0e-7_dp
+    ds = probe([-1.0e-7_dp, -1.0e-7_dp, -1.0e-7_dp, 0.0_dp])
+    self%bulk = -ds(1)/3.0e-7_dp
+    if (.not. (self%modulus > 0.0_dp .and. self%bulk > 0.0_dp)) then
+      call new_error(err, status_invalid, 'material', 'the UMAT answers no positive '// &
+        'stiffness at the initial state (M = '//real_text(self%modulus)//' Pa, K = '// &
+        real_text(self%bulk)//' Pa)'); return
+    end if
+    self%c_max = sqrt(self%modulus/cfg%density)
+    self%dt = cfg%cfl*cfg%dx/self%c_max
+
+    call new_nonlocal(self%nl, cfg%nonlocal, cfg%props(1:cfg%nprops), 2, self%origin, cfg%dx, &
+                      [self%nx, self%ny], 0, self%nnodes - 1, err)
+
+  contains
+
+    function probe(d) result(dsig)
+      real(dp), intent(in) :: d(4)
+      real(dp) :: dsig(4), s(4), sv(cfg%nstatv), pnew
+      s = 0.0_dp
+      sv = 0.0_dp
+      call call_umat4(self%props_p(:, 1), s, sv, d, 1.0e-6_dp, 1.0e-6_dp, [0.0_dp, 0.0_dp], &
+                      cfg%dx, 0, pnew)
+      dsig = s
+      if (pnew < 1.0_dp) dsig = 0.0_dp
+    end function probe
+
+  end subroutine new_ps_scene
+
+  !> Checks on the deck values a scene needs.
+  subroutine check(cfg, err)
+    type(ps_config_t), intent(in) :: cfg
+    type(error_t), allocatable, intent(out) :: err
+    real(dp) :: r(2)
+    if (.not. (cfg%dx > 0.0_dp .and. ieee_is_finite(cfg%dx))) then
+      call bad('grid', 'dx', 'must be a finite cell size > 0 m'); return
+    end if
+    r = [cfg%width, cfg%height]/cfg%dx
+    if (any(abs(r - nint(r)) > 1.0e-9_dp*r) .or. any(nint(r) < 2)) then
+      call bad('plate', 'width', 'width and height must be whole numbers (>= 2) of cells dx')
+      return
+    end if
+    if (product(real(nint(r), dp))*cfg%ppc**2 > 2.0e7_dp) then
+      call bad('grid', 'dx', 'gives more than 2e7 particles'); return
+    end if
+    if (cfg%ppc < 1 .or. cfg%ppc > 4) then
+      call bad('grid', 'ppc', 'particles per cell per direction must be 1 ... 4'); return
+    end if
+    if (cfg%pad_cells < 2) then
+      call bad('grid', 'pad_cells', 'must be >= 2 (GIMP/CPDI supports reach past the body)')
+      return
+    end if
+    if (.not. (cfg%cfl > 0.0_dp .and. cfg%cfl <= 1.0_dp)) then
+      call bad('time', 'cfl', 'the CFL fraction must lie in (0, 1]'); return
+    end if
+    if (.not. (cfg%t_end > 0.0_dp .and. ieee_is_finite(cfg%t_end))) then
+      call bad('time', 't_end', 'must be a finite end time > 0 s'); return
+    end if
+    if (.not. (cfg%density > 0.0_dp)) then
+      call bad('material', 'density', 'must be > 0 kg/m^3'); return
+    end if
+    if (cfg%nstatv < 12) then
+      call bad('material', 'nstatv', 'must be >= 12 (the UMAT contract)'); return
+    end if
+    if (cfg%nprops < prop_k0 .and. cfg%weak_k0 > 0.0_dp) then
+      call bad('weak', 'k0', 'needs PROPS(5) (k0) in the material'); return
+    end if
+    if (cfg%visc_a1 < 0.0_dp .or. cfg%visc_a2 < 0.0_dp) then
+      call bad('viscosity', 'a1', 'A1 and A2 must be >= 0 (0 switches a term off)'); return
+    end if
+    if (cfg%ramp_time < 0.0_dp) then
+      call bad('boundary', 'ramp_time', 'must be >= 0 s'); return
+    end if
+  contains
+    subroutine bad(group, key, what)
+      character(len=*), intent(in) :: group, key, what
+      call new_error(err, status_invalid, group//'%'//key, '&'//group//' '//key//' '//what)
+    end subroutine bad
+  end subroutine check
+
+  !> One explicit step: weights, P2G, grid update with boundaries, G2P,
+  !> MUSL velocity, L and F, artificial viscosity, Jaumann rotation, and
+  !> the stress update of every particle through Algorithm 1.
+  subroutine ps_advance(self, err, log_unit)
+    type(ps_scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: err
+    integer, intent(in), optional :: log_unit
+    integer :: p, k, i, n, ns
+    real(dp) :: dt, w, vtop, mmin, lg(2, 2), dkk, rho, sig(2, 2), wspin, f2(2, 2), c
+    real(dp) :: s4(4)
+    integer(int64) :: t0, t1, t2
+
+    call system_clock(t0)
+    associate (pt => self%parts, cfg => self%cfg)
+      n = pt%n
+      dt = self%dt
+      ns = pt%nsup
+      ! --- weights at x^n
+      do p = 1, n
+        f2 = pt%defgrad(1:2, 1:2, p)
+        call shape_2d(cfg%shape, pt%x(:, p), self%lp0(:, p), f2, self%origin, cfg%dx, &
+                      self%nx, pt%node(:, p), pt%phi(:, p), pt%grad(:, :, p))
+        if (minval(pt%node(:, p)) < 0 .or. maxval(pt%node(:, p)) >= self%nnodes) then
+          call new_error(err, status_invalid, 'grid', 'step '//int_text(self%nstep + 1)// &
+            ': particle '//int_text(p)//' at ('//real_text(pt%x(1, p))//', '// &
+            real_text(pt%x(2, p))//') m left the grid; enlarge &grid pad_cells')
+          return
+        end if
+      end do
+      ! --- P2G: mass, momentum, internal force (sigma - q I)
+      self%gmass = 0.0_dp
+      self%gmom = 0.0_dp
+      self%gforce = 0.0_dp
+      do p = 1, n
+        sig = reshape([pt%stress(1, p) - self%q(p), pt%stress(4, p), pt%stress(4, p), &
+                       pt%stress(2, p) - self%q(p)], [2, 2])
+        do k = 1, ns
+          i = pt%node(k, p)
+          w = pt%phi(k, p)*pt%mass(p)
+          self%gmass(i) = self%gmass(i) + w
+          self%gmom(:, i) = self%gmom(:, i) + w*pt%v(:, p)
+          self%gforce(:, i) = self%gforce(:, i) - pt%vol(p)*matmul(sig, pt%grad(:, k, p))
+        end do
+      end do
+      ! --- grid update and boundaries
+      vtop = cfg%top_velocity
+      if (cfg%ramp_time > 0.0_dp) vtop = vtop*min(1.0_dp, (self%t + dt)/cfg%ramp_time)
+      mmin = 1.0e-9_dp*minval(pt%mass(1:n))
+      do i = 0, self%nnodes - 1
+        if (self%gmass(i) > mmin) then
+          self%gacc(:, i) = self%gforce(:, i)/self%gmass(i)
+          self%gvel(:, i) = self%gmom(:, i)/self%gmass(i) + self%gacc(:, i)*dt
+        else
+          self%gacc(:, i) = 0.0_dp
+          self%gvel(:, i) = 0.0_dp
+        end if
+        call apply_bc(i)
+      end do
+      ! --- G2P: FLIP velocity, position
+      do p = 1, n
+        do k = 1, ns
+          i = pt%node(k, p)
+          pt%v(:, p) = pt%v(:, p) + dt*pt%phi(k, p)*self%gacc(:, i)
+          pt%x(:, p) = pt%x(:, p) + dt*pt%phi(k, p)*self%gvel(:, i)
+        end do
+      end do
+      ! --- MUSL: grid velocity from the updated particle momentum
+      self%gmom = 0.0_dp
+      do p = 1, n
+        do k = 1, ns
+          i = pt%node(k, p)
+          self%gmom(:, i) = self%gmom(:, i) + pt%phi(k, p)*pt%mass(p)*pt%v(:, p)
+        end do
+      end do
+      do i = 0, self%nnodes - 1
+        if (self%gmass(i) > mmin) then
+          self%gvel(:, i) = self%gmom(:, i)/self%gmass(i)
+        else
+          self%gvel(:, i) = 0.0_dp
+        end if
+        self%gacc(:, i) = 0.0_dp
+        call apply_bc(i)
+      end do
+      ! --- velocity gradient (eq. 4.11), F, volume, viscosity, rotation
+      c = sqrt(self%bulk/cfg%density)
+      do p = 1, n
+        lg = 0.0_dp
+        do k = 1, ns
+          i = pt%node(k, p)
+          lg(:, 1) = lg(:, 1) + self%gvel(:, i)*pt%grad(1, k, p)
+          lg(:, 2) = lg(:, 2) + self%gvel(:, i)*pt%grad(2, k, p)
+        end do
+        ! lg(a, b) = d v_a / d x_b
+        self%de(:, p) = dt*[lg(1, 1), lg(2, 2), 0.0_dp, lg(1, 2) + lg(2, 1)]
+        f2 = pt%defgrad(1:2, 1:2, p)
+        pt%defgrad(1:2, 1:2, p) = f2 + dt*matmul(lg, f2)
+        pt%vol(p) = pt%vol0(p)*(pt%defgrad(1, 1, p)*pt%defgrad(2, 2, p) - &
+                                pt%defgrad(1, 2, p)*pt%defgrad(2, 1, p))
+        if (.not. pt%vol(p) > 0.0_dp) then
+          call new_error(err, status_cutback, 'time', 'step '//int_text(self%nstep + 1)// &
+            ': particle '//int_text(p)//' was turned inside out (det F <= 0); a smaller '// &
+            '&time cfl may help')
+          return
+        end if
+        dkk = lg(1, 1) + lg(2, 2)
+        rho = pt%mass(p)/pt%vol(p)
+        if (dkk < 0.0_dp) then
+          self%q(p) = rho*(cfg%visc_a1*c*abs(dkk)*cfg%dx + cfg%visc_a2*(dkk*cfg%dx)**2)
+        else
+          self%q(p) = 0.0_dp
+        end if
+        ! Jaumann rotation: sigma += dt (W sigma - sigma W), W12 = (L12 - L21)/2
+        wspin = 0.5_dp*(lg(1, 2) - lg(2, 1))
+        s4 = pt%stress(1:4, p)
+        pt%stress(1, p) = s4(1) + 2.0_dp*dt*wspin*s4(4)
+        pt%stress(2, p) = s4(2) - 2.0_dp*dt*wspin*s4(4)
+        pt%stress(4, p) = s4(4) + dt*wspin*(s4(2) - s4(1))
+      end do
+      ! --- stress update: Algorithm 1 (one local pass when h_zeta = 0)
+      do p = 1, n
+        self%s0(:, p) = pt%stress(1:4, p)
+        self%sv0(:, p) = pt%statev(:, p)
+      end do
+      call system_clock(t1)
+      call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
+                          pt%phi(:, 1:n), err, log_unit)
+      call system_clock(t2)
+      self%ticks_umat = self%ticks_umat + (t2 - t1)
+      if (allocated(err)) then
+        err%message = 'step '//int_text(self%nstep + 1)//', t = '//real_text(self%t + dt)// &
+                      ' s: '//err%message
+        return
+      end if
+      do p = 1, n
+        pt%stran(1:4, p) = pt%stran(1:4, p) + self%de(:, p)
+      end do
+    end associate
+    self%t = self%t + self%dt
+    self%nstep = self%nstep + 1
+    call system_clock(t2)
+    self%ticks_total = self%ticks_total + (t2 - t0)
+
+  contains
+
+    subroutine apply_bc(node)
+      integer, intent(in) :: node
+      integer :: d
+      do d = 1, 2
+        select case (self%gfix(d, node))
+        case (1)
+          self%gvel(d, node) = 0.0_dp
+          self%gacc(d, node) = 0.0_dp
+        case (2)
+          self%gvel(d, node) = merge(vtop, 0.0_dp, d == 2)
+          self%gacc(d, node) = 0.0_dp
+        end select
+      end do
+    end subroutine apply_bc
+
+  end subroutine ps_advance
+
+  !> The host side of Algorithm 1: particle p from its start-of-step copies
+  !> with STATEV(3) = avg, through the UMAT (NTENS = 4); dlambda = STATEV(2).
+  !> A cut-back request splits the increment (2, 4, ... 64 parts, each with
+  !> the same average share); invalid input is an error.
+  subroutine ps_update(self, p, avg, dlambda, err)
+    class(ps_scene_t), intent(inout) :: self
+    integer, intent(in) :: p
+    real(dp), intent(in) :: avg
+    real(dp), intent(out) :: dlambda
+    type(error_t), allocatable, intent(out) :: err
+    real(dp) :: s(4), sv(self%cfg%nstatv), pnew, dl
+    integer :: level, nsub, k
+    logical :: ok
+    associate (pt => self%parts)
+      s = self%s0(:, p)
+      sv = self%sv0(:, p)
+      sv(3) = avg
+      call call_umat4(self%props_p(:, self%mat(p)), s, sv, self%de(:, p), self%dt, &
+                      self%t + self%dt, pt%x(:, p), self%cfg%dx, pt%gid(p), pnew)
+      if (pnew >= 1.0_dp) then
+        pt%stress(1:4, p) = s
+        pt%statev(:, p) = sv
+        dlambda = sv(2)
+        return
+      end if
+      if (pnew < 0.0_dp) then
+        call new_error(err, status_invalid, '', 'the UMAT refused the input of particle '// &
+          int_text(pt%gid(p))//' (PNEWDT = '//real_text(pnew)//'; its message is on '// &
+          'standard error above)')
+        return
+      end if
+      do level = 1, 6
+        nsub = 2**level
+        s = self%s0(:, p)
+        sv = self%sv0(:, p)
+        ok = .true.
+        dl = 0.0_dp
+        do k = 1, nsub
+          sv(3) = avg/nsub
+          call call_umat4(self%props_p(:, self%mat(p)), s, sv, self%de(:, p)/nsub, &
+                          self%dt/nsub, self%t + self%dt*k/nsub, pt%x(:, p), self%cfg%dx, &
+                          pt%gid(p), pnew)
+          if (pnew < 1.0_dp) then
+            ok = .false.
+            exit
+          end if
+          dl = dl + sv(2)
+        end do
+        if (ok) then
+          pt%stress(1:4, p) = s
+          sv(2) = dl
+          sv(3) = avg
+          pt%statev(:, p) = sv
+          dlambda = dl
+          self%max_substeps = max(self%max_substeps, nsub)
+          return
+        end if
+      end do
+      call new_error(err, status_cutback, '', 'the UMAT asked to cut back the increment of '// &
+        'particle '//int_text(pt%gid(p))//' and still did with 64 sub-increments; a '// &
+        'smaller &time cfl may help')
+    end associate
+  end subroutine ps_update
+
+  !> One UMAT call with NTENS = 4 (NDI = 3, NSHR = 1), explicit host.
+  subroutine call_umat4(props, s, sv, de, dtime, t_end, xy, celent, noel, pnewdt)
+    real(dp), intent(in) :: props(:), de(4), dtime, t_end, xy(2), celent
+    real(dp), intent(inout) :: s(4), sv(:)
+    integer, intent(in) :: noel
+    real(dp), intent(out) :: pnewdt
+    real(dp) :: dd(4, 4), sse, spd, scd, rpl, ddsddt(4), drplde(4), drpldt, stran(4)
+    real(dp) :: time(2), predef(1), dpred(1), coords(3), drot(3, 3), f(3, 3)
+    character(len=80) :: cmname
+    sse = 0.0_dp; spd = 0.0_dp; scd = 0.0_dp; rpl = 0.0_dp; drpldt = 0.0_dp
+    ddsddt = 0.0_dp; drplde = 0.0_dp; stran = 0.0_dp; predef = 0.0_dp; dpred = 0.0_dp
+    drot = 0.0_dp; drot(1, 1) = 1.0_dp; drot(2, 2) = 1.0_dp; drot(3, 3) = 1.0_dp
+    f = drot
+    coords = [xy(1), xy(2), 0.0_dp]
+    time = t_end - dtime
+    dd = 0.0_dp
+    cmname = 'WELLPOSED'
+    pnewdt = 1.0_dp
+    call umat(s, sv, dd, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, de, time, dtime, &
+              0.0_dp, 0.0_dp, predef, dpred, cmname, 3, 1, 4, size(sv), props, size(props), &
+              coords, drot, pnewdt, celent, f, f, max(noel, 1), 1, 1, 1, 1, 1)
+  end subroutine call_umat4
+
+  !> Applied axial stress (Pa, compression positive): minus the mean
+  !> sigma_yy of the particles of the top cell layer.
+  pure real(dp) function ps_applied_stress(self) result(s)
+    type(ps_scene_t), intent(in) :: self
+    integer :: p, m
+    s = 0.0_dp
+    m = 0
+    do p = 1, self%parts%n
+      if (self%parts%x0(2, p) > self%cfg%height - self%cfg%dx) then
+        s = s - self%parts%stress(2, p)
+        m = m + 1
+      end if
+    end do
+    if (m > 0) s = s/m
+  end function ps_applied_stress
+
+  !> Magnitude of the plastic strain tensor ||eps^p|| of each particle
+  !> (STATEV 5-10, engineering shears halved), as in fig. 4.2 and 4.4.
+  pure function ps_plastic_strain(self) result(ep)
+    type(ps_scene_t), intent(in) :: self
+    real(dp) :: ep(self%parts%n)
+    integer :: p
+    do p = 1, self%parts%n
+      associate (e => self%parts%statev(5:10, p))
+        ep(p) = sqrt(e(1)**2 + e(2)**2 + e(3)**2 + 0.5_dp*(e(4)**2 + e(5)**2 + e(6)**2))
+      end associate
+    end do
+  end function ps_plastic_strain
+
+  !> Kinetic energy of the particles (J per m of thickness).
+  pure real(dp) function ps_kinetic_energy(self) result(e)
+    type(ps_scene_t), intent(in) :: self
+    integer :: n
+    n = self%parts%n
+    e = 0.5_dp*sum(self%parts%mass(1:n)*(self%parts%v(1, 1:n)**2 + self%parts%v(2, 1:n)**2))
+  end function ps_kinetic_energy
+
+end module wellposed_mpm_plane_strain
