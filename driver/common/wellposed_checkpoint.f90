@@ -307,8 +307,7 @@ contains
     type(entry_t) :: e
     character(len=:), allocatable :: text, manifest, line, kind, sum_stored, why
     character(len=256) :: name
-    integer :: start, stop_, n, ios
-    character(len=16) :: kbuf
+    integer :: start, stop_, n, ios, k1, k2
     call h5%open(path, err)
     if (allocated(err)) then
       why = err%message
@@ -348,8 +347,18 @@ contains
       line = manifest(start:start + stop_ - 2)
       start = start + stop_
       if (len_trim(line) == 0) cycle
-      read (line, *, iostat=ios) name, kbuf, n
-      kind = trim(kbuf)
+      ! "name kind length" (not list-directed: a '/' in a name would end it)
+      line = trim(adjustl(line))
+      k1 = index(line, ' ')
+      k2 = index(line, ' ', back=.true.)
+      ios = 1
+      if (k1 > 1 .and. k2 > k1) then
+        name = line(1:k1 - 1)
+        kind = trim(adjustl(line(k1 + 1:k2 - 1)))
+        read (line(k2 + 1:), *, iostat=ios) n
+      else
+        kind = ''
+      end if
       if (ios /= 0 .or. n < 0 .or. (kind /= 'real' .and. kind /= 'integer')) then
         call refuse('manifest line "'//line//'" is garbled')
         exit
