@@ -141,36 +141,52 @@ contains
   pure function key_of_value(text, token) result(key)
     character(len=*), intent(in) :: text, token
     character(len=:), allocatable :: key, low
-    integer :: at, i, j
+    integer :: at, i
     character(len=*), parameter :: stops = ' ,='//char(9)//char(10)//char(13)
     key = ''
     if (len(token) == 0) return
     low = lower(text)
-    at = index(low, lower(token))
-    if (at == 0) return
-    i = at - 1
-    do while (i >= 1)                    ! back to the start of the value
-      if (index(stops, low(i:i)) > 0) exit
-      i = i - 1
+    at = 0
+    do                                   ! every occurrence, first with a key wins
+      i = index(low(at + 1:), lower(token))
+      if (i == 0) return
+      at = at + i
+      key = key_at(at)
+      if (len(key) > 0) return
     end do
-    do while (i >= 1)                    ! blanks before it
-      if (low(i:i) /= ' ' .and. low(i:i) /= char(9)) exit
+
+  contains
+
+    pure function key_at(at) result(key)
+      integer, intent(in) :: at
+      character(len=:), allocatable :: key
+      integer :: i, j
+      key = ''
+      i = at - 1
+      do while (i >= 1)                  ! back to the start of the value
+        if (index(stops, low(i:i)) > 0) exit
+        i = i - 1
+      end do
+      do while (i >= 1)                  ! blanks before it
+        if (low(i:i) /= ' ' .and. low(i:i) /= char(9)) exit
+        i = i - 1
+      end do
+      if (i < 1) return
+      if (low(i:i) /= '=') return
       i = i - 1
-    end do
-    if (i < 1) return
-    if (low(i:i) /= '=') return
-    i = i - 1
-    do while (i >= 1)
-      if (low(i:i) /= ' ' .and. low(i:i) /= char(9)) exit
-      i = i - 1
-    end do
-    j = i
-    do while (i >= 1)
-      if (.not. is_name(low(i:i)) .and. low(i:i) /= '(' .and. low(i:i) /= ')' .and. &
-          index('0123456789', low(i:i)) == 0) exit
-      i = i - 1
-    end do
-    if (j > i) key = text(i + 1:j)
+      do while (i >= 1)
+        if (low(i:i) /= ' ' .and. low(i:i) /= char(9)) exit
+        i = i - 1
+      end do
+      j = i
+      do while (i >= 1)
+        if (.not. is_name(low(i:i)) .and. index('()_', low(i:i)) == 0 .and. &
+            index('0123456789', low(i:i)) == 0) exit
+        i = i - 1
+      end do
+      if (j > i) key = text(i + 1:j)
+    end function key_at
+
   end function key_of_value
 
   !> True for a Fortran name (a letter, then letters, digits, underscores).
