@@ -1,0 +1,337 @@
+!> wellposed-point DECK [--no-plot]: the single-element driver. Reads a
+!> namelist deck (driver/point: wellposed_point_deck; keys in the README),
+!> drives every &material of it through the UMAT along the deck's legs,
+!> probes the state (R(theta), acoustic tensor, wave speeds, Gudehus
+!> envelopes) and runs the Chapter 3 virtual experiment when asked, and
+!> writes <out_dir>/<name>/: the deck, CSV files, results.h5 (data and
+!> metadata), summary.txt and PNG plots. Errors go to standard error with
+!> exit status 1, and leave only <name>.partial/ behind.
+program wellposed_point
+  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t
+  use wellposed_fs, only: int_text, shell_quote
+  use wellposed_deck, only: real_str
+  use wellposed_run_dir, only: run_dir_t
+  use wellposed_summary, only: summary_t
+  use wellposed_h5, only: h5_file_t
+  use wellposed_plot, only: run_plot
+  use wellposed_build_info, only: wellposed_version, wellposed_git_revision
+  use wellposed_point_material, only: material_t, point_state_t, umat_increment, ntens
+  use wellposed_point_path, only: history_t, run_leg
+  use wellposed_point_probes, only: elastic_stiffness, lode_frame_t, find_lode_frame, &
+    rtheta_probe, acoustic_t, acoustic_probe, wave_speeds, gudehus_probe, pi
+  use wellposed_point_chapter3, only: ch3_result_t, run_chapter3
+  use wellposed_point_deck, only: point_deck_t, read_point_deck
+  use wellposed_point_config, only: plot_script
+  implicit none
+
+  type(point_deck_t) :: deck
+  type(error_t), allocatable :: err
+  type(run_dir_t) :: run
+  type(summary_t) :: summary
+  type(h5_file_t) :: h5
+  character(len=4096) :: arg
+  character(len=:), allocatable :: deck_path
+  logical :: plot
+  integer :: i, nargs, im
+  integer(8) :: t0, t1, rate
+
+  call system_clock(t0, rate)
+  plot = .true.
+  deck_path = ''
+  nargs = command_argument_count()
+  do i = 1, nargs
+    call get_command_argument(i, arg)
+    select case (trim(arg))
+    case ('--no-plot')
+      plot = .false.
+    case ('-h', '--help')
+      write (output_unit, '(a)') 'usage: wellposed-point DECK [--no-plot]', &
+        '  DECK: namelist deck (see README, "The single-element driver")', &
+        '  --no-plot: skip the PNG plots (same as plot = .false. in &run)'
+      stop
+    case default
+      if (len(deck_path) > 0) call fail_usage('more than one deck given: '//trim(arg))
+      deck_path = trim(arg)
+    end select
+  end do
+  if (len(deck_path) == 0) call fail_usage('no deck given')
+
+  call read_point_deck(deck_path, deck, err)
+  call check(err)
+  plot = plot .and. deck%plot
+  call run%create(deck%out_dir, deck%name, deck_path, err)
+  call check(err)
+  write (output_unit, '(a)') 'wellposed-point '//wellposed_version//': deck '//deck_path// &
+    ' -> '//run%final//' ('//int_text(size(deck%materials))//' material(s), '// &
+    int_text(size(deck%legs))//' leg(s))'
+  call h5%create(run%path('results.h5'), err)
+  call check(err)
+  call h5%write_attr('deck', deck%text)
+  call h5%write_attr('deck_path', deck_path)
+  call h5%write_attr('version', wellposed_version)
+  call h5%write_attr('git_revision', wellposed_git_revision)
+  call h5%write_attr('program', 'wellposed-point')
+  call summary%add('version', wellposed_version)
+  call summary%add('git_revision', wellposed_git_revision)
+  call summary%add('n_materials', size(deck%materials))
+
+  do im = 1, size(deck%materials)
+    call run_material(deck%materials(im))
+  end do
+
+  call system_clock(t1)
+  call summary%add('wall_time_s', real(t1 - t0, dp)/real(rate, dp), &
+                   'excluding plots; not a regression figure')
+  call summary%write(run%path('summary.txt'), err)
+  call check(err)
+  call h5%close(err)
+  call check(err)
+  if (plot) then
+    write (output_unit, '(a)') '  plotting ...'
+    call run_plot(plot_script, shell_quote(run%partial), err)
+    call check(err)
+  end if
+  call run%commit(err)
+  call check(err)
+  call system_clock(t1)
+  write (output_unit, '(a)') 'done in '//real_str(real(t1 - t0, dp)/real(rate, dp))// &
+    ' s: '//run%final
+
+contains
+
+  subroutine run_material(mat)
+    type(material_t), intent(in) :: mat
+    type(point_state_t) :: s
+    type(point_state_t), allocatable :: saved(:)
+    real(dp), allocatable :: d_last(:, :)
+    type(history_t) :: hist
+    character(len=:), allocatable :: lab
+    integer :: il
+    lab = mat%label
+    write (output_unit, '(a)') '['//lab//'] '//int_text(size(mat%props))//' PROPS, '// &
+      int_text(mat%nstatv)//' STATEV'
+    call h5%write_attr('props.'//lab, mat%props)
+    s%stress = deck%stress0
+    s%strain = deck%strain0
+    allocate (s%statev(mat%nstatv))
+    s%statev = deck%statev0(1:mat%nstatv)
+    allocate (saved(0:size(deck%legs)), d_last(ntens, 0:size(deck%legs)))
+    d_last = 0.0_dp
+    saved(0) = s
+    call hist%push(s, 0, 0)
+    do il = 1, size(deck%legs)
+      call run_leg(mat, s, deck%legs(il), il, deck%solver, err, hist, d_last(:, il), lab)
+      if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
+      call check(err)
+      saved(il) = s
+    end do
+    call write_path(mat, hist)
+    if (deck%probe%enabled) call run_probes(mat, saved(deck%probe%at_leg), &
+                                            d_last(:, max(deck%probe%at_leg, 0)))
+    if (deck%chapter3) call run_ch3(mat, s)
+  end subroutine run_material
+
+  subroutine write_path(mat, hist)
+    type(material_t), intent(in) :: mat
+    type(history_t), intent(in) :: hist
+    integer :: unit, i, n
+    character(len=:), allocatable :: lab, header
+    lab = mat%label
+    n = hist%n
+    header = 'leg,increment,time,e11,e22,e33,g12,g13,g23,s11,s22,s33,s12,s13,s23'
+    do i = 1, mat%nstatv
+      header = header//',statev'//int_text(i)
+    end do
+    open (newunit=unit, file=run%path(lab//'_path.csv'), status='replace', action='write')
+    write (unit, '(a)') header
+    do i = 1, n
+      write (unit, '(i0,",",i0,*(:,",",es24.16e3))') hist%leg(i), hist%inc(i), hist%time(i), &
+        hist%strain(i, :), hist%stress(i, :), hist%statev(i, :)
+    end do
+    close (unit)
+    call h5%write(lab//'/path/time', hist%time(1:n))
+    call h5%write(lab//'/path/leg', hist%leg(1:n))
+    call h5%write(lab//'/path/strain', hist%strain(1:n, :))
+    call h5%write(lab//'/path/stress', hist%stress(1:n, :))
+    call h5%write(lab//'/path/statev', hist%statev(1:n, :))
+    call summary%add(lab//'.path.n_rows', n, 'initial state and one row per increment')
+    call summary%add(lab//'.path.cutbacks', hist%cutbacks)
+    call summary%add(lab//'.path.fd_jacobians', hist%fd_jacobians)
+    do i = 1, ntens
+      call summary%add(lab//'.path.final_stress_'//trim(comp(i)), hist%stress(n, i))
+    end do
+    do i = 1, ntens
+      call summary%add(lab//'.path.final_strain_'//trim(comp(i)), hist%strain(n, i), &
+                       merge('engineering shear', '                 ', i > 3))
+    end do
+    do i = 1, min(mat%nstatv, 12)
+      call summary%add(lab//'.path.final_statev_'//int_text(i), hist%statev(n, i))
+    end do
+  end subroutine write_path
+
+  subroutine run_probes(mat, s, d_last)
+    type(material_t), intent(in) :: mat
+    type(point_state_t), intent(in) :: s
+    real(dp), intent(in) :: d_last(ntens)
+    character(len=:), allocatable :: lab
+    real(dp) :: c(ntens, ntens), t(ntens, ntens), pnewdt, c_e, c_p, mod_p
+    real(dp), allocatable :: theta(:), r(:), phi(:), dsig2(:, :), deps2(:, :), depsp2(:, :)
+    type(lode_frame_t) :: frame
+    type(acoustic_t) :: ac
+    type(point_state_t) :: s1
+    integer :: i, unit, imax, imin
+    lab = mat%label
+    call elastic_stiffness(mat, deck%probe_strain, c, err)
+    call check(err)
+    call summary%add(lab//'.probe.at_leg', deck%probe%at_leg)
+    if (deck%probe%rtheta) then
+      write (output_unit, '(a)') '  ['//lab//'] probing R(theta) in '// &
+        int_text(deck%probe%n_theta)//' directions'
+      call find_lode_frame(mat, s, c, deck%probe_strain, frame, err)
+      call check(err)
+      allocate (theta(deck%probe%n_theta), r(deck%probe%n_theta))
+      theta = [(2.0_dp*pi*(i - 1)/deck%probe%n_theta, i = 1, deck%probe%n_theta)]
+      call rtheta_probe(mat, s, c, deck%probe_strain, frame, theta, r, err)
+      call check(err)
+      open (newunit=unit, file=run%path(lab//'_rtheta.csv'), status='replace', action='write')
+      write (unit, '(a)') 'theta_deg,R'
+      do i = 1, size(theta)
+        write (unit, '(es24.16e3,",",es24.16e3)') theta(i)*180.0_dp/pi, r(i)
+      end do
+      close (unit)
+      call h5%write(lab//'/rtheta/theta_deg', theta*180.0_dp/pi)
+      call h5%write(lab//'/rtheta/r', r)
+      call h5%write(lab//'/rtheta/normal_lode', frame%n2)
+      call h5%write(lab//'/rtheta/stress', s%stress)
+      imax = maxloc(r, dim=1)
+      imin = minloc(r, dim=1)
+      call summary%add(lab//'.rtheta.r_max', r(imax), 'eq. 2.5, over the sampled directions')
+      call summary%add(lab//'.rtheta.theta_max_deg', theta(imax)*180.0_dp/pi)
+      call summary%add(lab//'.rtheta.r_min', r(imin))
+      call summary%add(lab//'.rtheta.theta_min_deg', theta(imin)*180.0_dp/pi)
+      call summary%add(lab//'.rtheta.sandler_rubin_wedge', r(imax) > 1.0_dp + 1.0e-6_dp, &
+                       'R > 1 for some direction: plastic stiffer than elastic')
+      call summary%add(lab//'.rtheta.negative_r', r(imin) < -1.0e-6_dp, &
+                       'R < 0 for some direction: softening-like response')
+      call summary%add(lab//'.rtheta.normal_theta_from_ez_deg', &
+                       modulo(atan2(frame%n2(2), frame%n2(1))*180.0_dp/pi, 360.0_dp), &
+                       'yield normal in the (E_z, E_r) plane, found from the probes')
+    end if
+    if (deck%probe%acoustic) then
+      write (output_unit, '(a)') '  ['//lab//'] acoustic tensor over '// &
+        int_text(deck%probe%n_polar*deck%probe%n_azimuth)//' normals'
+      call umat_increment(mat, s, deck%probe_strain*d_last/max(norm2(d_last), tiny(1.0_dp)), &
+                          1.0_dp, s1, t, pnewdt)
+      call acoustic_probe(t, c, deck%probe%n_polar, deck%probe%n_azimuth, ac, err)
+      call check(err)
+      call h5%write(lab//'/acoustic/polar_deg', ac%polar_deg)
+      call h5%write(lab//'/acoustic/azimuth_deg', ac%azimuth_deg)
+      call h5%write(lab//'/acoustic/min_eig', ac%min_eig)
+      call h5%write(lab//'/acoustic/tangent', t)
+      call summary%add(lab//'.acoustic.min_eig', ac%min_eig_global, &
+                       'smallest eigenvalue of sym(n.T.n) over the normals')
+      call summary%add(lab//'.acoustic.min_eig_ratio', ac%min_eig_global/ac%elastic_min_eig, &
+                       'relative to the elastic n.C.n (G)')
+      call summary%add(lab//'.acoustic.loss_of_ellipticity', ac%loss_of_ellipticity)
+      call summary%add(lab//'.acoustic.critical_normal_angle_deg', &
+                       acos(min(1.0_dp, abs(ac%n_crit(1))))*180.0_dp/pi, 'from axis 1')
+      call summary%add(lab//'.acoustic.flutter', ac%flutter, 'complex eigenvalues of n.T.n')
+    end if
+    if (deck%probe%wave .and. mat%density > 0.0_dp) then
+      call wave_speeds(mat, s, c, deck%probe_strain, deck%probe%wave_sign, c_e, c_p, mod_p, err)
+      call check(err)
+      call summary%add(lab//'.wave.elastic_speed', c_e, 'sqrt(C_1111/density)')
+      call summary%add(lab//'.wave.plastic_modulus', mod_p, 'dsigma_11/deps_11 in uniaxial strain')
+      call summary%add(lab//'.wave.plastic_speed', c_p)
+      call summary%add(lab//'.wave.speed_ratio', c_p/c_e)
+      call summary%add(lab//'.wave.plastic_faster', c_p > c_e*(1.0_dp + 1.0e-9_dp), &
+                       'Sandler-Rubin condition')
+    end if
+    if (deck%probe%gudehus) then
+      write (output_unit, '(a)') '  ['//lab//'] Gudehus envelope: '// &
+        int_text(deck%probe%n_gudehus)//' stress probes'
+      allocate (phi(deck%probe%n_gudehus))
+      allocate (dsig2(size(phi), 2), deps2(size(phi), 2), depsp2(size(phi), 2))
+      phi = [(360.0_dp*(i - 1)/size(phi), i = 1, size(phi))]
+      call gudehus_probe(mat, s, deck%solver, deck%probe%gudehus_size, deck%probe%n_sub, phi, &
+                         dsig2, deps2, depsp2, err)
+      if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
+      call check(err)
+      open (newunit=unit, file=run%path(lab//'_gudehus.csv'), status='replace', action='write')
+      write (unit, '(a)') 'phi_deg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r'
+      do i = 1, size(phi)
+        write (unit, '(es24.16e3,6(",",es24.16e3))') phi(i), dsig2(i, :), deps2(i, :), depsp2(i, :)
+      end do
+      close (unit)
+      call h5%write(lab//'/gudehus/phi_deg', phi)
+      call h5%write(lab//'/gudehus/dsig', dsig2)
+      call h5%write(lab//'/gudehus/deps', deps2)
+      call h5%write(lab//'/gudehus/deps_plastic', depsp2)
+      call summary%add(lab//'.gudehus.max_total_strain', maxval(norm2(deps2, dim=2)))
+      call summary%add(lab//'.gudehus.max_plastic_strain', maxval(norm2(depsp2, dim=2)))
+    end if
+  end subroutine run_probes
+
+  subroutine run_ch3(mat, s)
+    type(material_t), intent(in) :: mat
+    type(point_state_t), intent(inout) :: s
+    type(ch3_result_t) :: res
+    character(len=:), allocatable :: lab
+    integer :: unit, k
+    lab = mat%label
+    write (output_unit, '(a)') '  ['//lab//'] chapter 3 virtual experiment: '// &
+      int_text(deck%ch3%n_cycles)//' cycles of 8 legs'
+    call run_chapter3(mat, s, deck%ch3, deck%solver, res, err)
+    if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
+    call check(err)
+    open (newunit=unit, file=run%path(lab//'_chapter3.csv'), status='replace', action='write')
+    write (unit, '(a)') 'leg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r'
+    do k = 1, 8
+      write (unit, '(i0,6(",",es24.16e3))') k, res%s(:, k), res%r(:, k), res%rp(:, k)
+    end do
+    close (unit)
+    call h5%write(lab//'/chapter3/s', res%s)
+    call h5%write(lab//'/chapter3/r', res%r)
+    call h5%write(lab//'/chapter3/rp', res%rp)
+    call h5%write(lab//'/chapter3/l', res%l)
+    call h5%write(lab//'/chapter3/l_el', res%l_el)
+    call h5%write(lab//'/chapter3/m', res%m)
+    call h5%write(lab//'/chapter3/n', res%n)
+    call h5%write(lab//'/chapter3/seq_deps', res%seq_deps)
+    call h5%write(lab//'/chapter3/seq_depsp', res%seq_depsp)
+    call summary%add(lab//'.chapter3.theta_m_deg', res%theta_m, &
+                     'flow direction from the hydrostatic compression axis (table 3.2)')
+    call summary%add(lab//'.chapter3.theta_n_deg', res%theta_n, 'yield normal, same reference')
+    call summary%add(lab//'.chapter3.residual', res%residual, &
+                     '||R - L S||/||R||, legs A-D (0: incrementally linear there)')
+    call summary%add(lab//'.chapter3.residual_elastic', res%residual_el, 'same, reversed legs')
+    call summary%add(lab//'.chapter3.rank_ratio', res%rank_ratio, &
+                     'small/large eigenvalue of A^T A (0: A = P (x) Q / mu exactly)')
+  end subroutine run_ch3
+
+  pure function comp(i) result(name)
+    integer, intent(in) :: i
+    character(len=2) :: name
+    character(len=2), parameter :: names(6) = ['11', '22', '33', '12', '13', '23']
+    name = names(i)
+  end function comp
+
+  subroutine check(e)
+    type(error_t), allocatable, intent(in) :: e
+    if (.not. allocated(e)) return
+    write (error_unit, '(a)') 'wellposed-point: error: '//e%message
+    if (allocated(run%partial)) write (error_unit, '(a)') &
+      'wellposed-point: the run is incomplete: '//run%partial//' is left for inspection'
+    stop 1
+  end subroutine check
+
+  subroutine fail_usage(message)
+    character(len=*), intent(in) :: message
+    write (error_unit, '(a)') 'wellposed-point: '//message, &
+      'usage: wellposed-point DECK [--no-plot]'
+    stop 2
+  end subroutine fail_usage
+
+end program wellposed_point

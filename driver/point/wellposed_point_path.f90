@@ -1,0 +1,352 @@
+!> Strain-, stress- and mixed-controlled paths of the single element.
+!> A leg runs from the current state over `duration` in `n_inc` equal
+!> increments; per component it prescribes either the total strain or the
+!> stress reached at its end, interpolated linearly in between. The strain
+!> increments of stress-controlled components are found by Newton
+!> iteration on the UMAT's DDSDDE with a backtracking line search, and a
+!> finite-difference Jacobian (extra UMAT calls from the same start state)
+!> when DDSDDE is not finite, is singular or its step cannot lower the
+!> residual (a direction-dependent tangent, as the extended flow rule's). An increment the UMAT refuses (PNEWDT < 1)
+!> or Newton cannot solve is cut back (by PNEWDT, at most by 1/10, at least
+!> by half) and re-attempted; after `max_cutbacks` consecutive cut-backs the
+!> path cannot be followed and an error says where and why.
+module wellposed_point_path
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
+  use wellposed_dense, only: solve_dense
+  use wellposed_point_material, only: material_t, point_state_t, umat_increment, ntens
+  use wellposed_fs, only: int_text
+  use wellposed_deck, only: real_str
+  implicit none
+  private
+  public :: leg_t, solver_t, history_t, run_leg, solve_increment, virgin_stiffness
+
+  !> One leg of a path.
+  type :: leg_t
+    real(dp) :: duration = 1.0_dp        !< time of the leg (> 0)
+    integer :: n_inc = 1                 !< number of equal increments
+    logical :: stress_control(ntens) = .false.  !< per component: stress (T) or strain (F)
+    real(dp) :: target(ntens) = 0.0_dp   !< end-of-leg stress or total strain per component
+  end type leg_t
+
+  !> Solver settings (deck group &run).
+  type :: solver_t
+    real(dp) :: stress_tol = 1.0e-9_dp   !< relative tolerance on controlled stresses
+    real(dp) :: stress_floor = 1.0_dp    !< stress scale for the tolerance near zero stress
+    integer :: max_iter = 25             !< Newton iterations per increment
+    integer :: max_cutbacks = 12         !< consecutive cut-backs before giving up
+    logical :: verbose = .true.          !< progress lines on standard output
+  end type solver_t
+
+  !> Rows of a path history: one per converged increment.
+  type :: history_t
+    integer :: n = 0
+    real(dp), allocatable :: time(:), strain(:, :), stress(:, :), statev(:, :)
+    integer, allocatable :: leg(:), inc(:)
+    integer :: cutbacks = 0, fd_jacobians = 0, newton_iterations = 0
+  contains
+    procedure :: push => history_push
+  end type history_t
+
+contains
+
+  subroutine history_push(self, s, leg, inc)
+    class(history_t), intent(inout) :: self
+    type(point_state_t), intent(in) :: s
+    integer, intent(in) :: leg, inc
+    integer :: cap, nsv
+    real(dp), allocatable :: t1(:), t2(:, :)
+    integer, allocatable :: i1(:)
+    nsv = size(s%statev)
+    if (.not. allocated(self%time)) then
+      allocate (self%time(64), self%strain(64, ntens), self%stress(64, ntens), &
+                self%statev(64, nsv), self%leg(64), self%inc(64))
+    end if
+    cap = size(self%time)
+    if (self%n == cap) then
+      allocate (t1(2*cap)); t1(1:cap) = self%time; call move_alloc(t1, self%time)
+      allocate (t2(2*cap, ntens)); t2(1:cap, :) = self%strain; call move_alloc(t2, self%strain)
+      allocate (t2(2*cap, ntens)); t2(1:cap, :) = self%stress; call move_alloc(t2, self%stress)
+      allocate (t2(2*cap, nsv)); t2(1:cap, :) = self%statev; call move_alloc(t2, self%statev)
+      allocate (i1(2*cap)); i1(1:cap) = self%leg; call move_alloc(i1, self%leg)
+      allocate (i1(2*cap)); i1(1:cap) = self%inc; call move_alloc(i1, self%inc)
+    end if
+    self%n = self%n + 1
+    self%time(self%n) = s%time
+    self%strain(self%n, :) = s%strain
+    self%stress(self%n, :) = s%stress
+    self%statev(self%n, :) = s%statev
+    self%leg(self%n) = leg
+    self%inc(self%n) = inc
+  end subroutine history_push
+
+  !> Run one leg from `s` (updated to the leg's end). `ileg` numbers the
+  !> leg in messages; rows go to `hist` when present (one per converged
+  !> increment, cut-back sub-increments included). `d_last` returns the
+  !> strain increment of the last converged increment.
+  subroutine run_leg(mat, s, leg, ileg, solver, err, hist, d_last, label)
+    type(material_t), intent(in) :: mat
+    type(point_state_t), intent(inout) :: s
+    type(leg_t), intent(in) :: leg
+    integer, intent(in) :: ileg
+    type(solver_t), intent(in) :: solver
+    type(error_t), allocatable, intent(out) :: err
+    type(history_t), intent(inout), optional :: hist
+    real(dp), intent(out), optional :: d_last(ntens)
+    character(len=*), intent(in), optional :: label
+    type(point_state_t) :: s1, start
+    real(dp) :: frac, step, dfrac, eps_t(ntens), sig_t(ntens), dd(ntens, ntens), pnewdt
+    real(dp) :: guess(ntens), c_el(ntens, ntens)
+    integer :: ncut, inc, iters
+    logical :: ok, used_fd
+    character(len=:), allocatable :: why
+    start = s
+    call virgin_stiffness(mat, c_el)
+    step = 1.0_dp/leg%n_inc
+    frac = 0.0_dp
+    dfrac = step
+    ncut = 0
+    inc = 0
+    dd = 0.0_dp
+    guess = 0.0_dp
+    do while (frac < 1.0_dp - 1.0e-12_dp)
+      dfrac = min(dfrac, 1.0_dp - frac)
+      eps_t = start%strain + (frac + dfrac)*(leg%target - start%strain)
+      sig_t = start%stress + (frac + dfrac)*(leg%target - start%stress)
+      call solve_increment(mat, s, eps_t, sig_t, leg%stress_control, dfrac*leg%duration, &
+                           solver, guess*dfrac, c_el, s1, dd, pnewdt, ok, iters, used_fd, why)
+      if (present(hist)) then
+        hist%newton_iterations = hist%newton_iterations + iters
+        if (used_fd) hist%fd_jacobians = hist%fd_jacobians + 1
+      end if
+      if (pnewdt <= 0.0_dp) then
+        call new_error(err, status_invalid, 'props', 'leg '//int_text(ileg)//': the UMAT '// &
+          'rejected its input (PNEWDT = '//real_str(pnewdt)//'; its message is above): '// &
+          'check the PROPS of material "'//mat%label//'"')
+        return
+      end if
+      if (.not. ok) then
+        ncut = ncut + 1
+        if (present(hist)) hist%cutbacks = hist%cutbacks + 1
+        ! consecutive cut-backs, or an increment below the smallest one
+        ! they allow (successes with ever smaller increments must not loop)
+        if (ncut > solver%max_cutbacks .or. dfrac < step*0.5_dp**solver%max_cutbacks) then
+          call new_error(err, status_cutback, 'leg', 'leg '//int_text(ileg)//' cannot be '// &
+            'followed: at time '//real_str(s%time)//' (fraction '//real_str(frac)// &
+            ' of the leg) '//why//' even after '//int_text(solver%max_cutbacks)// &
+            ' cut-backs to an increment of '//real_str(dfrac)//' of the leg. A stress '// &
+            'target beyond what the material can carry (perfect plasticity, softening) '// &
+            'cannot be reached under stress control; use strain control there. A UMAT whose '// &
+            'stress is not smooth or not converged to better than stress_tol = '// &
+            real_str(solver%stress_tol)//' (relative) needs a larger stress_tol in &run.')
+          return
+        end if
+        dfrac = dfrac*max(0.1_dp, min(0.5_dp, pnewdt))
+        cycle
+      end if
+      guess = (s1%strain - s%strain)/dfrac
+      s = s1
+      frac = frac + dfrac
+      if (present(d_last)) d_last = guess*dfrac
+      ncut = 0
+      ! after a cut-back, grow back towards the nominal increment
+      dfrac = min(step, 2.0_dp*dfrac)
+      inc = inc + 1
+      if (present(hist)) call hist%push(s, ileg, inc)
+    end do
+    if (present(label) .and. solver%verbose) then
+      write (*, '(a)') '  ['//label//'] leg '//int_text(ileg)//' done: '// &
+        int_text(leg%n_inc)//' increments, time '//real_str(s%time)
+    end if
+  end subroutine run_leg
+
+  !> DDSDDE of a small strain increment from the stress-free virgin state:
+  !> the elastic stiffness for the elastic predictor.
+  subroutine virgin_stiffness(mat, c)
+    type(material_t), intent(in) :: mat
+    real(dp), intent(out) :: c(ntens, ntens)
+    type(point_state_t) :: s0, s1
+    real(dp) :: pnewdt
+    allocate (s0%statev(mat%nstatv))
+    s0%statev = 0.0_dp
+    call umat_increment(mat, s0, [1.0e-9_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], 1.0_dp, &
+                        s1, c, pnewdt)
+  end subroutine virgin_stiffness
+
+  !> Solve one increment from `s0`: strain-controlled components reach
+  !> `eps_t`, stress-controlled ones `sig_t` (to stress_tol). `c_el` is an
+  !> elastic stiffness (elastic-predictor Jacobian). `guess` is the
+  !> strain increment used as the first guess of the
+  !> unknown strains. `ok` false: cut back (`why` says why); `dd` returns
+  !> the DDSDDE of the converged call.
+  subroutine solve_increment(mat, s0, eps_t, sig_t, mask, dtime, solver, guess, c_el, s1, &
+                             dd, pnewdt, ok, iters, used_fd, why)
+    type(material_t), intent(in) :: mat
+    type(point_state_t), intent(in) :: s0
+    real(dp), intent(in) :: eps_t(ntens), sig_t(ntens), dtime, guess(ntens)
+    real(dp), intent(in) :: c_el(ntens, ntens)
+    logical, intent(in) :: mask(ntens)
+    type(solver_t), intent(in) :: solver
+    type(point_state_t), intent(out) :: s1
+    real(dp), intent(inout) :: dd(ntens, ntens)
+    real(dp), intent(out) :: pnewdt
+    logical, intent(out) :: ok, used_fd
+    integer, intent(out) :: iters
+    character(len=:), allocatable, intent(out) :: why
+    real(dp) :: de(ntens), r(ntens), tol, jac(ntens, ntens), x(ntens, 1), rnorm
+    real(dp) :: ddn(ntens, ntens), hstep, de_try(ntens), dd_try(ntens, ntens), r_try(ntens)
+    real(dp) :: rnorm_try, alpha
+    type(point_state_t) :: sp
+    integer :: u(ntens), nu, i, j, ls, mode
+    logical :: solved, improved, tried_elastic
+    integer, parameter :: mode_tangent = 1, mode_elastic = 2, mode_fd = 3
+    nu = 0
+    do i = 1, ntens
+      if (mask(i)) then
+        nu = nu + 1
+        u(nu) = i
+      end if
+    end do
+    de = eps_t - s0%strain
+    used_fd = .false.
+    iters = 0
+    ok = .false.
+    why = 'no convergence'
+    tol = solver%stress_tol*max(maxval(abs(sig_t)), maxval(abs(s0%stress)), solver%stress_floor)
+    ! first guess of the unknown strains: elastic-like prediction with the
+    ! last tangent when it is usable, else the previous increment's rate
+    if (nu > 0) then
+      de(u(1:nu)) = 0.0_dp
+      de(u(1:nu)) = guess(u(1:nu))
+    end if
+    tried_elastic = .false.
+    mode = mode_tangent
+    if (all(guess(u(1:nu)) == 0.0_dp)) mode = mode_elastic
+    call trial(de, s1, ddn, r, rnorm)
+    if (pnewdt < 1.0_dp) return
+    do
+      if (nu == 0 .or. rnorm <= tol) then
+        ok = .true.
+        dd = ddn
+        return
+      end if
+      iters = iters + 1
+      if (iters > solver%max_iter) then
+        why = 'the stress-controlled components did not converge in '// &
+          int_text(solver%max_iter)//' Newton iterations (residual '//real_str(rnorm)// &
+          ', tolerance '//real_str(tol)//')'
+        pnewdt = 0.5_dp
+        return
+      end if
+      ! Jacobian: the elastic stiffness for an elastic predictor (first
+      ! iteration of a leg, or after a failed DDSDDE step), DDSDDE, or
+      ! finite differences once both fail to lower the residual
+      solved = .false.
+      if (mode == mode_elastic) then
+        jac(1:nu, 1:nu) = c_el(u(1:nu), u(1:nu))
+        tried_elastic = .true.
+      else if (mode == mode_tangent) then
+        jac(1:nu, 1:nu) = ddn(u(1:nu), u(1:nu))
+      end if
+      if (mode /= mode_fd) then
+        if (all(ieee_is_finite(jac(1:nu, 1:nu)))) then
+          x(1:nu, 1) = r(1:nu)
+          call solve_dense(jac(1:nu, 1:nu), x(1:nu, :), solved)
+        end if
+        if (.not. solved) then
+          mode = next_mode()
+          if (mode < 0) return
+          cycle
+        end if
+      else
+        used_fd = .true.
+        hstep = 1.0e-7_dp*max(maxval(abs(de)), 1.0e-6_dp)
+        do j = 1, nu
+          de_try = de
+          de_try(u(j)) = de_try(u(j)) + hstep
+          call umat_increment(mat, s0, de_try, dtime, sp, dd_try, pnewdt)
+          jac(1:nu, j) = (sp%stress(u(1:nu)) - s1%stress(u(1:nu)))/hstep
+        end do
+        pnewdt = 1.0_dp
+        x(1:nu, 1) = r(1:nu)
+        call solve_dense(jac(1:nu, 1:nu), x(1:nu, :), solved)
+        if (.not. solved) then
+          why = 'the tangent of the stress-controlled components is singular (the '// &
+            'material offers no resistance in a controlled direction)'
+          pnewdt = 0.5_dp
+          return
+        end if
+      end if
+      ! backtracking line search on the largest residual component
+      alpha = 1.0_dp
+      improved = .false.
+      do ls = 1, 12
+        de_try = de
+        de_try(u(1:nu)) = de_try(u(1:nu)) - alpha*x(1:nu, 1)
+        call trial(de_try, sp, dd_try, r_try, rnorm_try)
+        if (pnewdt < 1.0_dp) return
+        if (rnorm_try < rnorm) then
+          improved = .true.
+          exit
+        end if
+        alpha = 0.5_dp*alpha
+      end do
+      if (.not. improved) then
+        mode = next_mode()
+        if (mode < 0) return
+        cycle
+      end if
+      if (mode == mode_elastic) mode = mode_tangent
+      de = de_try
+      s1 = sp
+      ddn = dd_try
+      r = r_try
+      rnorm = rnorm_try
+    end do
+
+  contains
+
+    !> The next Jacobian to try after a failed step; -1 (and `why`) when
+    !> none is left.
+    integer function next_mode() result(m)
+      if (.not. tried_elastic) then
+        m = mode_elastic
+      else if (mode /= mode_fd) then
+        m = mode_fd
+      else
+        m = -1
+        why = 'no step along the Newton direction lowers the stress residual (residual '// &
+          real_str(rnorm)//', tolerance '//real_str(tol)//')'
+        pnewdt = 0.5_dp
+      end if
+    end function next_mode
+
+    !> One UMAT call with the strain increment `d` and its residual.
+    subroutine trial(d, st, ddt, rt, rn)
+      real(dp), intent(in) :: d(ntens)
+      type(point_state_t), intent(out) :: st
+      real(dp), intent(out) :: ddt(ntens, ntens), rt(ntens), rn
+      call umat_increment(mat, s0, d, dtime, st, ddt, pnewdt)
+      rt = 0.0_dp
+      rn = huge(1.0_dp)
+      if (pnewdt < 1.0_dp) then
+        why = 'the UMAT asked for a smaller increment (PNEWDT = '//real_str(pnewdt)//')'
+        return
+      end if
+      if (.not. all(ieee_is_finite(st%stress))) then
+        why = 'the UMAT returned a non-finite stress'
+        pnewdt = 0.5_dp
+        return
+      end if
+      if (nu > 0) then
+        rt(1:nu) = st%stress(u(1:nu)) - sig_t(u(1:nu))
+        rn = maxval(abs(rt(1:nu)))
+      else
+        rn = 0.0_dp
+      end if
+    end subroutine trial
+
+  end subroutine solve_increment
+
+end module wellposed_point_path

@@ -1,0 +1,41 @@
+C     A legacy fixed-form Abaqus UMAT for the test suite: linear isotropic
+C     elasticity, PROPS(1) = E, PROPS(2) = nu, implicit typing through
+C     ABA_PARAM.INC, and STATEV(1) counting the increments it accepted.
+C     Known answer: uniaxial stress S gives eps11 = S/E, eps22 = -nu S/E.
+      SUBROUTINE UMAT(STRESS,STATEV,DDSDDE,SSE,SPD,SCD,
+     1 RPL,DDSDDT,DRPLDE,DRPLDT,
+     2 STRAN,DSTRAN,TIME,DTIME,TEMP,DTEMP,PREDEF,DPRED,CMNAME,
+     3 NDI,NSHR,NTENS,NSTATV,PROPS,NPROPS,COORDS,DROT,PNEWDT,
+     4 CELENT,DFGRD0,DFGRD1,NOEL,NPT,LAYER,KSPT,KSTEP,KINC)
+      INCLUDE 'ABA_PARAM.INC'
+      CHARACTER*80 CMNAME
+      DIMENSION STRESS(NTENS),STATEV(NSTATV),
+     1 DDSDDE(NTENS,NTENS),DDSDDT(NTENS),DRPLDE(NTENS),
+     2 STRAN(NTENS),DSTRAN(NTENS),TIME(2),PREDEF(1),DPRED(1),
+     3 PROPS(NPROPS),COORDS(3),DROT(3,3),DFGRD0(3,3),DFGRD1(3,3)
+      E = PROPS(1)
+      ANU = PROPS(2)
+      ALAMB = E*ANU/((1.D0+ANU)*(1.D0-2.D0*ANU))
+      AMU = E/(2.D0*(1.D0+ANU))
+      DO 20 I=1,NTENS
+        DO 10 J=1,NTENS
+          DDSDDE(I,J)=0.D0
+   10   CONTINUE
+   20 CONTINUE
+      DO 40 I=1,NDI
+        DO 30 J=1,NDI
+          DDSDDE(I,J)=ALAMB
+   30   CONTINUE
+        DDSDDE(I,I)=ALAMB+2.D0*AMU
+   40 CONTINUE
+      DO 50 I=NDI+1,NTENS
+        DDSDDE(I,I)=AMU
+   50 CONTINUE
+      DO 70 I=1,NTENS
+        DO 60 J=1,NTENS
+          STRESS(I)=STRESS(I)+DDSDDE(I,J)*DSTRAN(J)
+   60   CONTINUE
+   70 CONTINUE
+      STATEV(1)=STATEV(1)+1.D0
+      RETURN
+      END
