@@ -33,7 +33,7 @@ module wellposed_mpm_decomposition
   use wellposed_mpi, only: comm_t, alltoall_counts, alltoallv_real, sendrecv_real, &
                            allreduce_any, gatherv_real, gatherv_int, allreduce_sum
   use wellposed_mpm_grid, only: grid_t
-  use wellposed_mpm_particles, only: particles_t
+  use wellposed_mpm_particles, only: particles_t, new_particles
   implicit none
   private
   public :: decomposition_t, new_decomposition, owner_of_layer, owner_of_position, &
@@ -331,17 +331,21 @@ contains
   end subroutine unpack_particle
 
   !> Room for at least `needed` particles, keeping the first n (grows by
-  !> half again at least, so repeated arrivals reallocate rarely).
+  !> half again at least, so repeated arrivals reallocate rarely). A set
+  !> never allocated is allocated with its ndim, nsup and nstatv.
   pure subroutine ensure_capacity(parts, needed)
     type(particles_t), intent(inout) :: parts
     integer, intent(in) :: needed
-    integer :: cap, n
-    if (allocated(parts%gid)) then
-      if (size(parts%gid) >= needed) return
-      cap = max(needed, size(parts%gid) + size(parts%gid)/2 + 16)
-    else
-      cap = needed
+    integer :: cap, n, ndim, nsup, nstatv
+    if (.not. allocated(parts%gid)) then
+      ndim = parts%ndim                  ! copies: new_particles resets parts on entry
+      nsup = parts%nsup
+      nstatv = parts%nstatv
+      call new_particles(parts, max(needed, 1), ndim, nsup, nstatv)
+      return
     end if
+    if (size(parts%gid) >= needed) return
+    cap = max(needed, size(parts%gid) + size(parts%gid)/2 + 16)
     n = parts%n
     call grow_i1(parts%gid)
     call grow_r2(parts%x0)

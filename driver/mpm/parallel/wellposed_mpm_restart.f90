@@ -17,10 +17,14 @@ module wellposed_mpm_restart
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_mpm_particles, only: particles_t
   use wellposed_mpm_solver, only: mpm_scene_t
-  use wellposed_mpm_decomposition, only: ensure_capacity
+  use wellposed_mpm_decomposition, only: decomposition_t, ensure_capacity, &
+                                         particle_record_length, pack_particle, &
+                                         unpack_particle, owner_of_position
+  use wellposed_mpi, only: comm_t, gatherv_real, allreduce_max
   implicit none
   private
-  public :: save_scene, restore_scene, put_particles, get_particles
+  public :: save_scene, restore_scene, put_particles, get_particles, save_scene_ranks, &
+            restore_scene_ranks
 
   !> Version of the entries below; a restart refuses any other.
   integer, parameter :: layout_version = 1
@@ -186,5 +190,136 @@ contains
       allocate (scene%dstrain(size(scene%parts%gid)))
     end if
   end subroutine restore_scene
+
+  !> save_scene for a scene spread over the ranks of `comm` (collective):
+  !> rank 0 receives every rank's particles, concatenated in rank order
+  !> with the rank that held each (`mpm/rank`), and every rank's partial
+  !> sums (internal and external work, impulse: `mpm/partials`, 3 per
+  !> rank); `ckpt` is filled on rank 0 only (others get nothing to write).
+  subroutine save_scene_ranks(scene, comm, ckpt)
+    type(mpm_scene_t), intent(in) :: scene
+    type(comm_t), intent(in) :: comm
+    type(checkpoint_t), intent(inout) :: ckpt
+    type(particles_t) :: all
+    real(dp), allocatable :: rec(:), recs(:), partials(:)
+    integer, allocatable :: counts(:), owner(:)
+    integer :: reclen, p, n, q, k, substeps
+    reclen = particle_record_length(scene%parts)
+    allocate (rec(reclen*scene%parts%n))
+    do p = 1, scene%parts%n
+      call pack_particle(scene%parts, p, rec((p - 1)*reclen + 1:p*reclen))
+    end do
+    call gatherv_real(comm, rec, recs, 0, counts)
+    call gatherv_real(comm, [scene%work_internal, scene%work_external, scene%impulse], &
+                      partials, 0)
+    substeps = scene%max_substeps
+    call allreduce_max(comm, substeps)
+    if (comm%rank /= 0) return
+    n = size(recs)/reclen
+    all%ndim = scene%parts%ndim
+    all%nsup = scene%parts%nsup
+    all%nstatv = scene%parts%nstatv
+    call ensure_capacity(all, n)
+    allocate (owner(n))
+    k = 0
+    do q = 0, comm%size - 1
+      owner(k + 1:k + counts(q)/reclen) = q
+      k = k + counts(q)/reclen
+    end do
+    do p = 1, n
+      call unpack_particle(all, p, recs((p - 1)*reclen + 1:p*reclen))
+    end do
+    all%n = n
+    call save_scene(scene, ckpt)
+    call put_particles(ckpt, 'mpm/', all)
+    call ckpt%put('mpm/max_substeps', substeps)
+    call ckpt%put('mpm/rank', owner)
+    call ckpt%put('mpm/partials', partials)
+  end subroutine save_scene_ranks
+
+  !> restore_scene for a scene spread over the ranks of `comm` by `dec`
+  !> (every rank holds the whole checkpoint). Written on as many ranks as
+  !> now: every rank takes back exactly its particles in their order and
+  !> its partial sums, so the run continues bit for bit. Written on another
+  !> number of ranks: every rank takes the particles of its cells in
+  !> global-id order, and rank 0 the summed partials (the continuation then
+  !> differs from the uninterrupted run by the order of additions only).
+  subroutine restore_scene_ranks(scene, dec, comm, ckpt, err)
+    type(mpm_scene_t), intent(inout) :: scene
+    type(decomposition_t), intent(in) :: dec
+    type(comm_t), intent(in) :: comm
+    type(checkpoint_t), intent(in) :: ckpt
+    type(error_t), allocatable, intent(out) :: err
+    type(particles_t) :: all
+    integer, allocatable :: owner(:), order(:)
+    real(dp), allocatable :: partials(:), rec(:)
+    integer :: nsaved, p, m, reclen
+    call restore_scene(scene, ckpt, err)      ! scalars; particles redone below
+    if (allocated(err)) return
+    call ckpt%get('mpm/rank', owner, err)
+    if (allocated(err)) return
+    call ckpt%get('mpm/partials', partials, err)
+    if (allocated(err)) return
+    all%ndim = scene%parts%ndim
+    all%nsup = scene%parts%nsup
+    all%nstatv = scene%parts%nstatv
+    call ensure_capacity(all, 1)
+    call get_particles(ckpt, 'mpm/', all, err)
+    if (allocated(err)) return
+    nsaved = size(partials)/3
+    if (size(owner) /= all%n .or. nsaved*3 /= size(partials) .or. nsaved < 1) then
+      call new_error(err, status_invalid, 'checkpoint', 'the rank entries of the MPM '// &
+        'checkpoint do not match its particles')
+      return
+    end if
+    ! the order to take particles in: as saved, or by global id
+    allocate (order(all%n))
+    if (nsaved == comm%size) then
+      order = [(p, p=1, all%n)]
+    else
+      order = 0
+      do p = 1, all%n
+        if (all%gid(p) < 1 .or. all%gid(p) > all%n) then
+          call new_error(err, status_invalid, 'checkpoint', 'particle ids of the MPM '// &
+            'checkpoint are not 1 .. '//int_text(all%n))
+          return
+        end if
+        order(all%gid(p)) = p
+      end do
+    end if
+    reclen = particle_record_length(all)
+    allocate (rec(reclen))
+    scene%parts%n = 0
+    m = 0
+    do p = 1, all%n
+      if (nsaved == comm%size) then
+        if (owner(order(p)) /= comm%rank) cycle
+      else
+        if (owner_of_position(dec, all%x(dec%axis, order(p))) /= comm%rank) cycle
+      end if
+      m = m + 1
+      call ensure_capacity(scene%parts, m)
+      call pack_particle(all, order(p), rec)
+      call unpack_particle(scene%parts, m, rec)
+    end do
+    scene%parts%n = m
+    if (nsaved == comm%size) then
+      scene%work_internal = partials(3*comm%rank + 1)
+      scene%work_external = partials(3*comm%rank + 2)
+      scene%impulse = partials(3*comm%rank + 3)
+    else if (comm%rank == 0) then
+      scene%work_internal = sum(partials(1::3))
+      scene%work_external = sum(partials(2::3))
+      scene%impulse = sum(partials(3::3))
+    else
+      scene%work_internal = 0.0_dp
+      scene%work_external = 0.0_dp
+      scene%impulse = 0.0_dp
+    end if
+    if (size(scene%dstrain) < size(scene%parts%gid)) then
+      deallocate (scene%dstrain)
+      allocate (scene%dstrain(size(scene%parts%gid)))
+    end if
+  end subroutine restore_scene_ranks
 
 end module wellposed_mpm_restart

@@ -1,0 +1,160 @@
+!> mpirun -np N parallel_restart_main write|read DIR: checkpoints of an MPM
+!> scene spread over ranks (wellposed_mpm_restart: save_scene_ranks,
+!> restore_scene_ranks) and read back on the same or another number of
+!> ranks.
+!>  write: every rank runs the 60 m Sandler-Rubin bar 40 steps (the same
+!>         serial run everywhere), keeps the particles of its cells, sets
+!>         rank-specific partial sums, and the ranks write one checkpoint
+!>         into DIR (rank 0 writes, keep the last two).
+!>  read:  every rank restores DIR's newest checkpoint into a fresh scene
+!>         and checks: it holds exactly the particles of its cells, each
+!>         bit for bit the reference particle of its id, in increasing id
+!>         order; time and step are the saved ones; written on as many
+!>         ranks, every rank has its own partial sums back, else rank 0
+!>         holds their totals.
+!> Exits non-zero on any failure.
+program parallel_restart_main
+  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t
+  use wellposed_mpi, only: comm_t, comm_start, comm_stop, allreduce_sum, barrier
+  use wellposed_mpm_config, only: mpm_config_t
+  use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance
+  use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, &
+                                         restrict_particles, owner_of_position
+  use wellposed_mpm_restart, only: save_scene_ranks, restore_scene_ranks
+  use wellposed_checkpoint, only: checkpoint_t, write_checkpoint, read_checkpoint, &
+                                  latest_checkpoint
+  implicit none
+
+  integer, parameter :: nsteps = 40
+  type(comm_t) :: comm
+  type(mpm_config_t) :: cfg
+  type(mpm_scene_t) :: ref, scene
+  type(decomposition_t) :: dec
+  type(checkpoint_t) :: ckpt
+  type(error_t), allocatable :: err
+  character(len=256) :: mode, dir
+  character(len=:), allocatable :: path
+  real(dp), allocatable :: partials(:)
+  integer :: k, p, q, failures, mine, nsaved, nbad
+  real(dp) :: total
+
+  call comm_start(comm, err)
+  call stop_on(err)
+  call get_command_argument(1, mode)
+  call get_command_argument(2, dir)
+  failures = 0
+  cfg%name = 'restart'
+  cfg%title = 'restart test'
+  cfg%length = 60.0_dp
+  cfg%dx = 0.5_dp
+  cfg%t_end = 0.02_dp
+  cfg%nprops = 14
+  cfg%props = 0.0_dp
+  cfg%props(1:5) = [4.0e9_dp, 1.5e9_dp, 0.315_dp, 0.0_dp, 5.066e6_dp]
+  cfg%props(14) = 1.0_dp
+  cfg%station_first = 10.0_dp
+  cfg%station_spacing = 10.0_dp
+  cfg%nstations = 3
+  cfg%progress = .false.
+  call new_scene(ref, cfg, err)
+  call stop_on(err)
+  do k = 1, nsteps
+    call advance(ref, err)
+    call stop_on(err)
+  end do
+  call new_decomposition(dec, comm, ref%grid%nnodes - 1, 1, 1, 1, ref%grid%origin, &
+                         ref%grid%dx, err)
+  call stop_on(err)
+
+  select case (trim(mode))
+  case ('write')
+    scene = ref
+    call restrict_particles(dec, scene%parts, err)
+    call stop_on(err)
+    scene%work_internal = 1000.0_dp*comm%rank + 0.1_dp
+    scene%work_external = 2000.0_dp*comm%rank + 0.2_dp
+    scene%impulse = 3000.0_dp*comm%rank + 0.3_dp
+    call save_scene_ranks(scene, comm, ckpt)
+    if (comm%rank == 0) then
+      call write_checkpoint(ckpt, trim(dir), scene%nstep, 2, path, err)
+      call stop_on(err)
+      write (output_unit, '(a,i0,a)') 'wrote '//path//' on ', comm%size, ' ranks'
+    end if
+    call barrier(comm)
+  case ('read')
+    call latest_checkpoint(trim(dir), path, err)
+    call stop_on(err)
+    call read_checkpoint(path, ckpt, err)
+    call stop_on(err)
+    call ckpt%get('mpm/partials', partials, err)
+    call stop_on(err)
+    nsaved = size(partials)/3
+    call new_scene(scene, cfg, err)
+    call stop_on(err)
+    call restore_scene_ranks(scene, dec, comm, ckpt, err)
+    call stop_on(err)
+    call check(scene%nstep == nsteps .and. scene%t == ref%t, 'time and step restored')
+    mine = count([(owner_of_position(dec, ref%parts%x(1, p)) == comm%rank, &
+                   p=1, ref%parts%n)])
+    call check(scene%parts%n == mine, 'every rank holds exactly the particles of its cells')
+    nbad = 0
+    do p = 1, scene%parts%n
+      q = scene%parts%gid(p)
+      if (p > 1) then
+        if (q <= scene%parts%gid(p - 1)) nbad = nbad + 1
+      end if
+      if (owner_of_position(dec, scene%parts%x(1, p)) /= comm%rank) nbad = nbad + 1
+      if (any(scene%parts%x(:, p) /= ref%parts%x(:, q)) .or. &
+          any(scene%parts%v(:, p) /= ref%parts%v(:, q)) .or. &
+          any(scene%parts%stress(:, p) /= ref%parts%stress(:, q)) .or. &
+          any(scene%parts%stran(:, p) /= ref%parts%stran(:, q)) .or. &
+          any(scene%parts%statev(:, p) /= ref%parts%statev(:, q)) .or. &
+          any(scene%parts%defgrad(:, :, p) /= ref%parts%defgrad(:, :, q)) .or. &
+          scene%parts%mass(p) /= ref%parts%mass(q) .or. scene%parts%vol(p) /= ref%parts%vol(q) &
+          .or. any(scene%parts%x0(:, p) /= ref%parts%x0(:, q)) .or. &
+          any(scene%parts%lp(:, p) /= ref%parts%lp(:, q))) nbad = nbad + 1
+    end do
+    call allreduce_sum(comm, nbad)
+    call check(nbad == 0, 'particles bitwise those of the reference run, in id order')
+    if (nsaved == comm%size) then
+      call check(scene%work_internal == 1000.0_dp*comm%rank + 0.1_dp .and. &
+                 scene%impulse == 3000.0_dp*comm%rank + 0.3_dp, &
+                 'same rank count: every rank has its own partial sums back')
+    else
+      total = scene%work_internal
+      call allreduce_sum(comm, total)
+      call check(total == sum(partials(1::3)), 'other rank count: the partial sums total')
+    end if
+    k = scene%parts%n
+    call allreduce_sum(comm, k)
+    if (comm%rank == 0) write (output_unit, '(a,i0,a,i0,a,i0,a)') 'restored ', k, &
+      ' particles written on ', nsaved, ' ranks onto ', comm%size, ' ranks'
+  case default
+    write (error_unit, '(a)') 'usage: parallel_restart_main write|read DIR'
+    error stop 2
+  end select
+  call allreduce_sum(comm, failures)
+  if (comm%rank == 0 .and. failures > 0) write (output_unit, '(a,i0,a)') 'FAIL: ', failures, &
+    ' failed checks'
+  call comm_stop(comm)
+  if (failures > 0) error stop 1
+
+contains
+
+  subroutine stop_on(e)
+    type(error_t), allocatable, intent(in) :: e
+    if (.not. allocated(e)) return
+    write (error_unit, '(a,i0,a)') 'rank ', comm%rank, ': '//e%message
+    error stop 1
+  end subroutine stop_on
+
+  subroutine check(ok, what)
+    logical, intent(in) :: ok
+    character(len=*), intent(in) :: what
+    if (.not. ok) failures = failures + 1
+    if (comm%rank == 0) write (output_unit, '(a)') merge('ok:   ', 'FAIL: ', ok)//what
+  end subroutine check
+
+end program parallel_restart_main
