@@ -8,7 +8,8 @@
 !>
 !> Boundaries (deck): bottom 'roller' (v_y = 0 on nodes at y <= 0), 'fixed'
 !> or 'free'; top 'velocity' (nodes at y >= height get (0, v_top), ramped
-!> over ramp_time) or 'free'; sides 'free' or 'roller' (v_x = 0 on nodes at
+!> over ramp_time, for 0 <= x <= width: the platen covers the top face and
+!> no more; with top_lateral_fixed = .false. only v_y) or 'free'; sides 'free' or 'roller' (v_x = 0 on nodes at
 !> x <= 0 and x >= width). Nodes beyond a boundary line share its condition,
 !> so GIMP/CPDI supports reaching past it see the same velocity.
 !> Bulk artificial viscosity (shared reference B): q = rho (A1 c |D_kk| dx +
@@ -63,6 +64,7 @@ module wellposed_mpm_plane_strain
     integer :: bottom = bc_roller, top = bc_velocity, sides = bc_free2
     real(dp) :: top_velocity = -7.5_dp             !< v_y of the top (m/s, < 0 compresses)
     real(dp) :: ramp_time = 0.0_dp                 !< s, linear ramp of the top velocity
+    logical :: top_lateral_fixed = .true.          !< v_x = 0 on the top too (the seed's)
     ! initial state
     real(dp) :: velocity_gradient0(2, 2) = 0.0_dp  !< initial v = L0 x (patch test), 1/s
     ! artificial viscosity
@@ -82,6 +84,7 @@ module wellposed_mpm_plane_strain
     integer, allocatable :: gfix(:, :)        !< 0 free, 1 zero, 2 prescribed top (2, node)
     real(dp) :: t = 0.0_dp, dt = 0.0_dp
     integer :: nstep = 0
+    real(dp) :: top_disp = 0.0_dp             !< vertical displacement of the top (m)
     real(dp) :: c_max = 0.0_dp, bulk = 0.0_dp, modulus = 0.0_dp
     real(dp), allocatable :: props_p(:, :)    !< PROPS per material (nprops, 2): 1 body, 2 weak
     integer, allocatable :: mat(:)            !< material of each particle
@@ -131,8 +134,12 @@ contains
         if (cfg%sides == bc_roller .and. (xy(1) <= 1.0e-6_dp*cfg%dx .or. &
                                            xy(1) >= cfg%width - 1.0e-6_dp*cfg%dx)) &
           self%gfix(1, g) = 1
-        if (cfg%top == bc_velocity .and. xy(2) >= cfg%height - 1.0e-6_dp*cfg%dx) &
-          self%gfix(:, g) = 2
+        ! the platen covers the top face only: nodes at y >= height, 0 <= x <= width
+        if (cfg%top == bc_velocity .and. xy(2) >= cfg%height - 1.0e-6_dp*cfg%dx .and. &
+            xy(1) >= -1.0e-6_dp*cfg%dx .and. xy(1) <= cfg%width + 1.0e-6_dp*cfg%dx) then
+          self%gfix(2, g) = 2
+          if (cfg%top_lateral_fixed) self%gfix(1, g) = 2
+        end if
       end do
     end do
 
@@ -220,7 +227,7 @@ contains
     end if
     r = [cfg%width, cfg%height]/cfg%dx
     if (any(abs(r - nint(r)) > 1.0e-9_dp*r) .or. any(nint(r) < 2)) then
-      call bad('plate', 'width', 'width and height must be whole numbers (>= 2) of cells dx')
+      call bad('plate', 'width', 'and height must be whole numbers (>= 2) of cells dx')
       return
     end if
     if (product(real(nint(r), dp))*cfg%ppc**2 > 2.0e7_dp) then
@@ -400,6 +407,7 @@ contains
     end associate
     self%t = self%t + self%dt
     self%nstep = self%nstep + 1
+    if (self%cfg%top == bc_velocity) self%top_disp = self%top_disp + vtop*self%dt
     call system_clock(t2)
     self%ticks_total = self%ticks_total + (t2 - t0)
 
@@ -509,20 +517,17 @@ contains
               coords, drot, pnewdt, celent, f, f, max(noel, 1), 1, 1, 1, 1, 1)
   end subroutine call_umat4
 
-  !> Applied axial stress (Pa, compression positive): minus the mean
-  !> sigma_yy of the particles of the top cell layer.
+  !> Applied axial stress (Pa, compression positive): the top force per
+  !> unit initial width, from the volume average of sigma_yy (in
+  !> equilibrium without body force, int sigma_yy dV = F_top * H, H the
+  !> current height): -sum_p sigma_yy V_p / (width * (height + top_disp)).
+  !> Robust to the boundary layer under a laterally fixed top and to the mesh.
   pure real(dp) function ps_applied_stress(self) result(s)
     type(ps_scene_t), intent(in) :: self
-    integer :: p, m
-    s = 0.0_dp
-    m = 0
-    do p = 1, self%parts%n
-      if (self%parts%x0(2, p) > self%cfg%height - self%cfg%dx) then
-        s = s - self%parts%stress(2, p)
-        m = m + 1
-      end if
-    end do
-    if (m > 0) s = s/m
+    integer :: n
+    n = self%parts%n
+    s = -sum(self%parts%stress(2, 1:n)*self%parts%vol(1:n))/ &
+        (self%cfg%width*(self%cfg%height + self%top_disp))
   end function ps_applied_stress
 
   !> Magnitude of the plastic strain tensor ||eps^p|| of each particle

@@ -1,0 +1,327 @@
+!> The plane-strain MPM deck (chapter 4's plate): namelist groups read into
+!> a ps_config_t plus the list of cases a figure needs (meshes, sizes), with
+!> the wellposed_deck conventions (every message names file, group, key).
+!>   &scene     name, title
+!>   &plate     width, height (m), weak_x(2), weak_y(2) (m), weak_k0 (Pa; 0: none)
+!>   &grid      dx (m), ppc (per direction), pad_cells, shape ('cpdi'|'gimp'|'linear')
+!>   &time      t_end (s), cfl, stop_on_cutback (end a case cleanly when a
+!>              particle has softened to zero strength: the UMAT's cut-back)
+!>   &material  density (kg/m^3), nstatv, K, G, beta, beta_p, k0, h, h_zeta, L
+!>              (Pa, m: PROPS 1-6, 12, 13 of the UMAT contract; PROPS(14) = 1)
+!>              OR props = <list> (a user's UMAT, passed as given)
+!>   &boundary  bottom ('roller'|'fixed'|'free'), top ('velocity'|'free'),
+!>              sides ('free'|'roller'), top_velocity (m/s), ramp_time (s),
+!>              top_lateral ('fixed': v_x = 0 on the top as the seed; 'free')
+!>   &viscosity a1, a2 (shared reference B; 0 switches a term off)
+!>   &nonlocal  scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
+!>              max_iterations, stall_iterations, max_rounds, anderson_depth,
+!>              anderson_mixing, weight_cutoff (wellposed_mpm_nonlocal)
+!>   &study     dx(:) (m), scale(:): one run per entry, the plate, weak zone,
+!>              top velocity and t_end scaled by `scale` (fig. 4.6), the mesh
+!>              by dx; label(:) optional names. Absent: one run at &grid dx.
+!>   &output    snapshot_dt (s), sample_dt (s), band_y (m, the line across the
+!>              band where its width is measured, in units of the unscaled
+!>              plate), progress, plot
+!> Overrides from the command line, `group.key=value`, are read after the
+!> deck as one-line namelists.
+module wellposed_mpm_ps_deck
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_text, only: int_text
+  use wellposed_deck, only: read_text_file, namelist_error, check_finite, has_group, unset, &
+                            is_set
+  use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
+                                   prop_h, prop_h_zeta, prop_length, prop_explicit
+  use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
+                                        bc_velocity
+  use wellposed_mpm_shape_2d, only: shape2d_names
+  use wellposed_mpm_nonlocal, only: nl_scheme_names, nl_scheme_id
+  implicit none
+  private
+  public :: read_ps_deck, ps_study_t
+
+  integer, parameter :: max_cases = 16
+
+  !> The cases of one deck and the output settings.
+  type :: ps_study_t
+    integer :: ncases = 1
+    real(dp) :: dx(max_cases) = 0.0_dp
+    real(dp) :: scale(max_cases) = 1.0_dp
+    character(len=32) :: label(max_cases) = ''
+    real(dp) :: snapshot_dt = 0.0_dp
+    real(dp) :: sample_dt = 0.0_dp
+    real(dp) :: band_y = 2.5_dp
+    logical :: progress = .true.
+    logical :: plot = .true.
+    !> A cut-back the UMAT cannot resolve (a particle softened to zero
+    !> strength) ends the case at the last complete step instead of failing.
+    logical :: stop_on_cutback = .false.
+  end type ps_study_t
+
+contains
+
+  !> Read `path` and the overrides into cfg (the first case's config) and study.
+  subroutine read_ps_deck(path, overrides, cfg, cases, text, err)
+    character(len=*), intent(in) :: path, overrides(:)
+    type(ps_config_t), intent(out) :: cfg
+    type(ps_study_t), intent(out) :: cases
+    character(len=:), allocatable, intent(out) :: text
+    type(error_t), allocatable, intent(out) :: err
+    character(len=64) :: name
+    character(len=200) :: title
+    real(dp) :: width, height, weak_x(2), weak_y(2), weak_k0
+    real(dp) :: dx(max_cases), scale(max_cases)
+    character(len=32) :: label(max_cases)
+    integer :: ppc, pad_cells, nstatv, max_iterations, stall_iterations, max_rounds, &
+               anderson_depth
+    character(len=16) :: shape, bottom, top, sides, scheme, top_lateral
+    real(dp) :: t_end, cfl, density, k, g, beta, beta_p, k0, h, h_zeta, l, props(40)
+    real(dp) :: top_velocity, ramp_time, a1, a2, tolerance, rel_tolerance, anderson_mixing, &
+                weight_cutoff, snapshot_dt, sample_dt, band_y
+    logical :: progress, plot, stop_on_cutback
+    namelist /scene/ name, title
+    namelist /plate/ width, height, weak_x, weak_y, weak_k0
+    namelist /grid/ dx, ppc, pad_cells, shape
+    namelist /time/ t_end, cfl, stop_on_cutback
+    namelist /material/ density, nstatv, k, g, beta, beta_p, k0, h, h_zeta, l, props
+    namelist /boundary/ bottom, top, sides, top_velocity, ramp_time, top_lateral
+    namelist /viscosity/ a1, a2
+    namelist /nonlocal/ scheme, tolerance, rel_tolerance, max_iterations, stall_iterations, &
+      max_rounds, anderson_depth, anderson_mixing, weight_cutoff
+    namelist /study/ dx, scale, label
+    namelist /output/ snapshot_dt, sample_dt, band_y, progress, plot
+    integer :: unit, ios, i, dot, eq, nc
+    character(len=512) :: msg
+    character(len=:), allocatable :: line, group
+    character(len=9), parameter :: groups(10) = [character(len=9) :: 'scene', 'plate', 'grid', &
+      'time', 'material', 'boundary', 'viscosity', 'nonlocal', 'study', 'output']
+
+    name = 'plate'
+    title = 'plane-strain plate (seed fig. 4.1)'
+    width = cfg%width; height = cfg%height
+    weak_x = cfg%weak_x; weak_y = cfg%weak_y; weak_k0 = 375.0e6_dp
+    dx = unset; dx(1) = cfg%dx
+    scale = unset
+    label = ''
+    ppc = cfg%ppc; pad_cells = cfg%pad_cells; shape = 'cpdi'
+    t_end = cfg%t_end; cfl = cfg%cfl; stop_on_cutback = .false.
+    density = cfg%density; nstatv = cfg%nstatv
+    k = 76.0e9_dp; g = 26.0e9_dp; beta = 0.0_dp; beta_p = 0.0_dp; k0 = 400.0e6_dp
+    h = -4.0e9_dp; h_zeta = 0.0_dp; l = 0.0_dp
+    props = unset
+    bottom = 'roller'; top = 'velocity'; sides = 'free'; top_lateral = 'fixed'
+    top_velocity = cfg%top_velocity; ramp_time = cfg%ramp_time
+    a1 = cfg%visc_a1; a2 = cfg%visc_a2
+    scheme = 'fixed_point'
+    tolerance = cfg%nonlocal%tolerance; rel_tolerance = cfg%nonlocal%rel_tolerance
+    max_iterations = cfg%nonlocal%max_iterations
+    stall_iterations = cfg%nonlocal%stall_iterations
+    max_rounds = cfg%nonlocal%max_rounds; anderson_depth = cfg%nonlocal%anderson_depth
+    anderson_mixing = cfg%nonlocal%anderson_mixing
+    weight_cutoff = cfg%nonlocal%weight_cutoff
+    snapshot_dt = 0.0_dp; sample_dt = 0.0_dp; band_y = 2.5_dp
+    progress = .true.; plot = .true.
+
+    call read_text_file(path, text, err)
+    if (allocated(err)) return
+    open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
+      return
+    end if
+    do i = 1, size(groups)
+      if (.not. has_group(text, trim(groups(i)))) cycle
+      rewind (unit)
+      call read_group(trim(groups(i)), unit=unit)
+      if (ios /= 0) then
+        close (unit)
+        err = namelist_error(path, trim(groups(i)), ios, msg, text)
+        return
+      end if
+    end do
+    close (unit)
+    do i = 1, size(overrides)
+      dot = index(overrides(i), '.')
+      eq = index(overrides(i), '=')
+      if (dot < 2 .or. eq < dot + 2) then
+        call new_error(err, status_invalid, trim(overrides(i)), 'override "'// &
+          trim(overrides(i))//'" is not of the form group.key=value')
+        return
+      end if
+      group = overrides(i)(1:dot - 1)
+      if (.not. any(groups == group)) then
+        call new_error(err, status_invalid, group, 'override "'//trim(overrides(i))// &
+          '": no group &'//group)
+        return
+      end if
+      line = '&'//group//' '//trim(overrides(i)(dot + 1:))//' /'
+      call read_group(group, text=line)
+      if (ios /= 0) then
+        err = namelist_error('command line', group, ios, msg, line)
+        return
+      end if
+    end do
+
+    cfg%name = trim(name)
+    cfg%title = trim(title)
+    if (len(cfg%name) == 0 .or. verify(cfg%name, &
+        'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-') /= 0) then
+      call new_error(err, status_invalid, 'name', path//': &scene: name = "'//cfg%name// &
+        '" must be non-empty letters, digits, "_", "." or "-" (it names the output folder)')
+      return
+    end if
+    call check_finite(path, 'plate', 'width', [width, height, weak_k0], err)
+    if (allocated(err)) return
+    cfg%width = width; cfg%height = height
+    cfg%weak_x = weak_x; cfg%weak_y = weak_y; cfg%weak_k0 = weak_k0
+    cfg%ppc = ppc; cfg%pad_cells = pad_cells
+    cfg%shape = word(shape, shape2d_names, 'grid', 'shape'); if (allocated(err)) return
+    cfg%t_end = t_end; cfg%cfl = cfl
+    call check_finite(path, 'time', 'cfl', [t_end, cfl], err); if (allocated(err)) return
+    cfg%density = density; cfg%nstatv = nstatv
+    if (any(is_set(props))) then
+      cfg%nprops = findloc(is_set(props), .true., back=.true., dim=1)
+      if (.not. all(is_set(props(1:cfg%nprops)))) then
+        call new_error(err, status_invalid, 'props', path//': &material: props has gaps; '// &
+          'give every entry up to the last'); return
+      end if
+      call check_finite(path, 'material', 'props', props(1:cfg%nprops), err)
+      if (allocated(err)) return
+      cfg%props = 0.0_dp
+      cfg%props(1:cfg%nprops) = props(1:cfg%nprops)
+    else
+      call check_finite(path, 'material', 'K', [k, g, beta, beta_p, k0, h, h_zeta, l], err)
+      if (allocated(err)) return
+      cfg%props = 0.0_dp
+      cfg%props(prop_bulk) = k; cfg%props(prop_shear) = g
+      cfg%props(prop_beta) = beta; cfg%props(prop_beta_p) = beta_p
+      cfg%props(prop_k0) = k0; cfg%props(prop_h) = h
+      cfg%props(prop_h_zeta) = h_zeta; cfg%props(prop_length) = l
+      cfg%props(prop_explicit) = 1.0_dp
+      cfg%nprops = prop_explicit
+    end if
+    cfg%bottom = word(bottom, bc2_names, 'boundary', 'bottom'); if (allocated(err)) return
+    cfg%top = word(top, bc2_names, 'boundary', 'top'); if (allocated(err)) return
+    cfg%sides = word(sides, bc2_names, 'boundary', 'sides'); if (allocated(err)) return
+    if (cfg%bottom == bc_velocity .or. cfg%sides == bc_velocity .or. cfg%sides == bc_fixed2 &
+        .or. cfg%top == bc_roller .or. cfg%top == bc_fixed2) then
+      call new_error(err, status_invalid, 'boundary', path//': &boundary: bottom is '// &
+        "'roller', 'fixed' or 'free'; top is 'velocity' or 'free'; sides are 'free' or "// &
+        "'roller'"); return
+    end if
+    cfg%top_velocity = top_velocity; cfg%ramp_time = ramp_time
+    select case (lower(trim(top_lateral)))
+    case ('fixed')
+      cfg%top_lateral_fixed = .true.
+    case ('free')
+      cfg%top_lateral_fixed = .false.
+    case default
+      call new_error(err, status_invalid, 'top_lateral', path//": &boundary: top_lateral = '"// &
+        trim(top_lateral)//"' is not one of 'fixed' (v_x = 0 on the top, the seed's), 'free'")
+      return
+    end select
+    call check_finite(path, 'boundary', 'top_velocity', [top_velocity, ramp_time], err)
+    if (allocated(err)) return
+    cfg%visc_a1 = a1; cfg%visc_a2 = a2
+    cfg%nonlocal%scheme = nl_scheme_id(lower(trim(scheme)))
+    if (cfg%nonlocal%scheme == 0) then
+      i = word(scheme, nl_scheme_names, 'nonlocal', 'scheme'); return
+    end if
+    cfg%nonlocal%tolerance = tolerance; cfg%nonlocal%rel_tolerance = rel_tolerance
+    cfg%nonlocal%max_iterations = max_iterations
+    cfg%nonlocal%stall_iterations = stall_iterations
+    cfg%nonlocal%max_rounds = max_rounds; cfg%nonlocal%anderson_depth = anderson_depth
+    cfg%nonlocal%anderson_mixing = anderson_mixing
+    cfg%nonlocal%weight_cutoff = weight_cutoff
+
+    nc = count(is_set(dx))
+    if (nc < 1 .or. .not. all(is_set(dx(1:nc)))) then
+      call new_error(err, status_invalid, 'dx', path//': &study/&grid: dx must be one or '// &
+        'more cell sizes without gaps'); return
+    end if
+    cases%ncases = nc
+    cases%dx(1:nc) = dx(1:nc)
+    cases%scale(1:nc) = 1.0_dp
+    do i = 1, nc
+      if (is_set(scale(i))) cases%scale(i) = scale(i)
+      if (.not. (cases%dx(i) > 0.0_dp .and. cases%scale(i) > 0.0_dp)) then
+        call new_error(err, status_invalid, 'dx', path//': &study: dx and scale must be > 0 '// &
+          '(entry '//int_text(i)//')'); return
+      end if
+      cases%label(i) = label(i)
+    end do
+    cfg%dx = cases%dx(1)
+    cases%snapshot_dt = snapshot_dt; cases%sample_dt = sample_dt; cases%band_y = band_y
+    cases%progress = progress; cases%plot = plot
+    cases%stop_on_cutback = stop_on_cutback
+
+  contains
+
+    subroutine read_group(grp, unit, text)
+      character(len=*), intent(in) :: grp
+      integer, intent(in), optional :: unit
+      character(len=*), intent(in), optional :: text
+      select case (grp)
+      case ('scene')
+        if (present(unit)) read (unit, nml=scene, iostat=ios, iomsg=msg)
+        if (present(text)) read (text, nml=scene, iostat=ios, iomsg=msg)
+      case ('plate')
+        if (present(unit)) read (unit, nml=plate, iostat=ios, iomsg=msg)
+        if (present(text)) read (text, nml=plate, iostat=ios, iomsg=msg)
+      case ('grid')
+        if (present(unit)) read (unit, nml=grid, iostat=ios, iomsg=msg)
+        if (present(text)) read (text, nml=grid, iostat=ios, iomsg=msg)
+      case ('time')
+        if (present(unit)) read (unit, nml=time, iostat=ios, iomsg=msg)
+        if (present(text)) read (text, nml=time, iostat=ios, iomsg=msg)
+      case ('material')
+        if (present(unit)) read (unit, nml=material, iostat=ios, iomsg=msg)
+        if (present(text)) read (text, nml=material, iostat=ios, iomsg=msg)
+      case ('boundary')
+        if (present(unit)) read (unit, nml=boundary, iostat=ios, iomsg=msg)
+        if (present(text)) read (text, nml=boundary, iostat=ios, iomsg=msg)
+      case ('viscosity')
+        if (present(unit)) read (unit, nml=viscosity, iostat=ios, iomsg=msg)
+        if (present(text)) read (text, nml=viscosity, iostat=ios, iomsg=msg)
+      case ('nonlocal')
+        if (present(unit)) read (unit, nml=nonlocal, iostat=ios, iomsg=msg)
+        if (present(text)) read (text, nml=nonlocal, iostat=ios, iomsg=msg)
+      case ('study')
+        if (present(unit)) read (unit, nml=study, iostat=ios, iomsg=msg)
+        if (present(text)) read (text, nml=study, iostat=ios, iomsg=msg)
+      case ('output')
+        if (present(unit)) read (unit, nml=output, iostat=ios, iomsg=msg)
+        if (present(text)) read (text, nml=output, iostat=ios, iomsg=msg)
+      end select
+    end subroutine read_group
+
+    integer function word(value, names, grp, key) result(id)
+      character(len=*), intent(in) :: value, names(:), grp, key
+      integer :: j
+      character(len=:), allocatable :: valid
+      do id = 1, size(names)
+        if (lower(trim(value)) == trim(names(id))) return
+      end do
+      id = 0
+      valid = ''
+      do j = 1, size(names)
+        valid = valid//merge(', ', '  ', j > 1)//"'"//trim(names(j))//"'"
+      end do
+      call new_error(err, status_invalid, key, path//': &'//grp//': '//key//" = '"// &
+        trim(value)//"' is not one of"//valid(2:))
+    end function word
+
+  end subroutine read_ps_deck
+
+  pure function lower(text) result(low)
+    character(len=*), intent(in) :: text
+    character(len=len(text)) :: low
+    integer :: i, c
+    low = text
+    do i = 1, len(text)
+      c = iachar(text(i:i))
+      if (c >= iachar('A') .and. c <= iachar('Z')) low(i:i) = achar(c + 32)
+    end do
+  end function lower
+
+end module wellposed_mpm_ps_deck

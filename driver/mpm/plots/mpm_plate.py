@@ -1,0 +1,94 @@
+"""Plots of a wellposed-mpm2d run (seed chapter 4, fig. 4.2-4.6).
+
+usage: mpm_plate.py RUN_DIR TAG [TAG ...]
+
+Reads RUN_DIR/run.h5 and writes, beside it:
+  plastic_strain.png  contours of ||eps^p|| at the last snapshot, one panel
+                      per case (as fig. 4.2 and 4.4), the band line dashed;
+  stress_strain.png   applied stress against apparent axial strain, all
+                      cases (as fig. 4.3, 4.5, 4.6);
+  iterations.png      nonlocal iterations per plastic step (when iterated).
+"""
+import sys
+import os
+
+import h5py
+import matplotlib
+import matplotlib.pyplot as plt
+import matplotlib.tri as mtri
+import numpy as np
+
+
+def last_snapshot(group):
+    names = [k for k in group.keys() if k.startswith("snap_")]
+    names.sort(key=lambda s: int(s.split("_")[1]))
+    return group[names[-1]]
+
+
+def main(argv):
+    run_dir, tags = argv[1], argv[2:]
+    h5 = h5py.File(os.path.join(run_dir, "run.h5"), "r")
+    cases = h5["cases"]
+
+    n = len(tags)
+    fig, axes = plt.subplots(1, n, figsize=(3.2 * n + 1.2, 4.6), squeeze=False)
+    vmax = 0.0
+    for tag in tags:
+        vmax = max(vmax, float(np.max(last_snapshot(cases[tag])["plastic_strain"][()])))
+    vmax = vmax if vmax > 0 else 1.0
+    levels = np.linspace(0.0, vmax, 21)
+    for ax, tag in zip(axes[0], tags):
+        snap = last_snapshot(cases[tag])
+        xy = snap["xy"][()]
+        ep = snap["plastic_strain"][()]
+        tri = mtri.Triangulation(xy[:, 0], xy[:, 1])
+        # drop long triangles that bridge outside the body
+        p = xy[tri.triangles]
+        edge = np.max(np.linalg.norm(p - np.roll(p, 1, axis=1), axis=2), axis=1)
+        tri.set_mask(edge > 3.0 * np.median(edge))
+        cs = ax.tricontourf(tri, ep, levels=levels, cmap="viridis", extend="max")
+        ax.set_aspect("equal")
+        ax.set_title("%s, t = %.2f ms" % (tag, 1e3 * float(snap["time"][0])), fontsize=9)
+        ax.set_xlabel("x (m)")
+    axes[0][0].set_ylabel("y (m)")
+    fig.colorbar(cs, ax=axes[0].tolist(), label="||eps^p||", shrink=0.85)
+    fig.savefig(os.path.join(run_dir, "plastic_strain.png"), dpi=130)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(6.0, 4.2))
+    for tag in tags:
+        c = cases[tag]["curve"][()]
+        ax.plot(100.0 * c[:, 1], 1e-6 * c[:, 2], label=tag, lw=1.2)
+    ax.set_xlabel("apparent axial strain (% change in height)")
+    ax.set_ylabel("applied stress (MPa, compression +)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(run_dir, "stress_strain.png"), dpi=130)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(6.0, 3.6))
+    any_it = False
+    for tag in tags:
+        it = cases[tag]["iterations"][()]
+        npl = cases[tag]["n_plastic"][()]
+        mask = (npl > 0) & (it > 0)
+        if np.any(mask):
+            any_it = True
+            steps = np.nonzero(mask)[0] + 1
+            ax.plot(steps, it[mask], ".", ms=2, label="%s (mean %.2f, max %d)"
+                    % (tag, it[mask].mean(), it[mask].max()))
+    if any_it:
+        ax.set_xlabel("step")
+        ax.set_ylabel("nonlocal iterations")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(os.path.join(run_dir, "iterations.png"), dpi=130)
+    plt.close(fig)
+    return 0
+
+
+if __name__ == "__main__":
+    matplotlib.use("Agg")
+    sys.exit(main(sys.argv))
