@@ -113,10 +113,17 @@ program wellposed_mpm2d
   call sm%add('cases', study%ncases)
   call sm%add('shape', trim(shape2d_names(cfg0%shape)))
   call sm%add('nonlocal_scheme', trim(nl_scheme_names(cfg0%nonlocal%scheme)))
-  call sm%add('band_line', 'horizontal line y = band_y * scale through the band', &
-              'the FWHM of ||eps^p|| along it, measured on particles within half a '// &
-              'particle spacing of it')
-  call sm%add('band_y', study%band_y, 'm (unscaled plate)')
+  if (study%band_axis == 'x') then
+    call sm%add('band_line', 'horizontal line y = band_y * scale through the band', &
+                'the FWHM of ||eps^p|| along it, measured on particles within half a '// &
+                'particle spacing of it')
+    call sm%add('band_y', study%band_y, 'm (unscaled plate)')
+  else
+    call sm%add('band_line', 'vertical line x = band_x * scale through the zone', &
+                'the FWHM of ||eps^p|| along it, measured on particles within half a '// &
+                'particle spacing of it')
+    call sm%add('band_x', study%band_x, 'm (unscaled plate)')
+  end if
   allocate (tags(study%ncases), peaks(2, study%ncases), widths(study%ncases), &
             walls(study%ncases))
   allocate (curves_all(3, 20000, study%ncases), ncurves(study%ncases))
@@ -190,8 +197,13 @@ program wellposed_mpm2d
     wall = real(c1 - c0, dp)/crate
     walls(ic) = wall
     ! ---- measures
-    yline = study%band_y*s
-    call band_width(sc, yline, fwhm, peak_x, peak_v)
+    if (study%band_axis == 'x') then
+      yline = study%band_y*s
+      call band_width(sc, 1, yline, fwhm, peak_x, peak_v)
+    else
+      yline = study%band_x*s
+      call band_width(sc, 2, yline, fwhm, peak_x, peak_v)
+    end if
     widths(ic) = fwhm
     i = maxloc(curve(3, 1:ncurve), dim=1)
     peaks(:, ic) = [curve(2, i), curve(3, i)]
@@ -209,8 +221,8 @@ program wellposed_mpm2d
     call sm%add(tag//'.final_stress', curve(3, ncurve)*1.0e-6_dp, 'MPa')
     call sm%add(tag//'.final_strain', curve(2, ncurve))
     call sm%add(tag//'.max_plastic_strain', maxval(ps_plastic_strain(sc)))
-    call sm%add(tag//'.band_fwhm', fwhm, 'm, horizontal, along y = '//real_text(yline)//' m')
-    call sm%add(tag//'.band_peak_x', peak_x, 'm')
+    call sm%add(tag//'.band_fwhm', fwhm, 'm, along the band line at '//real_text(yline)//' m')
+    call sm%add(tag//'.band_peak_at', peak_x, 'm, along the band line')
     call sm%add(tag//'.band_peak_plastic_strain', peak_v)
     call sm%add(tag//'.max_substeps', sc%max_substeps)
     call sm%add(tag//'.ended_early', ended_early, 'true: the UMAT could not go on '// &
@@ -232,7 +244,7 @@ program wellposed_mpm2d
     call write_xdmf(rd%path(tag//'.xdmf'), tag, nsnap, sc%parts%n)
     write (output_unit, '(a)') '    done in '//real_text(wall)//' s: peak '// &
       real_text(peaks(2, ic)*1.0e-6_dp)//' MPa at strain '//real_text(peaks(1, ic))// &
-      ', band FWHM '//real_text(fwhm)//' m along y = '//real_text(yline)//' m'
+      ', band FWHM '//real_text(fwhm)//' m along the line at '//real_text(yline)//' m'
     if (sc%nl%active) write (output_unit, '(a)') '    nonlocal iterations per step: mean '// &
       real_text(real(sc%nl%iterations_total, dp)/max(sc%nl%steps_iterated, 1))//', max '// &
       int_text(sc%nl%iterations_max)//' over '//int_text(sc%nl%steps_iterated)// &
@@ -316,23 +328,26 @@ contains
     next_snap = next_snap + study%snapshot_dt
   end subroutine snapshot
 
-  !> FWHM of ||eps^p|| along the horizontal line y = yl (m), from the
-  !> particles within half a particle spacing of it, sorted by x; the half
-  !> maximum crossings are interpolated linearly. Where a crossing lies
-  !> beyond the body the body's edge counts.
-  subroutine band_width(scn, yl, w, xpk, vpk)
+  !> FWHM of ||eps^p|| along a line: axis 1, the horizontal line y = yl (m);
+  !> axis 2, the vertical line x = yl. From the particles within half a
+  !> particle spacing of it, sorted along it; the half maximum crossings are
+  !> interpolated linearly. Where a crossing lies beyond the body the
+  !> body's edge counts.
+  subroutine band_width(scn, axis, yl, w, xpk, vpk)
     type(ps_scene_t), intent(in) :: scn
+    integer, intent(in) :: axis
     real(dp), intent(in) :: yl
     real(dp), intent(out) :: w, xpk, vpk
     real(dp), allocatable :: xs(:), vs(:), ep(:)
     real(dp) :: half, xl, xr, tx, tv
-    integer :: p, m, j, k, ipk
+    integer :: p, m, j, k, ipk, across
     allocate (ep(scn%parts%n))
     ep = ps_plastic_strain(scn)
     allocate (xs(0), vs(0))
+    across = 3 - axis
     do p = 1, scn%parts%n
-      if (abs(scn%parts%x(2, p) - yl) <= 0.5_dp*scn%cfg%dx/scn%cfg%ppc) then
-        xs = [xs, scn%parts%x(1, p)]
+      if (abs(scn%parts%x(across, p) - yl) <= 0.5_dp*scn%cfg%dx/scn%cfg%ppc) then
+        xs = [xs, scn%parts%x(axis, p)]
         vs = [vs, ep(p)]
       end if
     end do

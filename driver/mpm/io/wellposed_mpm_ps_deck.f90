@@ -21,7 +21,8 @@
 !>              by dx; label(:) optional names. Absent: one run at &grid dx.
 !>   &output    snapshot_dt (s), sample_dt (s), band_y (m, the line across the
 !>              band where its width is measured, in units of the unscaled
-!>              plate), progress, plot
+!>              plate), band_axis ('x': along y = band_y; 'y': along x =
+!>              band_x, for a column), band_x (m), progress, plot
 !> Overrides from the command line, `group.key=value`, are read after the
 !> deck as one-line namelists.
 module wellposed_mpm_ps_deck
@@ -51,6 +52,10 @@ module wellposed_mpm_ps_deck
     real(dp) :: snapshot_dt = 0.0_dp
     real(dp) :: sample_dt = 0.0_dp
     real(dp) :: band_y = 2.5_dp
+    !> 'x': the band width is measured along the horizontal line y = band_y;
+    !> 'y': along the vertical line x = band_x (a column, a 1D bar)
+    character(len=1) :: band_axis = 'x'
+    real(dp) :: band_x = 0.0_dp
     logical :: progress = .true.
     logical :: plot = .true.
     !> A cut-back the UMAT cannot resolve (a particle softened to zero
@@ -74,10 +79,10 @@ contains
     character(len=32) :: label(max_cases)
     integer :: ppc, pad_cells, nstatv, max_iterations, stall_iterations, max_rounds, &
                anderson_depth
-    character(len=16) :: shape, bottom, top, sides, scheme, top_lateral
+    character(len=16) :: shape, bottom, top, sides, scheme, top_lateral, band_axis
     real(dp) :: t_end, cfl, density, k, g, beta, beta_p, k0, h, h_zeta, l, props(40)
     real(dp) :: top_velocity, ramp_time, a1, a2, tolerance, rel_tolerance, anderson_mixing, &
-                weight_cutoff, snapshot_dt, sample_dt, band_y
+                weight_cutoff, snapshot_dt, sample_dt, band_y, band_x
     logical :: progress, plot, stop_on_cutback
     namelist /scene/ name, title
     namelist /plate/ width, height, weak_x, weak_y, weak_k0
@@ -89,7 +94,7 @@ contains
     namelist /nonlocal/ scheme, tolerance, rel_tolerance, max_iterations, stall_iterations, &
       max_rounds, anderson_depth, anderson_mixing, weight_cutoff
     namelist /study/ dx, scale, label
-    namelist /output/ snapshot_dt, sample_dt, band_y, progress, plot
+    namelist /output/ snapshot_dt, sample_dt, band_y, band_x, band_axis, progress, plot
     integer :: unit, ios, i, dot, eq, nc
     character(len=512) :: msg
     character(len=:), allocatable :: line, group
@@ -119,7 +124,8 @@ contains
     max_rounds = cfg%nonlocal%max_rounds; anderson_depth = cfg%nonlocal%anderson_depth
     anderson_mixing = cfg%nonlocal%anderson_mixing
     weight_cutoff = cfg%nonlocal%weight_cutoff
-    snapshot_dt = 0.0_dp; sample_dt = 0.0_dp; band_y = 2.5_dp
+    snapshot_dt = 0.0_dp; sample_dt = 0.0_dp; band_y = 2.5_dp; band_x = 0.0_dp
+    band_axis = 'x'
     progress = .true.; plot = .true.
 
     call read_text_file(path, text, err)
@@ -252,6 +258,15 @@ contains
     end do
     cfg%dx = cases%dx(1)
     cases%snapshot_dt = snapshot_dt; cases%sample_dt = sample_dt; cases%band_y = band_y
+    cases%band_x = band_x
+    select case (lower(trim(band_axis)))
+    case ('x', 'y')
+      cases%band_axis = lower(trim(band_axis))
+    case default
+      call new_error(err, status_invalid, 'band_axis', path//": &output: band_axis = '"// &
+        trim(band_axis)//"' is not one of 'x' (along y = band_y), 'y' (along x = band_x)")
+      return
+    end select
     cases%progress = progress; cases%plot = plot
     cases%stop_on_cutback = stop_on_cutback
 
