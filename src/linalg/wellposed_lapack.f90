@@ -67,8 +67,7 @@ contains
     real(dp) :: query(1), vl(1, 1), vr(1, 1)
     integer :: n, info
     n = size(a, 1)
-    allocate (b(n, n))
-    b = a
+    allocate (b, source=a)  ! (not b = a: LTO then warns of b's descriptor)
     call dgeev('N', 'N', n, b, n, wr, wi, vl, 1, vr, 1, query, -1, info)
     allocate (work(max(1, int(query(1)))))
     call dgeev('N', 'N', n, b, n, wr, wi, vl, 1, vr, 1, work, size(work), info)
@@ -91,8 +90,8 @@ contains
     m = size(a, 1)
     n = size(a, 2)
     k = min(m, n)
-    allocate (b(m, n), s(k), u(m, k), vt(k, n))
-    b = a
+    allocate (b, source=a)
+    allocate (s(k), u(m, k), vt(k, n))
     call dgesvd('S', 'S', m, n, b, m, s, u, m, vt, k, query, -1, info)
     allocate (work(max(1, int(query(1)))))
     call dgesvd('S', 'S', m, n, b, m, s, u, m, vt, k, work, size(work), info)
