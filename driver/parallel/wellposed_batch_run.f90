@@ -30,7 +30,7 @@ contains
       figures = [character(len=64) :: 'steps', 'particles', 'c_head', 'c_tail', &
                  'peak_growth', 'energy_balance_error']
     case ('wellposed-point')
-      figures = [character(len=64) :: 'n_materials']
+      figures = [character(len=64) :: 'n_materials', 'wall_time_s']
     case default
       allocate (figures(0))
     end select

@@ -13,7 +13,7 @@ module wellposed_mpi
   use wellposed_text, only: int_text
   implicit none
   private
-  public :: comm_t, comm_start, comm_stop, comm_abort, mpi_available
+  public :: comm_t, comm_start, comm_stop, comm_abort, comm_self, mpi_available
   public :: barrier, allreduce_sum, allreduce_min, allreduce_max, allreduce_any, &
             broadcast, alltoall_counts, alltoallv_real, gatherv_real, gatherv_int, &
             sendrecv_real
@@ -69,6 +69,15 @@ contains
     call MPI_Comm_rank(comm%handle, comm%rank)
     call MPI_Comm_size(comm%handle, comm%size)
   end subroutine comm_start
+
+  !> This process alone (MPI_COMM_SELF): rank 0 of 1, for work one rank
+  !> does by itself inside a parallel run (after comm_start).
+  function comm_self() result(comm)
+    type(comm_t) :: comm
+    comm%handle = MPI_COMM_SELF
+    comm%rank = 0
+    comm%size = 1
+  end function comm_self
 
   !> Finalize MPI if `comm_start` initialised it.
   subroutine comm_stop(comm)

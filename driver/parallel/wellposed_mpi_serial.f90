@@ -7,7 +7,7 @@ module wellposed_mpi
   use wellposed_error, only: error_t
   implicit none
   private
-  public :: comm_t, comm_start, comm_stop, comm_abort, mpi_available
+  public :: comm_t, comm_start, comm_stop, comm_abort, comm_self, mpi_available
   public :: barrier, allreduce_sum, allreduce_min, allreduce_max, allreduce_any, &
             broadcast, alltoall_counts, alltoallv_real, gatherv_real, gatherv_int, &
             sendrecv_real
@@ -44,6 +44,12 @@ contains
     comm%size = 1
     if (.false.) allocate (err)
   end subroutine comm_start
+
+  function comm_self() result(comm)
+    type(comm_t) :: comm
+    comm%rank = 0
+    comm%size = 1
+  end function comm_self
 
   subroutine comm_stop(comm)
     type(comm_t), intent(inout) :: comm

@@ -1,11 +1,14 @@
-!> wellposed-point DECK [--no-plot]: the single-element driver. Reads a
+!> wellposed-point DECK [--no-plot] [--out ROOT]: the single-element driver. Reads a
 !> namelist deck (driver/point: wellposed_point_deck; keys in the README),
 !> drives every &material of it through the UMAT along the deck's legs,
 !> probes the state (R(theta), acoustic tensor, wave speeds, Gudehus
 !> envelopes) and runs the Chapter 3 virtual experiment when asked, and
 !> writes <out_dir>/<name>/: the deck, CSV files, results.h5 (data and
 !> metadata), summary.txt and PNG plots. Errors go to standard error with
-!> exit status 1, and leave only <name>.partial/ behind.
+!> exit status 1, and leave only <name>.partial/ behind. `--out ROOT`
+!> replaces the deck's out_dir. `wellposed-point --batch FILE` runs the
+!> decks of a batch file, one process per deck, shared over the ranks of
+!> an mpirun (wellposed_batch_run), into ROOT/<batch name>/.
 program wellposed_point
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use wellposed_kinds, only: dp
@@ -24,6 +27,8 @@ program wellposed_point
   use wellposed_point_chapter3, only: ch3_result_t, run_chapter3
   use wellposed_point_deck, only: point_deck_t, read_point_deck
   use wellposed_point_config, only: plot_script
+  use wellposed_mpi, only: comm_t, comm_start, comm_stop
+  use wellposed_batch_run, only: run_batch, default_figures
   implicit none
 
   type(point_deck_t) :: deck
@@ -32,7 +37,7 @@ program wellposed_point
   type(summary_t) :: summary
   type(h5_file_t) :: h5
   character(len=4096) :: arg
-  character(len=:), allocatable :: deck_path
+  character(len=:), allocatable :: deck_path, out_root, batch_file
   logical :: plot
   integer :: i, nargs, im
   integer(8) :: t0, t1, rate
@@ -40,26 +45,48 @@ program wellposed_point
   call system_clock(t0, rate)
   plot = .true.
   deck_path = ''
+  out_root = ''
+  batch_file = ''
   nargs = command_argument_count()
-  do i = 1, nargs
+  i = 0
+  do while (i < nargs)
+    i = i + 1
     call get_command_argument(i, arg)
     select case (trim(arg))
     case ('--no-plot')
       plot = .false.
+    case ('--out', '--batch')
+      if (i == nargs) call fail_usage(trim(arg)//' needs a value')
+      i = i + 1
+      if (trim(arg) == '--out') then
+        call get_command_argument(i, arg)
+        out_root = trim(arg)
+      else
+        call get_command_argument(i, arg)
+        batch_file = trim(arg)
+      end if
     case ('-h', '--help')
-      write (output_unit, '(a)') 'usage: wellposed-point DECK [--no-plot]', &
+      write (output_unit, '(a)') 'usage: wellposed-point DECK [--no-plot] [--out ROOT]', &
+        '       [mpirun -np N] wellposed-point --batch FILE [--out ROOT] [--no-plot]', &
         '  DECK: namelist deck (see README, "The single-element driver")', &
-        '  --no-plot: skip the PNG plots (same as plot = .false. in &run)'
+        '  --no-plot: skip the PNG plots (same as plot = .false. in &run)', &
+        '  --out ROOT: write ROOT/<name>/ instead of the deck''s out_dir', &
+        '  --batch FILE: one deck per line (# comments); summary in ROOT/<FILE name>/'
       stop
     case default
       if (len(deck_path) > 0) call fail_usage('more than one deck given: '//trim(arg))
       deck_path = trim(arg)
     end select
   end do
+  if (len(batch_file) > 0) then
+    if (len(deck_path) > 0) call fail_usage('give a deck or --batch FILE, not both')
+    call run_point_batch()
+  end if
   if (len(deck_path) == 0) call fail_usage('no deck given')
 
   call read_point_deck(deck_path, deck, err)
   call check(err)
+  if (len(out_root) > 0) deck%out_dir = out_root
   plot = plot .and. deck%plot
   call run%create(deck%out_dir, deck%name, deck_path, err)
   call check(err)
@@ -100,6 +127,27 @@ program wellposed_point
     ' s: '//run%final
 
 contains
+
+  !> --batch FILE: every deck of FILE through this program, one process
+  !> each, shared over the ranks of an mpirun; exit status 1 when any failed.
+  subroutine run_point_batch()
+    type(comm_t) :: comm
+    character(len=4096) :: self
+    character(len=:), allocatable :: command
+    integer :: nfailed
+    call comm_start(comm, err)
+    call check(err)
+    call get_command_argument(0, self)
+    command = shell_quote(trim(self))
+    if (.not. plot) command = command//' --no-plot'
+    if (len(out_root) == 0) out_root = 'out'
+    call run_batch(comm, batch_file, command, out_root, default_figures('wellposed-point'), &
+                   nfailed, err)
+    call comm_stop(comm)
+    call check(err)
+    if (nfailed > 0) stop 1
+    stop
+  end subroutine run_point_batch
 
   subroutine run_material(mat)
     type(material_t), intent(in) :: mat
