@@ -33,7 +33,8 @@ program wellposed_mpm2d
   type(ps_config_t) :: cfg0, cfg
   type(ps_study_t) :: study
   type(ps_scene_t) :: sc, prev
-  logical :: ended_early
+  logical :: ended_early, measured
+  real(dp) :: band_t
   character(len=512) :: end_message
   type(run_dir_t) :: rd
   type(h5_file_t) :: h5
@@ -155,6 +156,7 @@ program wellposed_mpm2d
     clast = c0
     call snapshot()
     ended_early = .false.
+    measured = .false.
     end_message = ''
     do while (sc%t < cfg%t_end - 0.5_dp*sc%dt)
       if (study%stop_on_cutback) prev = sc
@@ -171,6 +173,8 @@ program wellposed_mpm2d
         exit
       end if
       nit = nit + 1
+      if (study%band_time > 0.0_dp .and. .not. measured .and. sc%t >= study%band_time) &
+        call measure_band()
       its(nit) = sc%nl%last%iterations
       nplast(nit) = sc%nl%last%n_plastic
       if (sc%t >= next_sample - 1.0e-12_dp) then
@@ -197,13 +201,7 @@ program wellposed_mpm2d
     wall = real(c1 - c0, dp)/crate
     walls(ic) = wall
     ! ---- measures
-    if (study%band_axis == 'x') then
-      yline = study%band_y*s
-      call band_width(sc, 1, yline, fwhm, peak_x, peak_v)
-    else
-      yline = study%band_x*s
-      call band_width(sc, 2, yline, fwhm, peak_x, peak_v)
-    end if
+    if (.not. measured) call measure_band()
     widths(ic) = fwhm
     i = maxloc(curve(3, 1:ncurve), dim=1)
     peaks(:, ic) = [curve(2, i), curve(3, i)]
@@ -223,6 +221,7 @@ program wellposed_mpm2d
     call sm%add(tag//'.max_plastic_strain', maxval(ps_plastic_strain(sc)))
     call sm%add(tag//'.band_fwhm', fwhm, 'm, along the band line at '//real_text(yline)//' m')
     call sm%add(tag//'.band_peak_at', peak_x, 'm, along the band line')
+    call sm%add(tag//'.band_time', band_t, 's, when the band width was measured')
     call sm%add(tag//'.band_peak_plastic_strain', peak_v)
     call sm%add(tag//'.max_substeps', sc%max_substeps)
     call sm%add(tag//'.ended_early', ended_early, 'true: the UMAT could not go on '// &
@@ -307,6 +306,19 @@ contains
     c%weak_y = cfg0%weak_y*f
     c%top_velocity = cfg0%top_velocity*f
   end function case_config
+
+  !> The band width now (fwhm, peak_x, peak_v, yline, band_t, measured).
+  subroutine measure_band()
+    if (study%band_axis == 'x') then
+      yline = study%band_y*study%scale(ic)
+      call band_width(sc, 1, yline, fwhm, peak_x, peak_v)
+    else
+      yline = study%band_x*study%scale(ic)
+      call band_width(sc, 2, yline, fwhm, peak_x, peak_v)
+    end if
+    band_t = sc%t
+    measured = .true.
+  end subroutine measure_band
 
   !> Particle fields of the current state into run.h5: cases/<tag>/snap_<n>/.
   subroutine snapshot()

@@ -22,7 +22,8 @@
 !>   &output    snapshot_dt (s), sample_dt (s), band_y (m, the line across the
 !>              band where its width is measured, in units of the unscaled
 !>              plate), band_axis ('x': along y = band_y; 'y': along x =
-!>              band_x, for a column), band_x (m), progress, plot
+!>              band_x, for a column), band_x (m), band_time (s: when to
+!>              measure it; 0: at the end of each case), progress, plot
 !> Overrides from the command line, `group.key=value`, are read after the
 !> deck as one-line namelists.
 module wellposed_mpm_ps_deck
@@ -56,6 +57,9 @@ module wellposed_mpm_ps_deck
     !> 'y': along the vertical line x = band_x (a column, a 1D bar)
     character(len=1) :: band_axis = 'x'
     real(dp) :: band_x = 0.0_dp
+    !> Time (s) at which the band width is measured (0: at the end), so that
+    !> meshes are compared at the same apparent strain.
+    real(dp) :: band_time = 0.0_dp
     logical :: progress = .true.
     logical :: plot = .true.
     !> A cut-back the UMAT cannot resolve (a particle softened to zero
@@ -82,7 +86,7 @@ contains
     character(len=16) :: shape, bottom, top, sides, scheme, top_lateral, band_axis
     real(dp) :: t_end, cfl, density, k, g, beta, beta_p, k0, h, h_zeta, l, props(40)
     real(dp) :: top_velocity, ramp_time, a1, a2, tolerance, rel_tolerance, anderson_mixing, &
-                weight_cutoff, snapshot_dt, sample_dt, band_y, band_x
+                weight_cutoff, snapshot_dt, sample_dt, band_y, band_x, band_time
     logical :: progress, plot, stop_on_cutback
     namelist /scene/ name, title
     namelist /plate/ width, height, weak_x, weak_y, weak_k0
@@ -94,7 +98,8 @@ contains
     namelist /nonlocal/ scheme, tolerance, rel_tolerance, max_iterations, stall_iterations, &
       max_rounds, anderson_depth, anderson_mixing, weight_cutoff
     namelist /study/ dx, scale, label
-    namelist /output/ snapshot_dt, sample_dt, band_y, band_x, band_axis, progress, plot
+    namelist /output/ snapshot_dt, sample_dt, band_y, band_x, band_axis, band_time, &
+      progress, plot
     integer :: unit, ios, i, dot, eq, nc
     character(len=512) :: msg
     character(len=:), allocatable :: line, group
@@ -124,7 +129,7 @@ contains
     max_rounds = cfg%nonlocal%max_rounds; anderson_depth = cfg%nonlocal%anderson_depth
     anderson_mixing = cfg%nonlocal%anderson_mixing
     weight_cutoff = cfg%nonlocal%weight_cutoff
-    snapshot_dt = 0.0_dp; sample_dt = 0.0_dp; band_y = 2.5_dp; band_x = 0.0_dp
+    snapshot_dt = 0.0_dp; sample_dt = 0.0_dp; band_y = 2.5_dp; band_x = 0.0_dp; band_time = 0.0_dp
     band_axis = 'x'
     progress = .true.; plot = .true.
 
@@ -259,6 +264,7 @@ contains
     cfg%dx = cases%dx(1)
     cases%snapshot_dt = snapshot_dt; cases%sample_dt = sample_dt; cases%band_y = band_y
     cases%band_x = band_x
+    cases%band_time = band_time
     select case (lower(trim(band_axis)))
     case ('x', 'y')
       cases%band_axis = lower(trim(band_axis))
