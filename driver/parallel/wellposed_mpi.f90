@@ -223,7 +223,7 @@ contains
 
   !> Concatenate every rank's `mine` on `root`, in rank order, into `all`
   !> (allocated on every rank; sized to the total on root, empty elsewhere).
-  !> `counts` (0:size-1) receives every rank's length on root.
+  !> `counts`, allocated (0:size-1), receives every rank's length on root.
   subroutine gatherv_real(comm, mine, all, root, counts)
     type(comm_t), intent(in) :: comm
     real(dp), intent(in) :: mine(:)

@@ -149,7 +149,10 @@ contains
     integer, allocatable, intent(out), optional :: counts(:)
     if (comm%size /= 1 .or. root /= 0) error stop 'gatherv_real: one rank only'
     all = mine
-    if (present(counts)) counts = [size(mine)]
+    if (present(counts)) then
+      allocate (counts(0:0))
+      counts(0) = size(mine)
+    end if
   end subroutine gatherv_real
 
   subroutine gatherv_int(comm, mine, all, root, counts)
@@ -160,7 +163,10 @@ contains
     integer, allocatable, intent(out), optional :: counts(:)
     if (comm%size /= 1 .or. root /= 0) error stop 'gatherv_int: one rank only'
     all = mine
-    if (present(counts)) counts = [size(mine)]
+    if (present(counts)) then
+      allocate (counts(0:0))
+      counts(0) = size(mine)
+    end if
   end subroutine gatherv_int
 
   subroutine sendrecv_real(comm, send, dest, recv, source, tag)
