@@ -47,7 +47,7 @@ program wellposed_mpm2d
   integer :: i, nargs, ic, nsteps_est, nsnap, ncurve, nit, u
   integer(int64) :: c0, c1, crate, clast
   real(dp) :: wall, next_snap, next_sample, s, fwhm, peak_x, peak_v, yline
-  real(dp), allocatable :: curve(:, :), peaks(:, :), widths(:), walls(:)
+  real(dp), allocatable :: curve(:, :), peaks(:, :), widths(:), walls(:), bounds(:, :)
   integer, allocatable :: its(:), nplast(:)
   real(dp), allocatable :: curves_all(:, :, :)
   integer, allocatable :: ncurves(:)
@@ -146,7 +146,8 @@ program wellposed_mpm2d
       '|(h_eta + h_zeta)/a| = '//real_text(sc%nl%bound_45)//' (eq. 4.45), scheme '// &
       trim(nl_scheme_names(cfg%nonlocal%scheme))
     flush (output_unit)
-    allocate (curve(3, nsteps_est + 10), its(nsteps_est + 10), nplast(nsteps_est + 10))
+    allocate (curve(3, nsteps_est + 10), its(nsteps_est + 10), nplast(nsteps_est + 10), &
+              bounds(3, nsteps_est + 10))
     ncurve = 0
     nit = 0
     nsnap = 0
@@ -177,6 +178,7 @@ program wellposed_mpm2d
         call measure_band()
       its(nit) = sc%nl%last%iterations
       nplast(nit) = sc%nl%last%n_plastic
+      bounds(:, nit) = [sc%nl%last%n_alpha, sc%nl%last%bound_seed, sc%nl%last%error]
       if (sc%t >= next_sample - 1.0e-12_dp) then
         ncurve = ncurve + 1
         curve(:, ncurve) = [sc%t, -sc%top_disp/cfg%height, ps_applied_stress(sc)]
@@ -239,7 +241,8 @@ program wellposed_mpm2d
     call h5%write('cases/'//tag//'/iterations', its(1:nit))
     call h5%write('cases/'//tag//'/n_plastic', nplast(1:nit))
     call write_csv_curve(rd%path(tag//'_curve.csv'), curve(:, 1:ncurve))
-    call write_csv_iterations(rd%path(tag//'_iterations.csv'), its(1:nit), nplast(1:nit), sc%dt)
+    call write_csv_iterations(rd%path(tag//'_iterations.csv'), its(1:nit), nplast(1:nit), sc%dt, &
+                              bounds(:, 1:nit), sc%nl%bound_43)
     call write_xdmf(rd%path(tag//'.xdmf'), tag, nsnap, sc%parts%n)
     write (output_unit, '(a)') '    done in '//real_text(wall)//' s: peak '// &
       real_text(peaks(2, ic)*1.0e-6_dp)//' MPa at strain '//real_text(peaks(1, ic))// &
@@ -249,7 +252,7 @@ program wellposed_mpm2d
       int_text(sc%nl%iterations_max)//' over '//int_text(sc%nl%steps_iterated)// &
       ' plastic steps'
     flush (output_unit)
-    deallocate (curve, its, nplast)
+    deallocate (curve, its, nplast, bounds)
   end do
 
   ! ---- across cases: successive meshes, sizes
@@ -433,15 +436,19 @@ contains
     close (u)
   end subroutine write_csv_curve
 
-  subroutine write_csv_iterations(path, it, np, dt)
+  !> One line per step with plastic particles: iterations, and the bounds
+  !> of eq. 4.43 (the seed's with N_alpha, and the sharp one) of that step.
+  subroutine write_csv_iterations(path, it, np, dt, b, sharp)
     character(len=*), intent(in) :: path
     integer, intent(in) :: it(:), np(:)
-    real(dp), intent(in) :: dt
+    real(dp), intent(in) :: dt, b(:, :), sharp
     integer :: j
     open (newunit=u, file=path, status='replace', action='write')
-    write (u, '(a)') 'step,time_s,plastic_particles,iterations'
+    write (u, '(a)') 'step,time_s,plastic_particles,iterations,n_alpha,'// &
+      'lipschitz_eq4_43_seed,lipschitz_eq4_43_sharp,final_error'
     do j = 1, size(it)
-      if (np(j) > 0) write (u, '(i0,",",es14.6,",",i0,",",i0)') j, j*dt, np(j), it(j)
+      if (np(j) > 0) write (u, '(i0,",",es14.6,",",i0,",",i0,4(",",es12.4))') j, j*dt, &
+        np(j), it(j), b(1, j), b(2, j), sharp, b(3, j)
     end do
     close (u)
   end subroutine write_csv_iterations
