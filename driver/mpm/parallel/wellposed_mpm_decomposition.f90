@@ -32,6 +32,7 @@ module wellposed_mpm_decomposition
   use wellposed_text, only: int_text, real_text
   use wellposed_mpi, only: comm_t, alltoall_counts, alltoallv_real, sendrecv_real, &
                            allreduce_any, gatherv_real, gatherv_int, allreduce_sum
+  use wellposed_nonlocal, only: weight_support
   use wellposed_mpm_grid, only: grid_t
   use wellposed_mpm_particles, only: particles_t, new_particles
   implicit none
@@ -39,7 +40,7 @@ module wellposed_mpm_decomposition
   public :: decomposition_t, new_decomposition, owner_of_layer, owner_of_position, &
             restrict_grid, restrict_particles, hand_off_particles, sum_ghost_values, &
             sum_ghost_grid, copy_owned_to_ghosts, ensure_capacity, particle_record_length, &
-            pack_particle, unpack_particle, gather_by_gid, check_support
+            pack_particle, unpack_particle, gather_by_gid, check_support, ghost_layers
 
   !> How the grid is shared out; the same on every rank but for `rank`.
   type :: decomposition_t
@@ -58,6 +59,17 @@ module wellposed_mpm_decomposition
   end type decomposition_t
 
 contains
+
+  !> Ghost node layers a patch needs: the shape functions' reach beyond a
+  !> particle's cell (`reach`: 0 linear, 1 GIMP) and, with nonlocal
+  !> averaging (length > 0), the nodes within the Gaussian's support
+  !> weight_support(length, tol) of an owned node, in cells of size dx.
+  pure integer function ghost_layers(reach, length, tol, dx) result(layers)
+    integer, intent(in) :: reach
+    real(dp), intent(in) :: length, tol, dx
+    layers = reach
+    if (length > 0.0_dp) layers = max(reach, ceiling(weight_support(length, tol)/dx))
+  end function ghost_layers
 
   !> Share `ncells` cell layers (of size `dx` from `origin` along `axis`,
   !> `layer_nodes` nodes per node layer) over the ranks of `comm` in
