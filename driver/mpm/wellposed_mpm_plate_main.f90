@@ -236,6 +236,12 @@ program wellposed_mpm2d
       call sm%add(tag//'.nonlocal_iterations_max', sc%nl%iterations_max)
       call sm%add(tag//'.lipschitz_eq4_43_sharp', sc%nl%bound_43, 'N_alpha = 1')
       call sm%add(tag//'.lipschitz_eq4_45_sharp', sc%nl%bound_45, 'N_alpha = 1')
+      if (sc%nl%calls_sweeps > 0 .and. sc%nl%calls_local > 0) &
+        call sm%add(tag//'.sweep_cost_over_local_update', &
+                    (real(sc%nl%ticks_sweeps, dp)/sc%nl%calls_sweeps)/ &
+                    (real(max(sc%nl%ticks_local, 1_int64), dp)/sc%nl%calls_local), &
+                    'time per particle of one sweep (average + UMAT + eq. 4.49-4.50) '// &
+                    'over one local UMAT update')
     end if
     call h5%write('cases/'//tag//'/curve', transpose(curve(:, 1:ncurve)))
     call h5%write('cases/'//tag//'/iterations', its(1:nit))

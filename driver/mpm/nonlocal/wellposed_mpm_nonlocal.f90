@@ -55,6 +55,7 @@
 !> decomposed run sums its ghost nodes after each projection and each sweep
 !> (Gauss-Seidel inside a rank, block Jacobi across ranks).
 module wellposed_mpm_nonlocal
+  use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
@@ -141,7 +142,15 @@ module wellposed_mpm_nonlocal
     integer :: nnode(2) = 1
     integer :: glo = 0, ghi = -1
     real(dp), allocatable :: node_mass(:)   !< m_i = sum_p phi_ip m_p (glo:ghi)
-    real(dp), allocatable :: field(:)       !< dlambda_i (glo:ghi), eq. 4.46
+    !> m_i dlambda_i (glo:ghi), eq. 4.46 times the node mass: the sums of
+    !> eq. 4.47 need only this product, and eq. 4.49-4.50 update it without
+    !> a division
+    real(dp), allocatable :: field(:)
+    ! per-step cache of each particle's separable weights (eq. 4.27) and M_p
+    integer :: nbmax = 0
+    real(dp), allocatable :: wx(:, :), wy(:, :), den(:)
+    integer, allocatable :: blo(:, :), bhi(:, :)
+    logical, allocatable :: cached(:)
     real(dp), allocatable :: dl(:)          !< dlambda_p of the current iterate
     logical, allocatable :: plastic(:)
     type(nonlocal_step_stats_t) :: last
@@ -150,6 +159,10 @@ module wellposed_mpm_nonlocal
     integer :: iterations_total = 0
     integer :: iterations_max = 0
     logical :: warned_sharp = .false., warned_seed = .false.
+    !> Cost accounting (system_clock ticks and UMAT calls): step 1, the local
+    !> pass; and the sweeps with their averages, UMAT calls and corrections.
+    integer(int64) :: ticks_local = 0, ticks_sweeps = 0
+    integer(int64) :: calls_local = 0, calls_sweeps = 0
   end type nonlocal_t
 
 contains
@@ -272,8 +285,8 @@ contains
   end subroutine new_nonlocal
 
   !> Node mass and the nodal field of eq. 4.46 from particle values:
-  !> m_i = sum_p phi_ip m_p, field_i = sum_p phi_ip m_p values_p / m_i.
-  !> node(k, p) are global node numbers inside [glo, ghi].
+  !> m_i = sum_p phi_ip m_p and field_i = m_i dlambda_i = sum_p phi_ip m_p
+  !> values_p. node(k, p) are global node numbers inside [glo, ghi].
   pure subroutine nonlocal_project(self, mass, node, phi, values)
     type(nonlocal_t), intent(inout) :: self
     real(dp), intent(in) :: mass(:), phi(:, :), values(:)
@@ -290,11 +303,6 @@ contains
         self%field(i) = self%field(i) + w*values(p)
       end do
     end do
-    where (self%node_mass > 0.0_dp)
-      self%field = self%field/self%node_mass
-    elsewhere
-      self%field = 0.0_dp
-    end where
   end subroutine nonlocal_project
 
   !> <dlambda> at position xp (m) from the nodal field, eq. 4.47-4.48; also
@@ -318,7 +326,7 @@ contains
     if (self%ndim == 1) then
       do i = lo(1), hi(1)
         if (i < self%glo .or. i > self%ghi) cycle
-        num = num + ax(i - lo(1))*self%node_mass(i)*self%field(i)
+        num = num + ax(i - lo(1))*self%field(i)
         den = den + ax(i - lo(1))*self%node_mass(i)
         if (present(support_mass)) then
           if (abs(xp(1) - (self%origin(1) + self%dx*i)) <= self%radius) &
@@ -336,7 +344,7 @@ contains
           g = i + self%nnode(1)*j
           if (g < self%glo .or. g > self%ghi) cycle
           rowm = rowm + ax(i - lo(1))*self%node_mass(g)
-          rowf = rowf + ax(i - lo(1))*self%node_mass(g)*self%field(g)
+          rowf = rowf + ax(i - lo(1))*self%field(g)
           if (present(support_mass)) then
             r2 = (xp(1) - (self%origin(1) + self%dx*i))**2 + &
                  (xp(2) - (self%origin(2) + self%dx*j))**2
@@ -351,6 +359,75 @@ contains
     if (den > 0.0_dp) avg = num/den
     if (present(support_mass)) support_mass = smass
   end subroutine nonlocal_average
+
+  !> <dlambda> of particle p at xp within a solve: its separable weights and
+  !> M_p (eq. 4.48) are computed at the first call of the step and kept, so a
+  !> sweep costs (2R+1)^ndim multiply-adds per particle and no exponential.
+  subroutine cached_average(self, p, xp, avg)
+    type(nonlocal_t), intent(inout) :: self
+    integer, intent(in) :: p
+    real(dp), intent(in) :: xp(:)
+    real(dp), intent(out) :: avg
+    integer :: lo(2), hi(2), i, j, g, nb
+    real(dp) :: num, row, den
+    if (.not. self%cached(p)) then
+      call box(self, xp, lo, hi)
+      hi = min(hi, lo + self%nbmax - 1)
+      self%blo(:, p) = lo
+      self%bhi(:, p) = hi
+      do i = lo(1), hi(1)
+        self%wx(i - lo(1) + 1, p) = nonlocal_weight(xp(1) - (self%origin(1) + self%dx*i), &
+                                                    self%length)
+      end do
+      den = 0.0_dp
+      if (self%ndim == 1) then
+        do i = max(lo(1), self%glo), min(hi(1), self%ghi)
+          den = den + self%wx(i - lo(1) + 1, p)*self%node_mass(i)
+        end do
+      else
+        do j = lo(2), hi(2)
+          self%wy(j - lo(2) + 1, p) = nonlocal_weight(xp(2) - (self%origin(2) + self%dx*j), &
+                                                      self%length)
+          row = 0.0_dp
+          do i = lo(1), hi(1)
+            g = i + self%nnode(1)*j
+            if (g < self%glo .or. g > self%ghi) cycle
+            row = row + self%wx(i - lo(1) + 1, p)*self%node_mass(g)
+          end do
+          den = den + self%wy(j - lo(2) + 1, p)*row
+        end do
+      end if
+      self%den(p) = den
+      self%cached(p) = .true.
+    end if
+    avg = 0.0_dp
+    if (.not. self%den(p) > 0.0_dp) return
+    lo = self%blo(:, p)
+    hi = self%bhi(:, p)
+    num = 0.0_dp
+    if (self%ndim == 1) then
+      do i = max(lo(1), self%glo), min(hi(1), self%ghi)
+        num = num + self%wx(i - lo(1) + 1, p)*self%field(i)
+      end do
+    else
+      nb = hi(1) - lo(1) + 1
+      do j = lo(2), hi(2)
+        g = lo(1) + self%nnode(1)*j
+        if (g < self%glo .or. g + nb - 1 > self%ghi) then
+          row = 0.0_dp
+          do i = lo(1), hi(1)
+            g = i + self%nnode(1)*j
+            if (g >= self%glo .and. g <= self%ghi) &
+              row = row + self%wx(i - lo(1) + 1, p)*self%field(g)
+          end do
+        else
+          row = dot_product(self%wx(1:nb, p), self%field(g:g + nb - 1))
+        end if
+        num = num + self%wy(j - lo(2) + 1, p)*row
+      end do
+    end if
+    avg = num/self%den(p)
+  end subroutine cached_average
 
   !> Node index box [lo, hi] per direction covering the cut Gaussian at xp.
   pure subroutine box(self, xp, lo, hi)
@@ -383,6 +460,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     integer, intent(in), optional :: log_unit
     integer :: n, p, round
+    integer(int64) :: c0, c1
     real(dp) :: avg, dnew, smass
     logical :: changed
     integer, allocatable :: act(:)
@@ -393,12 +471,26 @@ contains
       if (size(self%dl) /= n) deallocate (self%dl, self%plastic)
     end if
     if (.not. allocated(self%dl)) allocate (self%dl(n), self%plastic(n))
+    if (self%active) then
+      self%nbmax = 2*ceiling(self%radius/self%dx) + 3
+      if (allocated(self%cached)) then
+        if (size(self%cached) /= n) deallocate (self%wx, self%wy, self%den, self%blo, &
+                                                self%bhi, self%cached)
+      end if
+      if (.not. allocated(self%cached)) allocate (self%wx(self%nbmax, n), &
+        self%wy(self%nbmax, n), self%den(n), self%blo(2, n), self%bhi(2, n), self%cached(n))
+      self%cached = .false.
+    end if
 
     ! Step 1: the local estimate, <dlambda> = 0.
+    call system_clock(c0)
     do p = 1, n
       call host%update(p, 0.0_dp, self%dl(p), err)
       if (allocated(err)) return
     end do
+    call system_clock(c1)
+    self%ticks_local = self%ticks_local + (c1 - c0)
+    self%calls_local = self%calls_local + n
     self%last%umat_calls = n
     self%plastic = self%dl > 0.0_dp
     self%last%n_plastic = count(self%plastic)
@@ -424,7 +516,7 @@ contains
       changed = .false.
       do p = 1, n
         if (self%plastic(p)) cycle
-        call nonlocal_average(self, x(:, p), avg)
+        call cached_average(self, p, x(:, p), avg)
         if (avg == 0.0_dp) cycle   ! the step-1 call already had this input
         call host%update(p, avg, dnew, err)
         if (allocated(err)) return
@@ -459,6 +551,7 @@ contains
       type(error_t), allocatable, intent(out) :: err
       real(dp) :: xk(size(act)), gx(size(act)), xn(size(act)), e, best, limit
       integer :: k, kbest, q, pp
+      integer(int64) :: s0, s1
       type(anderson_t) :: acc
       character(len=:), allocatable :: why, hint
 
@@ -469,14 +562,18 @@ contains
       do k = 1, self%set%max_iterations
         xk = self%dl(act)
         ! one Gauss-Seidel sweep, eq. 4.47, 4.39 (through the UMAT), 4.49-4.50
+        call system_clock(s0)
         do q = 1, size(act)
           pp = act(q)
-          call nonlocal_average(self, x(:, pp), avg)
+          call cached_average(self, pp, x(:, pp), avg)
           call host%update(pp, avg, dnew, err)
           if (allocated(err)) return
           call correct_field(pp, dnew - self%dl(pp))
           self%dl(pp) = dnew
         end do
+        call system_clock(s1)
+        self%ticks_sweeps = self%ticks_sweeps + (s1 - s0)
+        self%calls_sweeps = self%calls_sweeps + size(act)
         self%last%umat_calls = self%last%umat_calls + size(act)
         self%last%iterations = self%last%iterations + 1
         gx = self%dl(act)
@@ -526,8 +623,7 @@ contains
       if (delta == 0.0_dp) return
       do k = 1, size(node, 1)
         i = node(k, p)
-        if (self%node_mass(i) > 0.0_dp) &
-          self%field(i) = self%field(i) + mass(p)*phi(k, p)*delta/self%node_mass(i)
+        self%field(i) = self%field(i) + mass(p)*phi(k, p)*delta
       end do
     end subroutine correct_field
 
