@@ -1,0 +1,127 @@
+!> mpirun -np N parallel_io_main: the outputs of a scene spread over ranks
+!> (wellposed_mpm_parallel_io) equal the serial ones bit for bit. Every rank
+!> advances the same serial scene (the reference) and keeps only the
+!> particles of its cells after every step, as a decomposed run holds them;
+!> then
+!>  - stations set up on rank 0 over the gathered particles and read
+!>    through the station proxy give bitwise the serial station histories;
+!>  - gather_particles returns bitwise the serial particles in id order;
+!>  - stations survive a checkpoint round trip bit for bit.
+program parallel_io_main
+  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t
+  use wellposed_mpi, only: comm_t, comm_start, comm_stop, allreduce_sum
+  use wellposed_mpm_config, only: mpm_config_t
+  use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance
+  use wellposed_mpm_particles, only: particles_t
+  use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations
+  use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, restrict_particles
+  use wellposed_mpm_parallel_io
+  use wellposed_checkpoint, only: checkpoint_t
+  implicit none
+
+  integer, parameter :: nsteps = 200
+  type(comm_t) :: comm
+  type(mpm_config_t) :: cfg
+  type(mpm_scene_t) :: ref
+  type(particles_t) :: mine, gathered
+  type(decomposition_t) :: dec
+  type(stations_t) :: st_ref, st, st2
+  type(station_proxy_t) :: proxy
+  type(checkpoint_t) :: ckpt
+  type(error_t), allocatable :: err
+  integer :: k, n, failures
+
+  call comm_start(comm, err)
+  call stop_on(err)
+  failures = 0
+  cfg%name = 'io'
+  cfg%title = 'parallel io test'
+  cfg%length = 60.0_dp
+  cfg%dx = 0.5_dp
+  cfg%t_end = 0.02_dp
+  cfg%nprops = 14
+  cfg%props = 0.0_dp
+  cfg%props(1:5) = [4.0e9_dp, 1.5e9_dp, 0.315_dp, 0.0_dp, 5.066e6_dp]
+  cfg%props(14) = 1.0_dp
+  cfg%station_first = 5.0_dp
+  cfg%station_spacing = 10.0_dp
+  cfg%nstations = 5
+  cfg%progress = .false.
+  call new_scene(ref, cfg, err)
+  call stop_on(err)
+  n = ref%parts%n
+  call new_decomposition(dec, comm, ref%grid%nnodes - 1, 1, 1, 1, ref%grid%origin, &
+                         ref%grid%dx, err)
+  call stop_on(err)
+  call new_stations(st_ref, cfg, ref%parts, cfg%t_end)
+  ! the decomposed view: stations set up on rank 0 over the gathered particles
+  call distribute()
+  call gather_particles(comm, mine, 0, gathered)
+  if (comm%rank == 0) call new_stations(st, cfg, gathered, cfg%t_end)
+  call make_station_proxy(st, comm, n, mine, proxy)
+  do k = 1, nsteps
+    call advance(ref, err)
+    call stop_on(err)
+    call sample_stations(st_ref, ref%parts, ref%t)
+    call distribute()
+    call fill_station_proxy(proxy, comm, mine)
+    if (comm%rank == 0) call sample_stations(st, proxy%parts, ref%t)
+  end do
+  call gather_particles(comm, mine, 0, gathered)
+  if (comm%rank == 0) then
+    call check(st%ns == st_ref%ns .and. st%ns > 10, 'as many station samples as serial')
+    call check(all_equal(st%hist(:, :, 1:st%ns), st_ref%hist(:, :, 1:st_ref%ns)), &
+               'station histories bitwise the serial ones')
+    call check(maxval(abs(st_ref%hist(1, 1, 1:st%ns) - st_ref%hist(1, 1, 1))) > 1.0e5_dp, &
+               'the wave reached the first station (the test sees something)')
+    call check(gathered%n == n, 'gather_particles: every particle')
+    call check(all(gathered%x(:, 1:n) == ref%parts%x(:, 1:n)) .and. &
+               all(gathered%stress(:, 1:n) == ref%parts%stress(:, 1:n)) .and. &
+               all(gathered%statev(:, 1:n) == ref%parts%statev(:, 1:n)) .and. &
+               all(gathered%gid(1:n) == ref%parts%gid(1:n)), &
+               'gather_particles: bitwise the serial particles, in id order')
+    call put_stations(ckpt, 'stations/', st_ref)
+    call new_stations(st2, cfg, ref%parts, cfg%t_end)
+    call get_stations(ckpt, 'stations/', st2, err)
+    call check(.not. allocated(err), 'stations read back from a checkpoint')
+    call check(st2%ns == st_ref%ns .and. st2%t_prev == st_ref%t_prev .and. &
+               all_equal(st2%hist(:, :, 1:st2%ns), st_ref%hist(:, :, 1:st_ref%ns)) .and. &
+               all(st2%prev == st_ref%prev), 'stations round trip bit for bit')
+    write (output_unit, '(a,i0,a,i0,a)') 'ranks ', comm%size, ', ', st%ns, ' station samples'
+  end if
+  call allreduce_sum(comm, failures)
+  call comm_stop(comm)
+  if (failures > 0) error stop 1
+
+contains
+
+  !> This rank's share of the reference particles, as a decomposed run holds them.
+  subroutine distribute()
+    mine = ref%parts
+    call restrict_particles(dec, mine, err)
+    call stop_on(err)
+  end subroutine distribute
+
+  logical function all_equal(a, b)
+    real(dp), intent(in) :: a(:, :, :), b(:, :, :)
+    all_equal = all(shape(a) == shape(b))
+    if (all_equal) all_equal = all(a == b .or. (a /= a .and. b /= b))
+  end function all_equal
+
+  subroutine stop_on(e)
+    type(error_t), allocatable, intent(in) :: e
+    if (.not. allocated(e)) return
+    write (error_unit, '(a,i0,a)') 'rank ', comm%rank, ': '//e%message
+    error stop 1
+  end subroutine stop_on
+
+  subroutine check(ok, what)
+    logical, intent(in) :: ok
+    character(len=*), intent(in) :: what
+    if (.not. ok) failures = failures + 1
+    write (output_unit, '(a)') merge('ok:   ', 'FAIL: ', ok)//what
+  end subroutine check
+
+end program parallel_io_main
