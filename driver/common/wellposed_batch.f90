@@ -308,15 +308,17 @@ contains
   end function lower
 
   !> The `key = value` lines of a summary.txt or job record: keys(i) and
-  !> values(i) (value without its `# comment`). A missing file gives none.
+  !> values(i) (value without its `# comment`; keys up to 256 characters,
+  !> values up to 1024). A missing file gives none.
   subroutine read_key_values(path, keys, values)
     character(len=*), intent(in) :: path
-    character(len=:), allocatable, intent(out) :: keys(:), values(:)
+    character(len=256), allocatable, intent(out) :: keys(:)
+    character(len=1024), allocatable, intent(out) :: values(:)
     character(len=:), allocatable :: text, cur, k, v
     character(len=256), allocatable :: kk(:)
     character(len=1024), allocatable :: vv(:)
     type(error_t), allocatable :: err
-    integer :: start, stop_, eq, c, i, lk, lv
+    integer :: start, stop_, eq, c
     allocate (kk(0), vv(0))
     call read_text_file(path, text, err)
     if (.not. allocated(err)) then
@@ -336,16 +338,8 @@ contains
         vv = [character(len=1024) :: vv, v]
       end do
     end if
-    lk = 1
-    lv = 1
-    do i = 1, size(kk)
-      lk = max(lk, len_trim(kk(i)))
-      lv = max(lv, len_trim(vv(i)))
-    end do
-    allocate (character(len=lk) :: keys(size(kk)))
-    allocate (character(len=lv) :: values(size(vv)))
-    keys = kk
-    values = vv
+    call move_alloc(kk, keys)
+    call move_alloc(vv, values)
   end subroutine read_key_values
 
   !> Value of `key` among keys/values, '' when absent.
@@ -375,7 +369,8 @@ contains
     integer, intent(out) :: nfailed
     character(len=:), allocatable, intent(out) :: report
     type(error_t), allocatable, intent(out) :: err
-    character(len=:), allocatable :: rk(:), rv(:), sk(:), sv(:)
+    character(len=256), allocatable :: rk(:), sk(:)
+    character(len=1024), allocatable :: rv(:), sv(:)
     character(len=:), allocatable :: csv, status, wall, run, msg, line, nl, val, tmp
     integer :: k, f, unit, ios, nok
     nl = new_line('a')

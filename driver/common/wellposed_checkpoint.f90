@@ -263,7 +263,8 @@ contains
     character(len=:), allocatable, intent(out) :: path
     type(error_t), allocatable, intent(out) :: err
     type(h5_file_t) :: h5
-    character(len=:), allocatable :: manifest, all(:)
+    character(len=:), allocatable :: manifest
+    character(len=24), allocatable :: all(:)
     integer :: k
     logical :: removed
     call make_dirs(dir, err)
@@ -396,12 +397,12 @@ contains
     end subroutine refuse
   end subroutine read_checkpoint
 
-  !> The checkpoint files of `dir` (base names), oldest first.
+  !> The checkpoint files of `dir` (base names, 24 characters), oldest first.
   subroutine list_checkpoints(dir, names)
     character(len=*), intent(in) :: dir
-    character(len=:), allocatable, intent(out) :: names(:)
+    character(len=24), allocatable, intent(out) :: names(:)
     character(len=:), allocatable :: listing, lst, name
-    character(len=64), allocatable :: found(:)
+    character(len=24), allocatable :: found(:)
     type(error_t), allocatable :: err
     integer :: estat, cstat, start, stop_
     logical :: removed
@@ -423,14 +424,13 @@ contains
             if (len(name) /= 24) cycle
             if (name(1:11) /= 'checkpoint_' .or. name(22:24) /= '.h5') cycle
             if (verify(name(12:21), '0123456789') /= 0) cycle
-            found = [character(len=64) :: found, name]
+            found = [character(len=24) :: found, name]
           end do
         end if
       end if
       removed = remove_file(lst)
     end if
-    allocate (character(len=24) :: names(size(found)))
-    names = found                      ! ls sorts; the digits are fixed-width
+    call move_alloc(found, names)      ! ls sorts; the digits are fixed-width
   end subroutine list_checkpoints
 
   !> The newest checkpoint file of `dir`; an error when there is none.
@@ -438,7 +438,7 @@ contains
     character(len=*), intent(in) :: dir
     character(len=:), allocatable, intent(out) :: path
     type(error_t), allocatable, intent(out) :: err
-    character(len=:), allocatable :: names(:)
+    character(len=24), allocatable :: names(:)
     call list_checkpoints(dir, names)
     if (size(names) == 0) then
       call new_error(err, status_invalid, dir, 'no checkpoint to restart from in "'//dir//'"')
