@@ -1,0 +1,68 @@
+!> The background grid of the MPM (seed section 4.3): a uniform structured
+!> grid of nodes holding lumped mass (eq. 4.4), momentum, internal and
+!> external force (eq. 4.5) and the velocity and acceleration of the grid
+!> update (eq. 4.9-4.10). Node arrays are indexed by GLOBAL node number and
+!> allocated over this process's patch [glo, ghi], which includes ghost
+!> nodes: a domain-decomposed run gives each rank its own patch and sums the
+!> ghost contributions (wellposed_mpm_exchange) without touching the loops
+!> that read and write these arrays. Field arrays are (ndim, node) so the
+!> same layout serves 2D (node number = i + nx*j).
+module wellposed_mpm_grid
+  use wellposed_kinds, only: dp
+  implicit none
+  private
+  public :: grid_t, new_grid_1d, grid_reset
+
+  type :: grid_t
+    integer :: ndim = 1
+    real(dp) :: origin = 0.0_dp     !< x of global node 0 (m)
+    real(dp) :: dx = 1.0_dp         !< cell size h (m)
+    integer :: nnodes = 0           !< global node count (nodes 0 .. nnodes-1)
+    integer :: ilo = 0, ihi = -1    !< nodes this process owns
+    integer :: glo = 0, ghi = -1    !< owned plus ghost nodes (array bounds)
+    real(dp), allocatable :: mass(:)        !< lumped mass m_i (kg per m^2 of section)
+    real(dp), allocatable :: momentum(:, :) !< m_i v_i (ndim, node)
+    real(dp), allocatable :: fint(:, :)     !< internal force (N per m^2), eq. 4.5
+    real(dp), allocatable :: fext(:, :)     !< external force
+    real(dp), allocatable :: velocity(:, :) !< v_i after the update, eq. 4.10 (m/s)
+    real(dp), allocatable :: accel(:, :)    !< a_i, eq. 4.9 (m/s^2)
+    !> Per node and component: .true. where the velocity is prescribed zero.
+    logical, allocatable :: fixed(:, :)
+  end type grid_t
+
+contains
+
+  !> A 1D grid of `ncells` cells of size `dx` starting at `origin`, one
+  !> patch holding all nodes (serial run; no ghosts needed).
+  pure subroutine new_grid_1d(self, origin, dx, ncells)
+    type(grid_t), intent(out) :: self
+    real(dp), intent(in) :: origin, dx
+    integer, intent(in) :: ncells
+    self%ndim = 1
+    self%origin = origin
+    self%dx = dx
+    self%nnodes = ncells + 1
+    self%ilo = 0
+    self%ihi = ncells
+    self%glo = 0
+    self%ghi = ncells
+    allocate (self%mass(self%glo:self%ghi))
+    allocate (self%momentum(1, self%glo:self%ghi), self%fint(1, self%glo:self%ghi), &
+              self%fext(1, self%glo:self%ghi), self%velocity(1, self%glo:self%ghi), &
+              self%accel(1, self%glo:self%ghi), self%fixed(1, self%glo:self%ghi))
+    self%fixed = .false.
+    call grid_reset(self)
+    self%velocity = 0.0_dp
+    self%accel = 0.0_dp
+  end subroutine new_grid_1d
+
+  !> Zero the accumulated fields before a particle-to-grid pass.
+  pure subroutine grid_reset(self)
+    type(grid_t), intent(inout) :: self
+    self%mass = 0.0_dp
+    self%momentum = 0.0_dp
+    self%fint = 0.0_dp
+    self%fext = 0.0_dp
+  end subroutine grid_reset
+
+end module wellposed_mpm_grid

@@ -1,0 +1,256 @@
+!> The MPM deck: Fortran namelist groups read into an mpm_config_t
+!> (wellposed_deck conventions: every message names file, group and key).
+!> Groups (all optional; a missing group or key keeps the default scene,
+!> the Sandler-Rubin case of shared reference A):
+!>   &scene    name, title
+!>   &grid     length (m), dx (m), ppc, pad_cells, shape ('gimp'|'linear'),
+!>             far_end ('fixed'|'symmetric'|'free')
+!>   &time     t_end (s), cfl (fraction of the CFL step), scheme ('musl'|'usl')
+!>   &material density (kg/m^3), nstatv, and EITHER the named wellposed
+!>             parameters K, G, beta, beta_p, k0, h, k_lim, z_ref, P_v, P_d,
+!>             tau, h_zeta, L (Pa, s, m; PROPS 1-13 of the UMAT contract)
+!>             OR props = <list> (any user's UMAT, passed as given)
+!>   &initial  stress (6 values, Pa, Abaqus order, tension +), velocity (m/s)
+!>   &load     base, peak (Pa), duration, start (s), pulse ('triangle'|'cosine')
+!>   &stations first (m), spacing (m), count
+!>   &output   sample_dt (s), snapshot_dt (s), progress, plot
+!> Overrides from the command line, `group.key=value`, are read after the
+!> deck as one-line namelists, so they obey the same rules.
+module wellposed_mpm_deck
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_deck, only: read_text_file, namelist_error, check_range, check_finite, &
+                            unset, is_set, has_group
+  use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
+                                   prop_h, prop_k_lim, prop_z_ref, prop_p_v, prop_p_d, &
+                                   prop_tau, prop_h_zeta, prop_length, prop_explicit
+  use wellposed_mpm_config
+  implicit none
+  private
+  public :: read_mpm_deck, mpm_options_t
+
+  !> Driver options that are not part of the physics.
+  type :: mpm_options_t
+    logical :: plot = .true.           !< run the plot script at the end
+  end type mpm_options_t
+
+contains
+
+  !> Read `path` (and then the overrides, each "group.key=value") into cfg.
+  subroutine read_mpm_deck(path, overrides, cfg, opts, text, err)
+    character(len=*), intent(in) :: path
+    character(len=*), intent(in) :: overrides(:)
+    type(mpm_config_t), intent(out) :: cfg
+    type(mpm_options_t), intent(out) :: opts
+    character(len=:), allocatable, intent(out) :: text
+    type(error_t), allocatable, intent(out) :: err
+    ! namelist variables (defaults: the default scene)
+    character(len=64) :: name
+    character(len=200) :: title
+    real(dp) :: length, dx
+    integer :: ppc, pad_cells
+    character(len=16) :: shape, far_end, scheme
+    real(dp) :: t_end, cfl
+    real(dp) :: density, k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, h_zeta, l
+    real(dp) :: props(max_props)
+    integer :: nstatv
+    real(dp) :: stress(6), velocity
+    real(dp) :: base, peak, duration, start
+    integer :: count
+    real(dp) :: first, spacing
+    real(dp) :: sample_dt, snapshot_dt
+    logical :: progress, plot
+    namelist /scene/ name, title
+    namelist /grid/ length, dx, ppc, pad_cells, shape, far_end
+    namelist /time/ t_end, cfl, scheme
+    namelist /material/ density, k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, &
+      h_zeta, l, props, nstatv
+    namelist /initial/ stress, velocity
+    namelist /load/ base, peak, duration, start, pulse
+    namelist /stations/ first, spacing, count
+    namelist /output/ sample_dt, snapshot_dt, progress, plot
+    character(len=16) :: pulse
+    integer :: unit, ios, i, dot, eq
+    character(len=512) :: msg
+    character(len=:), allocatable :: line, group
+
+    name = 'sandler_rubin_default'
+    title = 'Sandler-Rubin case study'
+    length = cfg%length; dx = cfg%dx; ppc = cfg%ppc; pad_cells = cfg%pad_cells
+    shape = 'gimp'; far_end = 'fixed'; scheme = 'musl'
+    t_end = cfg%t_end; cfl = cfg%cfl
+    density = cfg%density
+    k = 4.0e9_dp; g = 1.5e9_dp; beta = 0.315_dp; beta_p = 0.0_dp; k0 = 5.066e6_dp
+    h = 0.0_dp; k_lim = 0.0_dp; z_ref = 0.0_dp; p_v = 0.0_dp; p_d = 0.0_dp; tau = 0.0_dp
+    h_zeta = 0.0_dp; l = 0.0_dp
+    props = unset
+    nstatv = cfg%nstatv
+    stress = cfg%stress0; velocity = cfg%velocity0
+    base = cfg%load_base; peak = cfg%load_peak; duration = cfg%load_duration
+    start = cfg%load_start
+    first = cfg%station_first; spacing = cfg%station_spacing; count = cfg%nstations
+    sample_dt = cfg%sample_dt; snapshot_dt = cfg%snapshot_dt
+    progress = .true.; plot = .true.
+
+    call read_text_file(path, text, err)
+    if (allocated(err)) return
+    open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
+      return
+    end if
+    pulse = 'triangle'
+    if (has_group(text, 'scene')) then
+      rewind (unit); read (unit, nml=scene, iostat=ios, iomsg=msg)
+      if (ios /= 0) then; call nml_fail('scene'); return; end if
+    end if
+    if (has_group(text, 'grid')) then
+      rewind (unit); read (unit, nml=grid, iostat=ios, iomsg=msg)
+      if (ios /= 0) then; call nml_fail('grid'); return; end if
+    end if
+    if (has_group(text, 'time')) then
+      rewind (unit); read (unit, nml=time, iostat=ios, iomsg=msg)
+      if (ios /= 0) then; call nml_fail('time'); return; end if
+    end if
+    if (has_group(text, 'material')) then
+      rewind (unit); read (unit, nml=material, iostat=ios, iomsg=msg)
+      if (ios /= 0) then; call nml_fail('material'); return; end if
+    end if
+    if (has_group(text, 'initial')) then
+      rewind (unit); read (unit, nml=initial, iostat=ios, iomsg=msg)
+      if (ios /= 0) then; call nml_fail('initial'); return; end if
+    end if
+    if (has_group(text, 'load')) then
+      rewind (unit); read (unit, nml=load, iostat=ios, iomsg=msg)
+      if (ios /= 0) then; call nml_fail('load'); return; end if
+    end if
+    if (has_group(text, 'stations')) then
+      rewind (unit); read (unit, nml=stations, iostat=ios, iomsg=msg)
+      if (ios /= 0) then; call nml_fail('stations'); return; end if
+    end if
+    if (has_group(text, 'output')) then
+      rewind (unit); read (unit, nml=output, iostat=ios, iomsg=msg)
+      if (ios /= 0) then; call nml_fail('output'); return; end if
+    end if
+    close (unit)
+
+    ! command-line overrides: group.key=value
+    do i = 1, size(overrides)
+      dot = index(overrides(i), '.')
+      eq = index(overrides(i), '=')
+      if (dot < 2 .or. eq < dot + 2) then
+        call new_error(err, status_invalid, trim(overrides(i)), 'override "'// &
+          trim(overrides(i))//'" is not of the form group.key=value')
+        return
+      end if
+      group = overrides(i)(1:dot - 1)
+      line = '&'//group//' '//trim(overrides(i)(dot + 1:))//' /'
+      select case (group)
+      case ('scene'); read (line, nml=scene, iostat=ios, iomsg=msg)
+      case ('grid'); read (line, nml=grid, iostat=ios, iomsg=msg)
+      case ('time'); read (line, nml=time, iostat=ios, iomsg=msg)
+      case ('material'); read (line, nml=material, iostat=ios, iomsg=msg)
+      case ('initial'); read (line, nml=initial, iostat=ios, iomsg=msg)
+      case ('load'); read (line, nml=load, iostat=ios, iomsg=msg)
+      case ('stations'); read (line, nml=stations, iostat=ios, iomsg=msg)
+      case ('output'); read (line, nml=output, iostat=ios, iomsg=msg)
+      case default
+        call new_error(err, status_invalid, group, 'override "'//trim(overrides(i))// &
+          '": no group &'//group); return
+      end select
+      if (ios /= 0) then
+        err = namelist_error('command line', group, ios, msg, line); return
+      end if
+    end do
+
+    ! ---- into the config, validating the words and the numbers' kinds
+    cfg%name = trim(name)
+    cfg%title = trim(title)
+    if (len(cfg%name) == 0 .or. verify(cfg%name, &
+        'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-') /= 0) then
+      call new_error(err, status_invalid, 'name', path//': &scene: name = "'//cfg%name// &
+        '" must be non-empty letters, digits, "_", "." or "-" (it names the output folder)')
+      return
+    end if
+    cfg%length = length; cfg%dx = dx; cfg%ppc = ppc; cfg%pad_cells = pad_cells
+    cfg%shape = word(shape, shape_names, 'grid', 'shape'); if (allocated(err)) return
+    cfg%bc_far = word(far_end, bc_names, 'grid', 'far_end'); if (allocated(err)) return
+    cfg%scheme = word(scheme, scheme_names, 'time', 'scheme'); if (allocated(err)) return
+    cfg%pulse = word(pulse, pulse_names, 'load', 'pulse'); if (allocated(err)) return
+    cfg%t_end = t_end; cfg%cfl = cfl
+    call check_finite(path, 'time', 'cfl', cfl, err); if (allocated(err)) return
+    call check_finite(path, 'material', 'density', density, err); if (allocated(err)) return
+    cfg%density = density
+    cfg%nstatv = nstatv
+    if (any(is_set(props))) then
+      cfg%nprops = findloc(is_set(props), .true., back=.true., dim=1)
+      if (.not. all(is_set(props(1:cfg%nprops)))) then
+        call new_error(err, status_invalid, 'props', path//': &material: props has gaps; '// &
+          'give every entry up to the last'); return
+      end if
+      call check_finite(path, 'material', 'props', props(1:cfg%nprops), err)
+      if (allocated(err)) return
+      cfg%props = 0.0_dp
+      cfg%props(1:cfg%nprops) = props(1:cfg%nprops)
+    else
+      cfg%props = 0.0_dp
+      cfg%props(prop_bulk) = k; cfg%props(prop_shear) = g
+      cfg%props(prop_beta) = beta; cfg%props(prop_beta_p) = beta_p
+      cfg%props(prop_k0) = k0; cfg%props(prop_h) = h
+      cfg%props(prop_k_lim) = k_lim; cfg%props(prop_z_ref) = z_ref
+      cfg%props(prop_p_v) = p_v; cfg%props(prop_p_d) = p_d
+      cfg%props(prop_tau) = tau; cfg%props(prop_h_zeta) = h_zeta
+      cfg%props(prop_length) = l
+      ! appended slot: an explicit host never reads DDSDDE
+      cfg%props(prop_explicit) = 1.0_dp
+      cfg%nprops = prop_explicit
+    end if
+    cfg%stress0 = stress; cfg%velocity0 = velocity
+    call check_finite(path, 'initial', 'stress', stress, err); if (allocated(err)) return
+    cfg%load_base = base; cfg%load_peak = peak; cfg%load_duration = duration
+    cfg%load_start = start
+    cfg%station_first = first; cfg%station_spacing = spacing; cfg%nstations = count
+    call check_range(path, 'stations', 'count', count, 0, 1000, err)
+    if (allocated(err)) return
+    cfg%sample_dt = sample_dt; cfg%snapshot_dt = snapshot_dt
+    cfg%progress = progress
+    opts%plot = plot
+
+  contains
+
+    subroutine nml_fail(grp)
+      character(len=*), intent(in) :: grp
+      close (unit)
+      err = namelist_error(path, grp, ios, msg, text)
+    end subroutine nml_fail
+
+    integer function word(value, names, grp, key) result(id)
+      character(len=*), intent(in) :: value, names(:), grp, key
+      integer :: j
+      character(len=:), allocatable :: valid
+      do id = 1, size(names)
+        if (lower(trim(value)) == trim(names(id))) return
+      end do
+      id = 0
+      valid = ''
+      do j = 1, size(names)
+        valid = valid//merge(', ', '  ', j > 1)//"'"//trim(names(j))//"'"
+      end do
+      call new_error(err, status_invalid, key, path//': &'//grp//': '//key//" = '"// &
+        trim(value)//"' is not one of"//valid(2:))
+    end function word
+
+  end subroutine read_mpm_deck
+
+  pure function lower(text) result(low)
+    character(len=*), intent(in) :: text
+    character(len=len(text)) :: low
+    integer :: i, c
+    low = text
+    do i = 1, len(text)
+      c = iachar(text(i:i))
+      if (c >= iachar('A') .and. c <= iachar('Z')) low(i:i) = achar(c + 32)
+    end do
+  end function lower
+
+end module wellposed_mpm_deck

@@ -1,0 +1,96 @@
+!> Shape functions of the MPM in 1D (seed eq. 4.6-4.8): the weights phi_ip
+!> and gradient weights G_ip of a particle on the nodes of a uniform grid.
+!>  - linear (standard MPM, chi_p a Dirac delta): phi = S_i(x_p), the hat.
+!>  - uGIMP (chi_p = 1 on an undeforming domain of half-width lp; shared
+!>    reference A, "uGIMP 1D"): with h the cell size and xi = x_p - x_i,
+!>      |xi| <= lp:           S = 1 - (xi^2 + lp^2)/(2 h lp)
+!>      lp < |xi| <= h - lp:  S = 1 - |xi|/h
+!>      h - lp < |xi| < h+lp: S = (h + lp - |xi|)^2/(4 h lp)
+!>    and G = dS/dx_p (the average of dS_i/dx over the particle domain).
+!> 2D (issue 6) takes tensor products of these and adds CPDI.
+module wellposed_mpm_shape
+  use wellposed_kinds, only: dp
+  use wellposed_mpm_config, only: shape_linear, shape_gimp
+  implicit none
+  private
+  public :: support_size, shape_1d, gimp_weight, linear_weight
+
+contains
+
+  !> Nodes a particle can touch: 2 for linear, 3 for GIMP (lp <= h/2).
+  pure integer function support_size(kind)
+    integer, intent(in) :: kind
+    select case (kind)
+    case (shape_gimp)
+      support_size = 3
+    case default
+      support_size = 2
+    end select
+  end function support_size
+
+  !> Weights of one particle at x (m), half-width lp (m), on a grid with node
+  !> 0 at `origin` and cell size h: nodes(k) global node numbers, phi(k)
+  !> dimensionless, grad(k) in 1/m, for k = 1 .. support_size(kind). Unused
+  !> entries (none for these kinds) would carry zero weight.
+  pure subroutine shape_1d(kind, x, lp, origin, h, nodes, phi, grad)
+    integer, intent(in) :: kind
+    real(dp), intent(in) :: x, lp, origin, h
+    integer, intent(out) :: nodes(:)
+    real(dp), intent(out) :: phi(:), grad(:)
+    real(dp) :: s
+    integer :: i0, k
+    s = (x - origin)/h
+    select case (kind)
+    case (shape_gimp)
+      i0 = nint(s) - 1
+      do k = 1, 3
+        nodes(k) = i0 + k - 1
+        call gimp_weight(x - (origin + real(nodes(k), dp)*h), lp, h, phi(k), grad(k))
+      end do
+    case default
+      i0 = floor(s)
+      do k = 1, 2
+        nodes(k) = i0 + k - 1
+        call linear_weight(x - (origin + real(nodes(k), dp)*h), h, phi(k), grad(k))
+      end do
+    end select
+  end subroutine shape_1d
+
+  !> uGIMP weight and gradient for offset xi = x_p - x_i (m).
+  elemental subroutine gimp_weight(xi, lp, h, phi, grad)
+    real(dp), intent(in) :: xi, lp, h
+    real(dp), intent(out) :: phi, grad
+    real(dp) :: a, sgn
+    a = abs(xi)
+    sgn = sign(1.0_dp, xi)
+    if (a <= lp) then
+      phi = 1.0_dp - (xi*xi + lp*lp)/(2.0_dp*h*lp)
+      grad = -xi/(h*lp)
+    else if (a <= h - lp) then
+      phi = 1.0_dp - a/h
+      grad = -sgn/h
+    else if (a < h + lp) then
+      phi = (h + lp - a)**2/(4.0_dp*h*lp)
+      grad = -sgn*(h + lp - a)/(2.0_dp*h*lp)
+    else
+      phi = 0.0_dp
+      grad = 0.0_dp
+    end if
+  end subroutine gimp_weight
+
+  !> Linear hat weight and gradient for offset xi = x_p - x_i (m).
+  elemental subroutine linear_weight(xi, h, phi, grad)
+    real(dp), intent(in) :: xi, h
+    real(dp), intent(out) :: phi, grad
+    real(dp) :: a
+    a = abs(xi)
+    if (a < h) then
+      phi = 1.0_dp - a/h
+      grad = -sign(1.0_dp, xi)/h
+    else
+      phi = 0.0_dp
+      grad = 0.0_dp
+    end if
+  end subroutine linear_weight
+
+end module wellposed_mpm_shape

@@ -1,0 +1,72 @@
+!> Everything that defines one MPM scene (seed section 4.3 and the 1D case
+!> study of section 2.3), as plain data: the deck reader fills it, the unit
+!> tests build it by hand, the solver only reads it. SI units throughout
+!> (m, s, kg, Pa); stresses tension positive, Abaqus component order.
+module wellposed_mpm_config
+  use wellposed_kinds, only: dp
+  implicit none
+  private
+  public :: mpm_config_t, shape_linear, shape_gimp, shape_names, scheme_usl, scheme_musl, &
+            scheme_names, bc_fixed, bc_symmetric, bc_free, bc_names, pulse_triangle, &
+            pulse_cosine, pulse_names, max_props
+
+  !> Shape function families (seed eq. 4.6-4.8): standard MPM (Dirac chi_p)
+  !> and uGIMP (undeforming particle domain). CPDI comes with 2D.
+  integer, parameter :: shape_linear = 1, shape_gimp = 2
+  character(len=6), parameter :: shape_names(2) = [character(len=6) :: 'linear', 'gimp']
+  !> Update variants: USL (seed eq. 4.10-4.13 as written: strain rate from the
+  !> grid velocity after the update) and MUSL (the same, with the grid velocity
+  !> rebuilt from the updated particle velocities before the strain rate).
+  integer, parameter :: scheme_usl = 1, scheme_musl = 2
+  character(len=4), parameter :: scheme_names(2) = [character(len=4) :: 'usl', 'musl']
+  !> Far-end conditions. In uniaxial strain a symmetry plane and a fixed end
+  !> both hold v_x = 0; they are kept apart because 2D distinguishes them.
+  integer, parameter :: bc_fixed = 1, bc_symmetric = 2, bc_free = 3
+  character(len=9), parameter :: bc_names(3) = [character(len=9) :: 'fixed', 'symmetric', &
+                                                 'free']
+  !> Pulse shapes: the seed's triangle (fig. 2.1) and a raised cosine
+  !> (smooth, for convergence studies against d'Alembert).
+  integer, parameter :: pulse_triangle = 1, pulse_cosine = 2
+  character(len=8), parameter :: pulse_names(2) = [character(len=8) :: 'triangle', 'cosine']
+  !> Most PROPS a deck may give (the wellposed contract has 14 slots).
+  integer, parameter :: max_props = 40
+
+  !> One scene. Defaults are the Sandler-Rubin case (shared reference A).
+  type :: mpm_config_t
+    character(len=:), allocatable :: name           !< scene name, output folder
+    character(len=:), allocatable :: title          !< one line for plots
+    ! geometry and grid (m)
+    real(dp) :: length = 700.0_dp       !< body length, surface at x = 0
+    real(dp) :: dx = 0.25_dp            !< cell size
+    integer :: ppc = 2                  !< particles per cell
+    integer :: pad_cells = 3            !< empty cells beyond each end of the body
+    integer :: shape = shape_gimp
+    integer :: scheme = scheme_musl
+    integer :: bc_far = bc_fixed        !< condition at x = length
+    ! time (s)
+    real(dp) :: t_end = 0.3_dp
+    real(dp) :: cfl = 0.2_dp            !< dt = cfl * dx / c_max
+    ! material
+    real(dp) :: density = 2000.0_dp     !< kg/m^3
+    integer :: nprops = 14
+    real(dp) :: props(max_props) = 0.0_dp
+    integer :: nstatv = 12
+    real(dp) :: stress0(6) = [-100.0e6_dp, -17.55e6_dp, -17.55e6_dp, 0.0_dp, 0.0_dp, 0.0_dp]
+    real(dp) :: velocity0 = 0.0_dp      !< initial particle velocity (m/s)
+    ! surface load: sigma_xx(surface) = base + peak * shape((t - start)/duration)
+    real(dp) :: load_base = -100.0e6_dp !< Pa; equals stress0(1) for equilibrium
+    real(dp) :: load_peak = 10.0e6_dp   !< Pa, tensile increment
+    real(dp) :: load_duration = 2.0e-3_dp
+    real(dp) :: load_start = 0.0_dp
+    integer :: pulse = pulse_triangle
+    ! stations (Lagrangian positions, m) and sampling (s)
+    real(dp) :: station_first = 100.0_dp
+    real(dp) :: station_spacing = 100.0_dp
+    integer :: nstations = 5
+    real(dp) :: sample_dt = 2.0e-5_dp
+    real(dp) :: snapshot_dt = 0.05_dp
+    ! bookkeeping
+    logical :: progress = .true.
+  end type mpm_config_t
+
+end module wellposed_mpm_config

@@ -1,0 +1,395 @@
+!> The explicit MPM of seed section 4.3 for the 1D uniaxial-strain scenes:
+!> lumped mass (eq. 4.4), internal force (eq. 4.5), grid acceleration and
+!> forward-Euler velocity (eq. 4.9-4.10), velocity gradient (eq. 4.11),
+!> FLIP particle velocity and position update (eq. 4.12-4.13), and the
+!> stress update through the UMAT for every particle.
+!>
+!> Update variant: MUSL by default (deck: scheme = 'musl' or 'usl'). USL is
+!> eq. 4.10-4.13 as the seed writes them: the strain rate comes from the
+!> updated grid velocity v_i^{n+1}. MUSL rebuilds the grid velocity from the
+!> updated particle velocities (v_i = sum_p phi_ip m_p v_p / m_i) before the
+!> strain rate. Both are first-order-in-time variants of the same scheme;
+!> MUSL is the default because its strain rate comes from momentum rather than
+!> from f/m_i, so a node with a sliver of mass (a particle just entering a
+!> cell, the free surface) cannot produce a spurious strain spike, and it
+!> conserves energy better in the comparisons of Wallstedt and Guilkey (2008).
+!>
+!> One step, in order: shape weights and hand-off -> P2G (mass, momentum,
+!> f_int, f_ext) -> ghost sum -> grid update and boundary conditions -> G2P
+!> (FLIP velocity, position) -> [MUSL: momentum P2G, ghost sum, velocity]
+!> -> strain increment, F and volume -> UMAT. Units SI, tension positive.
+module wellposed_mpm_solver
+  use, intrinsic :: iso_fortran_env, only: int64
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_mpm_config
+  use wellposed_mpm_grid, only: grid_t, new_grid_1d, grid_reset
+  use wellposed_mpm_particles, only: particles_t, new_particles
+  use wellposed_mpm_shape, only: support_size, shape_1d
+  use wellposed_mpm_loads, only: surface_stress
+  use wellposed_mpm_material, only: umat_point
+  use wellposed_mpm_exchange, only: sum_ghosts, hand_off
+  implicit none
+  private
+  public :: mpm_scene_t, new_scene, advance, kinetic_energy, total_momentum, &
+            timer_umat, timer_transfer, timer_grid, ntimers, probe_moduli
+
+  integer, parameter :: timer_transfer = 1, timer_grid = 2, timer_umat = 3, ntimers = 3
+
+  !> The state of a running scene.
+  type :: mpm_scene_t
+    type(mpm_config_t) :: cfg
+    type(grid_t) :: grid
+    type(particles_t) :: parts
+    real(dp) :: t = 0.0_dp             !< time (s)
+    real(dp) :: dt = 0.0_dp            !< time step (s)
+    integer :: nstep = 0
+    real(dp) :: modulus_elastic = 0.0_dp  !< probed d sigma_xx / d eps_xx, compression (Pa)
+    real(dp) :: modulus_plastic = 0.0_dp  !< probed, extension from the initial state (Pa)
+    real(dp) :: modulus_dt = 0.0_dp       !< modulus the time step was built on (Pa)
+    integer :: node_surface = 0           !< global node at x = 0
+    integer :: node_far = 0               !< global node at x = length
+    ! bookkeeping (per unit cross-section: J/m^2, kg m/s / m^2)
+    real(dp) :: work_internal = 0.0_dp    !< int sigma : d eps dV (stored + dissipated)
+    real(dp) :: work_external = 0.0_dp    !< work of the surface traction
+    real(dp) :: impulse = 0.0_dp          !< time integral of surface force + reaction
+    real(dp) :: kinetic0 = 0.0_dp, momentum0 = 0.0_dp
+    integer :: max_substeps = 1           !< largest UMAT cut-back split used
+    integer(int64) :: ticks(ntimers) = 0_int64
+    ! workspace
+    real(dp), allocatable :: dstrain(:)   !< axial strain increment of the step, per particle
+  end type mpm_scene_t
+
+contains
+
+  !> Build the grid and particles of `cfg`, check that the scene can run,
+  !> probe the UMAT at the initial state for the wave speeds and set the time
+  !> step dt = cfl * dx / sqrt(M_max / rho). Errors name the deck key.
+  subroutine new_scene(self, cfg, err)
+    type(mpm_scene_t), intent(out) :: self
+    type(mpm_config_t), intent(in) :: cfg
+    type(error_t), allocatable, intent(out) :: err
+    integer :: ncell_body, ncells, p, c, k, np
+    real(dp) :: frac, lp
+
+    call check_scene(cfg, err)
+    if (allocated(err)) return
+    self%cfg = cfg
+    ncell_body = nint(cfg%length/cfg%dx)
+    ncells = ncell_body + 2*cfg%pad_cells
+    call new_grid_1d(self%grid, -cfg%pad_cells*cfg%dx, cfg%dx, ncells)
+    self%node_surface = cfg%pad_cells
+    self%node_far = cfg%pad_cells + ncell_body
+    select case (cfg%bc_far)
+    case (bc_fixed, bc_symmetric)
+      self%grid%fixed(1, self%node_far) = .true.
+    end select
+
+    np = ncell_body*cfg%ppc
+    call new_particles(self%parts, np, 1, support_size(cfg%shape), cfg%nstatv)
+    lp = 0.5_dp*cfg%dx/cfg%ppc
+    p = 0
+    do c = 0, ncell_body - 1
+      do k = 1, cfg%ppc
+        p = p + 1
+        frac = (real(k, dp) - 0.5_dp)/cfg%ppc
+        self%parts%gid(p) = p
+        self%parts%x0(1, p) = (c + frac)*cfg%dx
+      end do
+    end do
+    self%parts%n = np
+    self%parts%x = self%parts%x0
+    self%parts%v = cfg%velocity0
+    self%parts%lp = lp
+    self%parts%vol0 = 2.0_dp*lp
+    self%parts%vol = self%parts%vol0
+    self%parts%mass = cfg%density*self%parts%vol0
+    self%parts%defgrad = 0.0_dp
+    do k = 1, 3
+      self%parts%defgrad(k, k, :) = 1.0_dp
+    end do
+    do p = 1, np
+      self%parts%stress(:, p) = cfg%stress0
+    end do
+    self%parts%stran = 0.0_dp
+    self%parts%statev = 0.0_dp
+    allocate (self%dstrain(np))
+
+    call probe_moduli(cfg, self%modulus_elastic, self%modulus_plastic, err)
+    if (allocated(err)) return
+    self%modulus_dt = max(self%modulus_elastic, self%modulus_plastic)
+    self%dt = cfg%cfl*cfg%dx/sqrt(self%modulus_dt/cfg%density)
+    self%kinetic0 = kinetic_energy(self)
+    self%momentum0 = total_momentum(self)
+  end subroutine new_scene
+
+  !> Checks a scene must pass before it runs (impossible scenes: error).
+  pure subroutine check_scene(cfg, err)
+    type(mpm_config_t), intent(in) :: cfg
+    type(error_t), allocatable, intent(out) :: err
+    real(dp) :: ncell
+    if (.not. (cfg%dx > 0.0_dp .and. ieee_is_finite(cfg%dx))) then
+      call bad('grid', 'dx', 'must be a finite cell size > 0 m', err); return
+    end if
+    if (.not. (cfg%length > 0.0_dp .and. ieee_is_finite(cfg%length))) then
+      call bad('grid', 'length', 'must be a finite body length > 0 m', err); return
+    end if
+    ncell = cfg%length/cfg%dx
+    if (abs(ncell - nint(ncell)) > 1.0e-9_dp*ncell .or. nint(ncell) < 2) then
+      call bad('grid', 'length', 'must be at least two and a whole number of cells dx', err); return
+    end if
+    if (nint(ncell)*cfg%ppc > 50000000) then
+      call bad('grid', 'dx', 'gives more than 5e7 particles', err); return
+    end if
+    if (cfg%ppc < 1 .or. cfg%ppc > 8) then
+      call bad('grid', 'ppc', 'particles per cell must be 1 ... 8', err); return
+    end if
+    if (cfg%pad_cells < 2) then
+      call bad('grid', 'pad_cells', 'must be >= 2 (the GIMP support reaches past the body)', err)
+      return
+    end if
+    if (.not. (cfg%cfl > 0.0_dp .and. cfg%cfl <= 1.0_dp)) then
+      call bad('time', 'cfl', 'the CFL fraction must lie in (0, 1]: dt = cfl*dx/c_max, and '// &
+        'above 1 the explicit update is unstable', err); return
+    end if
+    if (.not. (cfg%t_end > 0.0_dp .and. ieee_is_finite(cfg%t_end))) then
+      call bad('time', 't_end', 'must be a finite end time > 0 s', err); return
+    end if
+    if (.not. (cfg%density > 0.0_dp .and. ieee_is_finite(cfg%density))) then
+      call bad('material', 'density', 'must be a finite mass density > 0 kg/m^3', err); return
+    end if
+    if (cfg%nprops < 1 .or. cfg%nprops > max_props) then
+      call bad('material', 'nprops', 'must be 1 ... 40', err); return
+    end if
+    if (cfg%nstatv < 12) then
+      call bad('material', 'nstatv', 'must be >= 12 (the UMAT contract)', err); return
+    end if
+    if (.not. all(ieee_is_finite(cfg%stress0))) then
+      call bad('initial', 'stress', 'must be finite', err); return
+    end if
+    if (.not. (ieee_is_finite(cfg%load_base) .and. ieee_is_finite(cfg%load_peak) .and. &
+               ieee_is_finite(cfg%load_duration) .and. cfg%load_duration >= 0.0_dp)) then
+      call bad('load', 'peak', 'base, peak must be finite and duration >= 0', err); return
+    end if
+    if (cfg%nstations < 0 .or. cfg%station_first < 0.0_dp .or. &
+        cfg%station_first + (cfg%nstations - 1)*cfg%station_spacing > cfg%length) then
+      call bad('stations', 'first', 'stations must lie inside the body [0, length]', err); return
+    end if
+    if (.not. (cfg%sample_dt > 0.0_dp)) then
+      call bad('output', 'sample_dt', 'must be > 0 s', err); return
+    end if
+  contains
+    pure subroutine bad(group, key, what, e)
+      character(len=*), intent(in) :: group, key, what
+      type(error_t), allocatable, intent(out) :: e
+      call new_error(e, status_invalid, group//'%'//key, '&'//group//' '//key//' '//what)
+    end subroutine bad
+  end subroutine check_scene
+
+  !> Axial moduli d sigma_xx / d eps_xx of the material at the initial
+  !> state, through the UMAT: `elastic` from a compressive increment
+  !> (unloading), `plastic` from the second of two extension increments
+  !> (the first reaches the cone), each over a long DTIME (1000 s) so that
+  !> a rate-dependent model answers with its quasi-static (stiffest) limit.
+  !> Increments of 1e-5 strain. Pa.
+  subroutine probe_moduli(cfg, elastic, plastic, err)
+    type(mpm_config_t), intent(in) :: cfg
+    real(dp), intent(out) :: elastic, plastic
+    type(error_t), allocatable, intent(out) :: err
+    real(dp), parameter :: de = 1.0e-5_dp
+    real(dp) :: s(6), sv(cfg%nstatv), e(6), d(6), s1
+    integer :: nsub
+    d = 0.0_dp
+    s = cfg%stress0; sv = 0.0_dp; e = 0.0_dp; d(1) = -de
+    call umat_point(cfg%props(1:cfg%nprops), cfg%nprops, s, sv, e, d, 1.0e-6_dp, 1.0e-6_dp, &
+                    [0.0_dp, 0.0_dp, 0.0_dp], cfg%dx, 1, nsub, err)
+    if (allocated(err)) return
+    elastic = (s(1) - cfg%stress0(1))/(-de)
+    s = cfg%stress0; sv = 0.0_dp; e = 0.0_dp; d(1) = de
+    call umat_point(cfg%props(1:cfg%nprops), cfg%nprops, s, sv, e, d, 1.0e3_dp, 1.0e3_dp, &
+                    [0.0_dp, 0.0_dp, 0.0_dp], cfg%dx, 1, nsub, err)
+    if (allocated(err)) return
+    s1 = s(1)
+    call umat_point(cfg%props(1:cfg%nprops), cfg%nprops, s, sv, e, d, 1.0e3_dp, 2.0e3_dp, &
+                    [0.0_dp, 0.0_dp, 0.0_dp], cfg%dx, 1, nsub, err)
+    if (allocated(err)) return
+    plastic = (s(1) - s1)/de
+    if (.not. (elastic > 0.0_dp .and. plastic > 0.0_dp)) then
+      call new_error(err, status_invalid, 'material', 'the material has no positive axial '// &
+        'stiffness at the initial state (probed through the UMAT), so no wave can travel')
+    end if
+  end subroutine probe_moduli
+
+  !> One explicit step of length dt (see the module comment for the order).
+  subroutine advance(self, err)
+    type(mpm_scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: err
+    integer(int64) :: t0, t1
+    integer :: p, k, i, n, nsub
+    real(dp) :: dt, sig_b, xs, w, fs(2), vsurf, de, sxx_old, vs, ds, lg, mmin
+    real(dp) :: coords(3)
+    integer :: is
+
+    associate (g => self%grid, pt => self%parts, cfg => self%cfg)
+      n = pt%n
+      dt = self%dt
+      call system_clock(t0)
+      ! --- shape weights at x^n, eq. 4.6-4.7, and the hand-off check
+      do p = 1, n
+        call shape_1d(cfg%shape, pt%x(1, p), pt%lp(1, p), g%origin, g%dx, pt%node(:, p), &
+                      pt%phi(:, p), pt%grad(1, :, p))
+      end do
+      call hand_off(pt, g, err)
+      if (allocated(err)) return
+      ! --- particle to grid: eq. 4.4, momentum, eq. 4.5
+      call grid_reset(g)
+      do p = 1, n
+        do k = 1, pt%nsup
+          i = pt%node(k, p)
+          w = pt%phi(k, p)*pt%mass(p)
+          g%mass(i) = g%mass(i) + w
+          g%momentum(1, i) = g%momentum(1, i) + w*pt%v(1, p)
+          g%fint(1, i) = g%fint(1, i) - pt%vol(p)*pt%stress(1, p)*pt%grad(1, k, p)
+        end do
+      end do
+      ! surface traction t_x = -sigma_b on the outward normal -x, at the
+      ! surface x_s = x_1 - lp_1, spread with the linear hat
+      sig_b = surface_stress(cfg, self%t)
+      xs = pt%x(1, 1) - pt%lp(1, 1)
+      is = floor((xs - g%origin)/g%dx)
+      w = (xs - (g%origin + is*g%dx))/g%dx
+      fs = -sig_b*[1.0_dp - w, w]
+      g%fext(1, is) = g%fext(1, is) + fs(1)
+      g%fext(1, is + 1) = g%fext(1, is + 1) + fs(2)
+      call sum_ghosts(g)
+      call system_clock(t1)
+      self%ticks(timer_transfer) = self%ticks(timer_transfer) + (t1 - t0)
+      t0 = t1
+      ! --- grid update, eq. 4.9-4.10, and the reaction at fixed nodes
+      mmin = 1.0e-9_dp*minval(pt%mass(1:n))
+      lg = 0.0_dp
+      do i = g%ilo, g%ihi
+        if (g%mass(i) > mmin) then
+          g%accel(1, i) = (g%fint(1, i) + g%fext(1, i))/g%mass(i)
+          g%velocity(1, i) = g%momentum(1, i)/g%mass(i) + g%accel(1, i)*dt
+        else
+          g%accel(1, i) = 0.0_dp
+          g%velocity(1, i) = 0.0_dp
+        end if
+        if (g%fixed(1, i)) then
+          ! the reaction cancels the nodal force: it enters the impulse
+          lg = lg - (g%fint(1, i) + g%fext(1, i))
+          g%accel(1, i) = 0.0_dp
+          g%velocity(1, i) = 0.0_dp
+        end if
+      end do
+      self%impulse = self%impulse + dt*(fs(1) + fs(2) + lg)
+      call system_clock(t1)
+      self%ticks(timer_grid) = self%ticks(timer_grid) + (t1 - t0)
+      t0 = t1
+      ! --- grid to particle: FLIP velocity (eq. 4.13), position (eq. 4.12)
+      do p = 1, n
+        vs = 0.0_dp
+        ds = 0.0_dp
+        do k = 1, pt%nsup
+          i = pt%node(k, p)
+          vs = vs + pt%phi(k, p)*g%accel(1, i)
+          ds = ds + pt%phi(k, p)*g%velocity(1, i)
+        end do
+        pt%v(1, p) = pt%v(1, p) + dt*vs
+        pt%x(1, p) = pt%x(1, p) + dt*ds
+      end do
+      if (cfg%scheme == scheme_musl) then
+        ! rebuild the grid velocity from the updated particle momentum
+        g%momentum = 0.0_dp
+        do p = 1, n
+          do k = 1, pt%nsup
+            i = pt%node(k, p)
+            g%momentum(1, i) = g%momentum(1, i) + pt%phi(k, p)*pt%mass(p)*pt%v(1, p)
+          end do
+        end do
+        call sum_ghosts(g)
+        do i = g%ilo, g%ihi
+          if (g%mass(i) > mmin .and. .not. g%fixed(1, i)) then
+            g%velocity(1, i) = g%momentum(1, i)/g%mass(i)
+          else
+            g%velocity(1, i) = 0.0_dp
+          end if
+        end do
+      end if
+      ! --- velocity gradient, eq. 4.11: the axial strain increment
+      do p = 1, n
+        de = 0.0_dp
+        do k = 1, pt%nsup
+          de = de + pt%grad(1, k, p)*g%velocity(1, pt%node(k, p))
+        end do
+        self%dstrain(p) = de*dt
+      end do
+      ! external work: surface force times the surface velocity of the strain
+      vsurf = (1.0_dp - w)*g%velocity(1, is) + w*g%velocity(1, is + 1)
+      self%work_external = self%work_external + dt*(fs(1) + fs(2))*vsurf
+      call system_clock(t1)
+      self%ticks(timer_transfer) = self%ticks(timer_transfer) + (t1 - t0)
+      t0 = t1
+      ! --- stress update through the UMAT (uniaxial strain: d eps_xx only)
+      coords = 0.0_dp
+      do p = 1, n
+        de = self%dstrain(p)
+        sxx_old = pt%stress(1, p)
+        coords(1) = pt%x(1, p)
+        call umat_point(cfg%props(1:cfg%nprops), cfg%nprops, pt%stress(:, p), &
+                        pt%statev(:, p), pt%stran(:, p), [de, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
+                        0.0_dp], dt, self%t + dt, coords, g%dx, pt%gid(p), nsub, err)
+        if (allocated(err)) then
+          err%message = 'step '//itoa(self%nstep + 1)//', t = '//rtoa(self%t + dt)//' s: '// &
+                        err%message
+          return
+        end if
+        if (nsub > self%max_substeps) self%max_substeps = nsub
+        self%work_internal = self%work_internal + &
+          pt%vol(p)*0.5_dp*(sxx_old + pt%stress(1, p))*de
+        pt%defgrad(1, 1, p) = pt%defgrad(1, 1, p)*(1.0_dp + de)
+        pt%vol(p) = pt%vol0(p)*pt%defgrad(1, 1, p)
+      end do
+      call system_clock(t1)
+      self%ticks(timer_umat) = self%ticks(timer_umat) + (t1 - t0)
+    end associate
+
+    self%t = self%t + self%dt
+    self%nstep = self%nstep + 1
+  end subroutine advance
+
+  !> Kinetic energy of the particles (J per m^2 of section).
+  pure real(dp) function kinetic_energy(self)
+    type(mpm_scene_t), intent(in) :: self
+    integer :: n
+    n = self%parts%n
+    kinetic_energy = 0.5_dp*sum(self%parts%mass(1:n)*self%parts%v(1, 1:n)**2)
+  end function kinetic_energy
+
+  !> Momentum of the particles (kg m/s per m^2 of section).
+  pure real(dp) function total_momentum(self)
+    type(mpm_scene_t), intent(in) :: self
+    integer :: n
+    n = self%parts%n
+    total_momentum = sum(self%parts%mass(1:n)*self%parts%v(1, 1:n))
+  end function total_momentum
+
+  pure function itoa(i) result(text)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: text
+    character(len=16) :: buffer
+    write (buffer, '(i0)') i
+    text = trim(buffer)
+  end function itoa
+
+  pure function rtoa(x) result(text)
+    real(dp), intent(in) :: x
+    character(len=:), allocatable :: text
+    character(len=32) :: buffer
+    write (buffer, '(es12.5)') x
+    text = trim(adjustl(buffer))
+  end function rtoa
+
+end module wellposed_mpm_solver
