@@ -24,6 +24,7 @@ program wellposed_mpm
   use wellposed_mpm_paths, only: source_dir, install_data_dir, default_deck_name, &
                                  stations_plot_name
   use wellposed_mpm_particles, only: particle_bytes
+  use wellposed_mpm_nonlocal, only: nl_scheme_names
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
   use wellposed_h5, only: h5_file_t
@@ -33,6 +34,9 @@ program wellposed_mpm
   implicit none
 
   type(mpm_config_t) :: cfg
+  integer, allocatable :: nl_its(:), nl_plastic(:)  ! Algorithm 1: sweeps, step
+  real(dp), allocatable :: nl_bound(:)
+  integer :: nl_n = 0
   type(mpm_options_t) :: opts
   type(mpm_scene_t) :: scene
   type(stations_t) :: st
@@ -122,6 +126,17 @@ program wellposed_mpm
   t_target = cfg%t_end - 0.5_dp*scene%dt
   do while (scene%t < t_target)
     call advance(scene, err)
+    if (.not. allocated(err) .and. scene%nl%active .and. scene%nl%last%n_plastic > 0) then
+      if (.not. allocated(nl_its)) allocate (nl_its(1024), nl_plastic(1024), nl_bound(1024))
+      if (nl_n == size(nl_its)) then
+        nl_its = [nl_its, nl_its]; nl_plastic = [nl_plastic, nl_plastic]
+        nl_bound = [nl_bound, nl_bound]
+      end if
+      nl_n = nl_n + 1
+      nl_its(nl_n) = scene%nl%last%iterations
+      nl_plastic(nl_n) = scene%nstep
+      nl_bound(nl_n) = scene%nl%last%bound_seed
+    end if
     if (allocated(err)) then
       ! close what was written (under its temporary name) and report the step's error
       call h5%close(err2)
@@ -249,6 +264,16 @@ contains
     call sm%add('share_transfers', share(timer_transfer))
     call sm%add('share_grid', share(timer_grid))
     call sm%add('max_umat_substeps', scene%max_substeps, '1: no cut-back was needed')
+    call sm%add('nonlocal', scene%nl%active, 'Algorithm 1 iterates (h_zeta /= 0)')
+    if (scene%nl%active) then
+      call sm%add('nonlocal_scheme', trim(nl_scheme_names(cfg%nonlocal%scheme)))
+      call sm%add('nonlocal_steps_iterated', scene%nl%steps_iterated)
+      call sm%add('nonlocal_iterations_mean', real(scene%nl%iterations_total, dp)/ &
+                  max(scene%nl%steps_iterated, 1), 'sweeps per step with plastic particles')
+      call sm%add('nonlocal_iterations_max', scene%nl%iterations_max)
+      call sm%add('lipschitz_eq4_43_sharp', scene%nl%bound_43, '|h_zeta/(a + h_eta)|')
+      call sm%add('lipschitz_eq4_45_sharp', scene%nl%bound_45, '|(h_eta + h_zeta)/a|')
+    end if
     call sm%add('c_elastic', c_e, 'm/s, from the UMAT unloading modulus at the initial state')
     call sm%add('c_plastic', c_p, 'm/s, from the UMAT loading (extension) modulus')
     call sm%add('c_head', meas%c_head, 'm/s, least-squares fit of x against t_head')
@@ -316,6 +341,13 @@ contains
     call h5%write('energy/momentum_minus_impulse', energy(5, 1:nenergy))
     k = nsnap
     call h5%write('snapshots/count', [k])
+    if (nl_n > 0) then
+      ! Algorithm 1 per step with plastic particles: the step, its sweeps and
+      ! the seed's bound of eq. 4.43 (N_alpha |h_zeta/(a + h_eta)|)
+      call h5%write('nonlocal/step', nl_plastic(1:nl_n))
+      call h5%write('nonlocal/iterations', nl_its(1:nl_n))
+      call h5%write('nonlocal/lipschitz_eq4_43_seed', nl_bound(1:nl_n))
+    end if
   end subroutine write_h5
 
   subroutine usage()

@@ -14,6 +14,10 @@
 !>   &load     base, peak (Pa), duration, start (s), pulse ('triangle'|'cosine')
 !>   &stations first (m), spacing (m), count
 !>   &output   sample_dt (s), snapshot_dt (s), progress, plot
+!>   &nonlocal scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
+!>             max_iterations, stall_iterations, max_rounds, anderson_depth,
+!>             anderson_mixing, weight_cutoff (seed Algorithm 1; iterates only
+!>             when &material h_zeta /= 0)
 !> Overrides from the command line, `group.key=value`, are read after the
 !> deck as one-line namelists, so they obey the same rules.
 module wellposed_mpm_deck
@@ -25,6 +29,7 @@ module wellposed_mpm_deck
                                    prop_h, prop_k_lim, prop_z_ref, prop_p_v, prop_p_d, &
                                    prop_tau, prop_h_zeta, prop_length, prop_explicit
   use wellposed_mpm_config
+  use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nl_scheme_id
   implicit none
   private
   public :: read_mpm_deck, mpm_options_t
@@ -132,6 +137,11 @@ contains
       rewind (unit); read (unit, nml=output, iostat=ios, iomsg=msg)
       if (ios /= 0) then; call nml_fail('output'); return; end if
     end if
+    if (has_group(text, 'nonlocal')) then
+      rewind (unit)
+      call nonlocal_group(cfg%nonlocal, ios, msg, unit=unit)
+      if (ios /= 0) then; call nml_fail('nonlocal'); return; end if
+    end if
     close (unit)
 
     ! command-line overrides: group.key=value
@@ -154,6 +164,7 @@ contains
       case ('load'); read (line, nml=load, iostat=ios, iomsg=msg)
       case ('stations'); read (line, nml=stations, iostat=ios, iomsg=msg)
       case ('output'); read (line, nml=output, iostat=ios, iomsg=msg)
+      case ('nonlocal'); call nonlocal_group(cfg%nonlocal, ios, msg, line=line)
       case default
         call new_error(err, status_invalid, group, 'override "'//trim(overrides(i))// &
           '": no group &'//group); return
@@ -215,6 +226,11 @@ contains
     cfg%sample_dt = sample_dt; cfg%snapshot_dt = snapshot_dt
     cfg%progress = progress
     opts%plot = plot
+    if (cfg%nonlocal%scheme == 0) then
+      call new_error(err, status_invalid, 'scheme', path//': &nonlocal: scheme is not one '// &
+        "of 'fixed_point', 'anderson'")
+      return
+    end if
 
   contains
 
@@ -241,6 +257,36 @@ contains
     end function word
 
   end subroutine read_mpm_deck
+
+  !> Read the &nonlocal group (from `unit` or the one-line `line`) into `s`.
+  !> A scheme word that is not known leaves s%scheme = 0.
+  subroutine nonlocal_group(s, ios, msg, unit, line)
+    type(nonlocal_settings_t), intent(inout) :: s
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    integer, intent(in), optional :: unit
+    character(len=*), intent(in), optional :: line
+    character(len=16) :: scheme
+    real(dp) :: tolerance, rel_tolerance, anderson_mixing, weight_cutoff
+    integer :: max_iterations, stall_iterations, max_rounds, anderson_depth
+    namelist /nonlocal/ scheme, tolerance, rel_tolerance, max_iterations, &
+      stall_iterations, max_rounds, anderson_depth, anderson_mixing, weight_cutoff
+    scheme = 'fixed_point'
+    if (s%scheme == 2) scheme = 'anderson'
+    tolerance = s%tolerance; rel_tolerance = s%rel_tolerance
+    max_iterations = s%max_iterations; stall_iterations = s%stall_iterations
+    max_rounds = s%max_rounds; anderson_depth = s%anderson_depth
+    anderson_mixing = s%anderson_mixing; weight_cutoff = s%weight_cutoff
+    ios = 0
+    if (present(unit)) read (unit, nml=nonlocal, iostat=ios, iomsg=msg)
+    if (present(line)) read (line, nml=nonlocal, iostat=ios, iomsg=msg)
+    if (ios /= 0) return
+    s%scheme = nl_scheme_id(lower(trim(scheme)))
+    s%tolerance = tolerance; s%rel_tolerance = rel_tolerance
+    s%max_iterations = max_iterations; s%stall_iterations = stall_iterations
+    s%max_rounds = max_rounds; s%anderson_depth = anderson_depth
+    s%anderson_mixing = anderson_mixing; s%weight_cutoff = weight_cutoff
+  end subroutine nonlocal_group
 
   pure function lower(text) result(low)
     character(len=*), intent(in) :: text

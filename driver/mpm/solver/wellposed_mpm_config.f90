@@ -4,6 +4,7 @@
 !> (m, s, kg, Pa); stresses tension positive, Abaqus component order.
 module wellposed_mpm_config
   use wellposed_kinds, only: dp
+  use wellposed_mpm_nonlocal, only: nonlocal_settings_t
   implicit none
   private
   public :: mpm_config_t, shape_linear, shape_gimp, shape_names, scheme_usl, scheme_musl, &
@@ -67,6 +68,9 @@ module wellposed_mpm_config
     real(dp) :: snapshot_dt = 0.05_dp
     ! bookkeeping
     logical :: progress = .true.
+    !> Algorithm 1 of the seed (eq. 4.46-4.50): scheme, tolerances; it
+    !> iterates only when PROPS(12) h_zeta /= 0 (wellposed_mpm_nonlocal).
+    type(nonlocal_settings_t) :: nonlocal
   end type mpm_config_t
 
 end module wellposed_mpm_config

@@ -30,6 +30,7 @@ module wellposed_mpm_solver
   use wellposed_mpm_loads, only: surface_stress
   use wellposed_mpm_material, only: umat_point
   use wellposed_mpm_exchange, only: sum_ghosts, hand_off
+  use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, new_nonlocal, nonlocal_solve
   implicit none
   private
   public :: mpm_scene_t, new_scene, advance, kinetic_energy, total_momentum, &
@@ -37,8 +38,10 @@ module wellposed_mpm_solver
 
   integer, parameter :: timer_transfer = 1, timer_grid = 2, timer_umat = 3, ntimers = 3
 
-  !> The state of a running scene.
-  type :: mpm_scene_t
+  !> The state of a running scene. It is the host of the nonlocal
+  !> Algorithm 1 (update: one particle through the UMAT from its
+  !> start-of-step copies with STATEV(3) = <dlambda>).
+  type, extends(nonlocal_host_t) :: mpm_scene_t
     type(mpm_config_t) :: cfg
     type(grid_t) :: grid
     type(particles_t) :: parts
@@ -56,9 +59,16 @@ module wellposed_mpm_solver
     real(dp) :: impulse = 0.0_dp          !< time integral of surface force + reaction
     real(dp) :: kinetic0 = 0.0_dp, momentum0 = 0.0_dp
     integer :: max_substeps = 1           !< largest UMAT cut-back split used
+    integer :: max_substeps_step = 1      !< the same within the current step
+    integer :: nl_log_unit = 6            !< where the nonlocal bound warnings go
     integer(int64) :: ticks(ntimers) = 0_int64
     ! workspace
     real(dp), allocatable :: dstrain(:)   !< axial strain increment of the step, per particle
+    ! nonlocal Algorithm 1 (seed chapter 4): solver state, start-of-step copies
+    type(nonlocal_t) :: nl
+    real(dp), allocatable :: s0(:, :), sv0(:, :), e0(:, :)
+  contains
+    procedure :: update => scene_update
   end type mpm_scene_t
 
 contains
@@ -115,6 +125,13 @@ contains
     self%parts%stran = 0.0_dp
     self%parts%statev = 0.0_dp
     allocate (self%dstrain(np))
+    allocate (self%s0(6, np), self%sv0(cfg%nstatv, np), self%e0(6, np))
+    call new_nonlocal(self%nl, cfg%nonlocal, cfg%props(1:cfg%nprops), 1, [self%grid%origin], &
+                      cfg%dx, [self%grid%nnodes], self%grid%glo, self%grid%ghi, err)
+    if (allocated(err)) then
+      err%message = '&nonlocal / &material: '//err%message
+      return
+    end if
 
     call probe_moduli(cfg, self%modulus_elastic, self%modulus_plastic, err)
     if (allocated(err)) return
@@ -226,9 +243,8 @@ contains
     type(mpm_scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
     integer(int64) :: t0, t1
-    integer :: p, k, i, n, nsub
-    real(dp) :: dt, sig_b, xs, w, fs(2), vsurf, de, sxx_old, vs, ds, lg, mmin
-    real(dp) :: coords(3)
+    integer :: p, k, i, n
+    real(dp) :: dt, sig_b, xs, w, fs(2), vsurf, de, vs, ds, lg, mmin
     integer :: is
 
     associate (g => self%grid, pt => self%parts, cfg => self%cfg)
@@ -332,23 +348,27 @@ contains
       call system_clock(t1)
       self%ticks(timer_transfer) = self%ticks(timer_transfer) + (t1 - t0)
       t0 = t1
-      ! --- stress update through the UMAT (uniaxial strain: d eps_xx only)
-      coords = 0.0_dp
+      ! --- stress update through the UMAT (uniaxial strain: d eps_xx only),
+      ! by the seed's Algorithm 1: with h_zeta = 0 one call per particle,
+      ! exactly the local update; otherwise the fixed point on the grid
+      do p = 1, n
+        self%s0(:, p) = pt%stress(:, p)
+        self%sv0(:, p) = pt%statev(:, p)
+        self%e0(:, p) = pt%stran(:, p)
+      end do
+      self%max_substeps_step = 1
+      call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
+                          pt%phi(:, 1:n), err, self%nl_log_unit)
+      if (allocated(err)) then
+        err%message = 'step '//itoa(self%nstep + 1)//', t = '//rtoa(self%t + dt)//' s: '// &
+                      err%message
+        return
+      end if
+      if (self%max_substeps_step > self%max_substeps) self%max_substeps = self%max_substeps_step
       do p = 1, n
         de = self%dstrain(p)
-        sxx_old = pt%stress(1, p)
-        coords(1) = pt%x(1, p)
-        call umat_point(cfg%props(1:cfg%nprops), cfg%nprops, pt%stress(:, p), &
-                        pt%statev(:, p), pt%stran(:, p), [de, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
-                        0.0_dp], dt, self%t + dt, coords, g%dx, pt%gid(p), nsub, err)
-        if (allocated(err)) then
-          err%message = 'step '//itoa(self%nstep + 1)//', t = '//rtoa(self%t + dt)//' s: '// &
-                        err%message
-          return
-        end if
-        if (nsub > self%max_substeps) self%max_substeps = nsub
         self%work_internal = self%work_internal + &
-          pt%vol(p)*0.5_dp*(sxx_old + pt%stress(1, p))*de
+          pt%vol(p)*0.5_dp*(self%s0(1, p) + pt%stress(1, p))*de
         pt%defgrad(1, 1, p) = pt%defgrad(1, 1, p)*(1.0_dp + de)
         pt%vol(p) = pt%vol0(p)*pt%defgrad(1, 1, p)
       end do
@@ -359,6 +379,33 @@ contains
     self%t = self%t + self%dt
     self%nstep = self%nstep + 1
   end subroutine advance
+
+  !> The host side of Algorithm 1: particle p from its start-of-step copies
+  !> with STATEV(3) = avg through the UMAT (wellposed_mpm_material, with its
+  !> cut-back splitting); dlambda = STATEV(2) afterwards.
+  subroutine scene_update(self, p, avg, dlambda, err)
+    class(mpm_scene_t), intent(inout) :: self
+    integer, intent(in) :: p
+    real(dp), intent(in) :: avg
+    real(dp), intent(out) :: dlambda
+    type(error_t), allocatable, intent(out) :: err
+    real(dp) :: coords(3)
+    integer :: nsub
+    associate (pt => self%parts, cfg => self%cfg)
+      pt%stress(:, p) = self%s0(:, p)
+      pt%statev(:, p) = self%sv0(:, p)
+      pt%stran(:, p) = self%e0(:, p)
+      pt%statev(3, p) = avg
+      coords = [pt%x(1, p), 0.0_dp, 0.0_dp]
+      call umat_point(cfg%props(1:cfg%nprops), cfg%nprops, pt%stress(:, p), pt%statev(:, p), &
+                      pt%stran(:, p), [self%dstrain(p), 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
+                      0.0_dp], self%dt, self%t + self%dt, coords, self%grid%dx, pt%gid(p), &
+                      nsub, err)
+      if (allocated(err)) return
+      if (nsub > self%max_substeps_step) self%max_substeps_step = nsub
+      dlambda = pt%statev(2, p)
+    end associate
+  end subroutine scene_update
 
   !> Kinetic energy of the particles (J per m^2 of section).
   pure real(dp) function kinetic_energy(self)
