@@ -167,7 +167,7 @@ program wellposed_mpm
 
   ! ---- measures and outputs
   call measure_stations(st%time(1:st%ns), st%hist(field_sxx, :, 1:st%ns), st%x, &
-                        0.05_dp*abs(cfg%load_peak), meas)
+                        0.5_dp*abs(cfg%load_peak), meas)
   escale = maxval(energy(2, 1:nenergy)) - scene%kinetic0
   ebal = kinetic_energy(scene) - scene%kinetic0 + scene%work_internal - scene%work_external
   call write_summary()
@@ -283,7 +283,10 @@ contains
     call sm%add('separation_rate', meas%c_head - meas%c_tail, &
                 'm/s, head minus tail speed (ideal Sandler-Rubin: C_P - C_E)')
     call sm%add('c_plastic_minus_c_elastic', c_p - c_e, 'm/s')
-    call sm%add('arrival_threshold', meas%threshold, 'Pa, 5 % of the load peak')
+    call sm%add('arrival_threshold', meas%threshold, 'Pa, half the load peak')
+    call sm%add('arrival_definition', 'head = last upward crossing of arrival_threshold '// &
+                'before the station peak, tail = first downward crossing after it '// &
+                '(ringing behind the pulse ignored); ideal: x/C_P + tau/4 and x/C_E + 3 tau/4')
     do i = 1, st%n
       write (k, '(i0)') i
       call sm%add('station_'//trim(k)//'_x', st%x(i), 'm')
@@ -292,6 +295,9 @@ contains
       call sm%add('station_'//trim(k)//'_t_head', meas%t_head(i), 's')
       call sm%add('station_'//trim(k)//'_t_tail', meas%t_tail(i), 's')
       call sm%add('station_'//trim(k)//'_width', meas%width(i), 's, t_tail - t_head')
+      call sm%add('station_'//trim(k)//'_width_ideal', &
+                  st%x(i)*(1.0_dp/c_e - 1.0_dp/c_p) + 0.5_dp*cfg%load_duration, &
+                  's, x (1/C_E - 1/C_P) + tau/2 (admissible solution, reference A)')
     end do
     if (st%n >= 2) call sm%add('peak_growth', meas%peak(st%n)/meas%peak(1), &
                                'last station peak over first')

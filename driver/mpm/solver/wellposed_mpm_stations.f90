@@ -36,10 +36,10 @@ module wellposed_mpm_stations
   type :: station_measures_t
     real(dp), allocatable :: peak(:)       !< max of sigma_xx - sigma_xx(0) (Pa)
     real(dp), allocatable :: t_peak(:)     !< its time (s)
-    real(dp), allocatable :: t_head(:)     !< first time the increase exceeds the threshold (s)
-    real(dp), allocatable :: t_tail(:)     !< last time it does (s)
+    real(dp), allocatable :: t_head(:)     !< upward crossing of `threshold` before t_peak (s)
+    real(dp), allocatable :: t_tail(:)     !< downward crossing of it after t_peak (s)
     real(dp), allocatable :: width(:)      !< t_tail - t_head (s)
-    real(dp) :: threshold = 0.0_dp         !< Pa
+    real(dp) :: threshold = 0.0_dp         !< crossing level (Pa)
     real(dp) :: c_head = 0.0_dp            !< least-squares dx/dt of t_head (m/s), NaN if < 2
     real(dp) :: c_tail = 0.0_dp            !< same for t_tail
   end type station_measures_t
@@ -112,11 +112,22 @@ contains
   end subroutine current
 
   !> Peak, head and tail arrival and width at every station from the
-  !> histories (time(ns), sxx(station, ns)); the signal is sigma_xx minus its
-  !> value at t = 0, tension positive; head and tail are the first and last
-  !> crossings of `threshold` (Pa), linearly interpolated between samples.
-  pure subroutine measure_stations(time, sxx, xs, threshold, m)
-    real(dp), intent(in) :: time(:), sxx(:, :), xs(:), threshold
+  !> histories (time(ns), sxx(station, ns)). The signal d is sigma_xx minus
+  !> its value at t = 0 (tension positive); the main pulse is the one that
+  !> holds the largest d, at t_peak. With `level` (Pa, the drivers pass half
+  !> the load peak):
+  !>  - head: the last upward crossing of `level` before t_peak,
+  !>  - tail: the first downward crossing of `level` after t_peak,
+  !> both linearly interpolated between samples; width = tail - head.
+  !> Restricting the crossings to the pulse around the peak keeps the
+  !> grid's elastic ringing behind the pulse (GIMP, linear) from being read
+  !> as a late tail, and half the load peak lies far above that ringing.
+  !> For the admissible solution of shared reference A (rise from x/C_P over
+  !> tau/2, plateau, fall over tau/2 ending at x/C_E + tau) the head is
+  !> x/C_P + tau/4 and the tail x/C_E + 3 tau/4, so the fitted head and tail
+  !> speeds are C_P and C_E and width = x (1/C_E - 1/C_P) + tau/2.
+  pure subroutine measure_stations(time, sxx, xs, level, m)
+    real(dp), intent(in) :: time(:), sxx(:, :), xs(:), level
     type(station_measures_t), intent(out) :: m
     integer :: s, k, ns, nst, kmax
     real(dp) :: d(size(time)), nan
@@ -124,7 +135,7 @@ contains
     nst = size(sxx, 1)
     ns = size(time)
     allocate (m%peak(nst), m%t_peak(nst), m%t_head(nst), m%t_tail(nst), m%width(nst))
-    m%threshold = threshold
+    m%threshold = level
     do s = 1, nst
       d = sxx(s, :) - sxx(s, 1)
       kmax = maxloc(d, 1)
@@ -132,16 +143,18 @@ contains
       m%t_peak(s) = time(kmax)
       m%t_head(s) = nan
       m%t_tail(s) = nan
-      do k = 2, ns
-        if (d(k) >= threshold .and. d(k - 1) < threshold) then
-          m%t_head(s) = cross(k); exit
-        end if
-      end do
-      do k = ns, 2, -1
-        if (d(k) < threshold .and. d(k - 1) >= threshold) then
-          m%t_tail(s) = cross(k); exit
-        end if
-      end do
+      if (m%peak(s) >= level .and. level > 0.0_dp) then
+        do k = kmax, 2, -1
+          if (d(k - 1) < level .and. d(k) >= level) then
+            m%t_head(s) = cross(k); exit
+          end if
+        end do
+        do k = kmax + 1, ns
+          if (d(k - 1) >= level .and. d(k) < level) then
+            m%t_tail(s) = cross(k); exit
+          end if
+        end do
+      end if
       m%width(s) = m%t_tail(s) - m%t_head(s)
     end do
     m%c_head = fit_speed(xs, m%t_head)
@@ -149,7 +162,7 @@ contains
   contains
     pure real(dp) function cross(k)
       integer, intent(in) :: k
-      cross = time(k - 1) + (threshold - d(k - 1))/(d(k) - d(k - 1))*(time(k) - time(k - 1))
+      cross = time(k - 1) + (level - d(k - 1))/(d(k) - d(k - 1))*(time(k) - time(k - 1))
     end function cross
   end subroutine measure_stations
 
