@@ -1,0 +1,83 @@
+#!/usr/bin/env python3
+"""Kill -9 + --restart equals the uninterrupted run (issue 7).
+
+check_restart.py --launcher "mpirun -np 2 --oversubscribe" --restart-launcher "..."
+                 --program wellposed-mpm --deck DECK --out DIR [--tolerance T] -- [ARGS]
+
+Runs DECK uninterrupted into DIR/ref, then again into DIR/run in its own
+process group, kills the group with SIGKILL once two checkpoints exist, runs
+it again with --restart, and compares every run.h5 dataset (bitwise unless a
+tolerance is given; then relative to the dataset's largest value, with the
+conservation residual energy/momentum_minus_impulse exempt) and summary.txt
+(wall-clock lines excepted). Exit status 0 when equal.
+"""
+import argparse, glob, os, shlex, signal, subprocess, sys, time
+import h5py, numpy as np
+
+ap = argparse.ArgumentParser()
+ap.add_argument('--launcher', default='')
+ap.add_argument('--restart-launcher', default=None)
+ap.add_argument('--program', required=True)
+ap.add_argument('--deck', required=True)
+ap.add_argument('--out', required=True)
+ap.add_argument('--name', default='short_wave')
+ap.add_argument('--every', default='500')
+ap.add_argument('--tolerance', type=float, default=0.0)
+ap.add_argument('args', nargs='*')
+a = ap.parse_args()
+launch = shlex.split(a.launcher)
+relaunch = shlex.split(a.restart_launcher) if a.restart_launcher is not None else launch
+common = ['--no-plot', '--checkpoint-every', a.every, a.deck] + a.args
+
+def run(cmd):
+    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        sys.exit('FAIL: %s exited %d\n%s' % (' '.join(cmd), r.returncode, r.stdout[-3000:]))
+    return r.stdout
+
+subprocess.run(['rm', '-rf', a.out])
+ref, out = os.path.join(a.out, 'ref'), os.path.join(a.out, 'run')
+run(launch + [a.program, '--out', ref] + common)
+proc = subprocess.Popen(launch + [a.program, '--out', out] + common, stdout=subprocess.DEVNULL,
+                        stderr=subprocess.DEVNULL, start_new_session=True)
+ckdir = os.path.join(out, a.name + '.checkpoints')
+deadline = time.time() + 120
+while len(glob.glob(os.path.join(ckdir, 'checkpoint_*.h5'))) < 2:
+    if proc.poll() is not None:
+        sys.exit('FAIL: the run ended before its second checkpoint: use a longer run')
+    if time.time() > deadline:
+        sys.exit('FAIL: no second checkpoint within 120 s')
+    time.sleep(0.02)
+os.killpg(proc.pid, signal.SIGKILL)
+proc.wait()
+time.sleep(1.0)   # let ranks that lost their launcher go
+if os.path.exists(os.path.join(out, a.name)):
+    sys.exit('FAIL: the killed run left a finished-looking folder')
+print(run(relaunch + [a.program, '--out', out, '--restart'] + common).strip().splitlines()[-1])
+fa, fb = h5py.File(os.path.join(ref, a.name, 'run.h5')), h5py.File(os.path.join(out, a.name, 'run.h5'))
+names = []
+fa.visit(lambda n: names.append(n) if isinstance(fa[n], h5py.Dataset) else None)
+bad = []
+for n in names:
+    if n not in fb:
+        bad.append(n + ' (missing)'); continue
+    x, y = fa[n][()], fb[n][()]
+    if x.shape != y.shape:
+        bad.append(n + ' (shape)'); continue
+    if a.tolerance == 0.0:
+        same = x.tobytes() == y.tobytes()
+    else:
+        if n == 'energy/momentum_minus_impulse':
+            continue
+        s = np.nanmax(np.abs(x)) if x.size else 0.0
+        same = s == 0 or bool(np.nanmax(np.abs(x - y)) <= a.tolerance * s)
+    if not same:
+        bad.append(n)
+def summary(d):
+    with open(os.path.join(d, a.name, 'summary.txt')) as f:
+        return [l for l in f if not l.startswith(('wall_time', 'ns_per', 'share_'))]
+if a.tolerance == 0.0 and summary(ref) != summary(out):
+    bad.append('summary.txt')
+print('%d datasets compared (%s): %s' % (len(names), 'bitwise' if a.tolerance == 0 else
+      'relative %g' % a.tolerance, 'all equal' if not bad else 'differ: ' + ', '.join(bad)))
+sys.exit(1 if bad else 0)
