@@ -275,6 +275,11 @@ contains
       xs = pt%x(1, 1) - pt%lp(1, 1)
       is = floor((xs - g%origin)/g%dx)
       w = (xs - (g%origin + is*g%dx))/g%dx
+      ! once a tensile pulse moves the surface outside the first node with
+      ! mass (linear shapes: the Dirac particle 1 lies inside its cell), that
+      ! node's share would fall on a massless node and be dropped: give the
+      ! whole traction to the next node
+      if (g%mass(is) <= 0.0_dp) w = 1.0_dp
       fs = -sig_b*[1.0_dp - w, w]
       g%fext(1, is) = g%fext(1, is) + fs(1)
       g%fext(1, is + 1) = g%fext(1, is + 1) + fs(2)
