@@ -6,7 +6,8 @@ usage: mpm_stations.py RUN.h5 OUT.png [--reference OTHER.h5 [LABEL]]
 Plots the axial stress increment sigma_xx - sigma_xx(0) (MPa, tension
 positive) against time (ms) at every station, with the ideal head arrival
 x/C_P and tail end x/C_E + tau (thin grey lines; C_E and C_P from the run's
-metadata, i.e. the UMAT's moduli at the initial state). A reference run, if
+metadata, i.e. the UMAT's moduli at the initial state), and the measured
+head and tail of summary.txt (ticks at half the load peak). A reference run, if
 given and present, is drawn dashed (the seed's convention).
 """
 import sys
@@ -27,10 +28,13 @@ def load(path):
         if isinstance(names, bytes):
             names = names.decode()
         nums = dict(zip(names.split(), f.attrs["numbers"]))
+        heads = f["measures/t_head"][()] * 1e3 if "measures/t_head" in f else None
+        tails = f["measures/t_tail"][()] * 1e3 if "measures/t_tail" in f else None
         title = f.attrs["title"]
         if isinstance(title, bytes):
             title = title.decode()
     ds = (s - s[:, :1]) / 1e6
+    nums["heads"], nums["tails"] = heads, tails
     return t, x, ds, nums, title
 
 
@@ -54,12 +58,17 @@ def main(argv):
             (rt, rx, rds, _, _), _ = ref
             if i < len(rx):
                 ax.plot(rt, rds[i], "--", lw=0.8, color=line.get_color())
+        if nums["heads"] is not None:
+            # measured head and tail: half the load peak around the station's peak
+            half = 0.5 * nums["load_peak"] / 1e6
+            ax.plot([nums["heads"][i], nums["tails"][i]], [half, half], "|",
+                    color=line.get_color(), ms=8)
         for tt in (xi / nums["c_plastic"] * 1e3, xi / nums["c_elastic"] * 1e3 + tau):
             ax.axvline(tt, color="0.75", lw=0.5, zorder=0)
     ax.axhline(nums["load_peak"] / 1e6, color="0.5", lw=0.5, ls=":")
     ax.set_xlabel("time (ms)")
     ax.set_ylabel(r"$\sigma_{xx} - \sigma_{xx}^0$ (MPa, tension +)")
-    sub = (f"dx = {nums['dx']:g} m, CFL {nums['cfl']:g}; grey: x/C_P and x/C_E + tau "
+    sub = (f"dx = {nums['dx']:g} m, CFL {nums['cfl']:g}; ticks: measured head/tail; grey: x/C_P and x/C_E + tau "
            f"(C_E = {nums['c_elastic']:.0f}, C_P = {nums['c_plastic']:.0f} m/s)")
     if ref is not None:
         sub += f"; dashed: {ref[1]}"
