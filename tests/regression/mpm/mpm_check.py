@@ -18,6 +18,17 @@ tolerances. Each mode exits 0 on success, 1 with a message otherwise.
   mpm_check.py same  TOL EXE DECK NAME [driver args] -- [driver args of run B]
       two runs of the same deck; max |sigma_xx(A) - sigma_xx(B)| over all
       stations and samples, over the load peak, must be <= TOL.
+  mpm_check.py sls   PEAK_TOL L2_TOL EXE DECK NAME [driver args]
+      a Duvaut-Lions run (PROPS(11) = tau > 0) of a small raised-cosine
+      pulse on a state at yield, against the linearised model: a standard
+      linear solid with instantaneous modulus M_e = rho C_E^2 and relaxed
+      modulus M_p = rho C_P^2, M(w) = (M_p + i w tau M_e)/(1 + i w tau),
+      solved exactly in frequency (the boundary history times
+      exp(-i k x), k = w sqrt(rho/M(w))). At every station the peak must
+      agree within PEAK_TOL relative, and the history within L2_TOL
+      (relative L2) over the pulse's main lobe (where the linear solution is >= 0; behind
+      it the linear model keeps relaxing into a compressive undershoot that
+      the model does not have, since its trial stress unloads elastically).
 
 Driver arguments are anything after NAME that is not a check (overrides are
 group.key=value: a dot before '=').
@@ -207,11 +218,60 @@ def mode_same(argv):
     return 0 if ok else 1
 
 
+def linear_dl_history(t, x, nums, tau):
+    """Stress increment at x of the linearised Duvaut-Lions bar driven by
+    the raised-cosine boundary pulse: a standard linear solid (see the
+    module doc), evaluated by FFT on a window four times the run long."""
+    import numpy as np
+    rho = nums["density"]
+    m_e, m_p = rho * nums["c_elastic"] ** 2, rho * nums["c_plastic"] ** 2
+    n = 1 << 16
+    dt = 4.0 * t[-1] / n
+    tt = np.arange(n) * dt
+    load = nums["load_peak"] * load_shape(tt, nums["load_duration"], "cosine")
+    w = 2.0 * np.pi * np.fft.rfftfreq(n, dt)
+    modulus = (m_p + 1j * w * tau * m_e) / (1.0 + 1j * w * tau)
+    k = w * np.sqrt(rho / modulus)
+    hist = np.fft.irfft(np.fft.rfft(load) * np.exp(-1j * k * x), n)
+    return np.interp(t, tt, hist)
+
+
+def mode_sls(argv):
+    import h5py
+    import numpy as np
+    peak_tol, l2_tol = float(argv[0]), float(argv[1])
+    exe, deck, name = argv[2:5]
+    p, folder, cmd = run(exe, deck, name, argv[5:])
+    need_ok(p, cmd)
+    t, x, s, nums = histories(folder)
+    with h5py.File(os.path.join(folder, "run.h5"), "r") as f:
+        tau = float(f.attrs["props"][10])
+    if tau <= 0.0:
+        print("FAIL the run has no Duvaut-Lions relaxation time (PROPS(11) = 0)")
+        return 1
+    ok = True
+    for i, xi in enumerate(x):
+        ds = s[i] - s[i, 0]
+        lin = linear_dl_history(t, xi, nums, tau)
+        lobe = lin >= 0.0
+        peak_err = abs(ds.max() - lin.max()) / lin.max()
+        l2 = float(np.linalg.norm((ds - lin)[lobe]) / np.linalg.norm(lin[lobe]))
+        good = peak_err <= peak_tol and l2 <= l2_tol
+        ok = ok and good
+        print(("ok   " if good else "FAIL ") +
+              f"x = {xi:g} m: peak {ds.max():.5g} Pa, linear model {lin.max():.5g} Pa "
+              f"(growth {lin.max() / nums['load_peak']:.3f} x the load peak), "
+              f"relative error {peak_err:.3e} (tolerance {peak_tol:g}), "
+              f"main-lobe L2 {l2:.3e} (tolerance {l2_tol:g})")
+    return 0 if ok else 1
+
+
 def main(argv):
     if len(argv) < 2:
         sys.stderr.write(__doc__)
         return 2
-    modes = {"run": mode_run, "fail": mode_fail, "order": mode_order, "same": mode_same}
+    modes = {"run": mode_run, "fail": mode_fail, "order": mode_order, "same": mode_same,
+             "sls": mode_sls}
     return modes[argv[1]](argv[2:])
 
 
