@@ -12,6 +12,7 @@ module wellposed_deck
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_text, only: real_text
   implicit none
   private
   public :: read_text_file, namelist_error, check_required, check_finite, check_range, &
@@ -274,6 +275,12 @@ contains
     character(len=32) :: buffer
     if (x == unset) then
       text = '(not set)'
+      return
+    end if
+    if (.not. ieee_is_finite(x)) then
+      ! No ordered comparison of a NaN: it raises "invalid" (a trap in Debug
+      ! builds, which run with -ffpe-trap=invalid).
+      text = real_text(x)
       return
     end if
     if (abs(x) >= 1.0e-3_dp .and. abs(x) < 1.0e6_dp .or. x == 0.0_dp) then
