@@ -196,10 +196,10 @@ contains
     character(len=:), allocatable, intent(out) :: why
     real(dp) :: de(ntens), r(ntens), tol, jac(ntens, ntens), x(ntens, 1), rnorm
     real(dp) :: ddn(ntens, ntens), hstep, de_try(ntens), dd_try(ntens, ntens), r_try(ntens)
-    real(dp) :: rnorm_try, alpha
+    real(dp) :: rnorm_try, alpha, merit, merit_try
     type(point_state_t) :: sp
     integer :: u(ntens), nu, i, j, ls, mode
-    logical :: solved, improved, tried_elastic
+    logical :: solved, improved, tried_elastic, from_rest
     integer, parameter :: mode_tangent = 1, mode_elastic = 2, mode_fd = 3
     nu = 0
     do i = 1, ntens
@@ -223,7 +223,14 @@ contains
     tried_elastic = .false.
     mode = mode_tangent
     if (all(guess(u(1:nu)) == 0.0_dp)) mode = mode_elastic
-    call trial(de, s1, ddn, r, rnorm)
+    ! Starting from a zero increment of the unknown strains, the elastic
+    ! predictor step is taken whole: a rate-independent response is
+    ! positively homogeneous of degree one in the increment, so at zero it
+    ! has no tangent (the extended flow rule's depends on the increment's
+    ! direction), and along any ray the residual is linear in the step,
+    ! which a line search from zero cannot shorten into a decrease.
+    from_rest = mode == mode_elastic
+    call trial(de, s1, ddn, r, rnorm, merit)
     if (pnewdt < 1.0_dp) return
     do
       if (nu == 0 .or. rnorm <= tol) then
@@ -278,20 +285,23 @@ contains
           return
         end if
       end if
-      ! backtracking line search on the largest residual component
+      ! backtracking line search on the sum of squared residuals (the
+      ! Newton direction is a descent direction for it, not necessarily for
+      ! the largest component), except for the predictor step from rest
       alpha = 1.0_dp
       improved = .false.
       do ls = 1, 12
         de_try = de
         de_try(u(1:nu)) = de_try(u(1:nu)) - alpha*x(1:nu, 1)
-        call trial(de_try, sp, dd_try, r_try, rnorm_try)
+        call trial(de_try, sp, dd_try, r_try, rnorm_try, merit_try)
         if (pnewdt < 1.0_dp) return
-        if (rnorm_try < rnorm) then
+        if (merit_try < merit .or. from_rest) then
           improved = .true.
           exit
         end if
         alpha = 0.5_dp*alpha
       end do
+      from_rest = .false.
       if (.not. improved) then
         mode = next_mode()
         if (mode < 0) return
@@ -303,6 +313,7 @@ contains
       ddn = dd_try
       r = r_try
       rnorm = rnorm_try
+      merit = merit_try
     end do
 
   contains
@@ -322,14 +333,16 @@ contains
       end if
     end function next_mode
 
-    !> One UMAT call with the strain increment `d` and its residual.
-    subroutine trial(d, st, ddt, rt, rn)
+    !> One UMAT call with the strain increment `d`, its residual `rt`, the
+    !> largest residual component `rn` and the sum of squares `rm`.
+    subroutine trial(d, st, ddt, rt, rn, rm)
       real(dp), intent(in) :: d(ntens)
       type(point_state_t), intent(out) :: st
-      real(dp), intent(out) :: ddt(ntens, ntens), rt(ntens), rn
+      real(dp), intent(out) :: ddt(ntens, ntens), rt(ntens), rn, rm
       call umat_increment(mat, s0, d, dtime, st, ddt, pnewdt)
       rt = 0.0_dp
       rn = huge(1.0_dp)
+      rm = huge(1.0_dp)
       if (pnewdt < 1.0_dp) then
         why = 'the UMAT asked for a smaller increment (PNEWDT = '//real_str(pnewdt)//')'
         return
@@ -342,8 +355,10 @@ contains
       if (nu > 0) then
         rt(1:nu) = st%stress(u(1:nu)) - sig_t(u(1:nu))
         rn = maxval(abs(rt(1:nu)))
+        rm = sum(rt(1:nu)**2)
       else
         rn = 0.0_dp
+        rm = 0.0_dp
       end if
     end subroutine trial
 
