@@ -4,6 +4,9 @@
 usage: mpm_mesh_study.py EXE DECK OUTDIR [--dx 2,1,0.5,0.25,0.125] [--models a,b]
                          [--jobs 1] [group.key=value ...]
 
+--jobs N runs N of the independent runs at a time (wall times then include
+the competition for cores: compare them only within one --jobs setting).
+
 Runs wellposed-mpm on DECK for every model and cell size dx, then reports,
 per model, the norm of the difference between the station histories of
 successive resolutions,
@@ -59,29 +62,56 @@ def main(argv):
     exe, deck, outdir = argv[1:4]
     dxs = [2.0, 1.0, 0.5, 0.25, 0.125]
     models = list(MODELS)
+    jobs = 1
     extra = []
     k = 4
     while k < len(argv):
+        if argv[k] in ("--dx", "--models", "--jobs") and k + 1 >= len(argv):
+            sys.stderr.write(f"mpm_mesh_study: {argv[k]} needs a value\n")
+            return 2
         if argv[k] == "--dx":
             dxs = [float(v) for v in argv[k + 1].split(",")]
             k += 2
         elif argv[k] == "--models":
             models = argv[k + 1].split(",")
             k += 2
+        elif argv[k] == "--jobs":
+            jobs = max(1, int(argv[k + 1]))
+            k += 2
+        elif argv[k].startswith("--"):
+            sys.stderr.write(f"mpm_mesh_study: unknown option {argv[k]}\n{__doc__}")
+            return 2
         else:
             extra.append(argv[k])
             k += 1
+    unknown = [m for m in models if m not in MODELS]
+    if unknown:
+        sys.stderr.write(f"mpm_mesh_study: unknown model(s) {', '.join(unknown)}; "
+                         f"known: {', '.join(MODELS)}\n")
+        return 2
     os.makedirs(outdir, exist_ok=True)
+
+    def one_run(model, dx):
+        name = f"{model}_dx{dx:g}"
+        cmd = [exe, "--out", outdir, "--name", name, "--no-plot", deck,
+               f"grid.dx={dx:g}"] + MODELS[model] + extra
+        t0 = time.time()
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        wall = time.time() - t0
+        print(f"{model:16s} dx = {dx:6g} m: {'done' if p.returncode == 0 else 'FAILED'} "
+              f"in {wall:6.1f} s", flush=True)
+        return p, name, wall
+
+    # Independent runs, `jobs` at a time (each run is one process on one core)
+    from concurrent.futures import ThreadPoolExecutor
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
+        futures = {(m, dx): pool.submit(one_run, m, dx) for m in models for dx in dxs}
     rows = []
+    import numpy as np
     for model in models:
         prev = None
         for dx in dxs:
-            name = f"{model}_dx{dx:g}"
-            cmd = [exe, "--out", outdir, "--name", name, "--no-plot", deck,
-                   f"grid.dx={dx:g}"] + MODELS[model] + extra
-            t0 = time.time()
-            p = subprocess.run(cmd, capture_output=True, text=True)
-            wall = time.time() - t0
+            p, name, wall = futures[(model, dx)].result()
             if p.returncode != 0:
                 sys.stderr.write(p.stderr)
                 return 1
@@ -89,7 +119,6 @@ def main(argv):
             d = float("nan")
             if prev is not None:
                 n = min(s.shape[1], prev.shape[1])
-                import numpy as np
                 d = math.sqrt(float(np.mean((s[:, :n] - prev[:, :n]) ** 2))) / abs(nums["load_peak"])
             peak = float((s - s[:, :1]).max(axis=1)[-1]) / 1e6
             rows.append((model, dx, d, peak, wall))
