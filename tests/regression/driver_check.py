@@ -1,11 +1,15 @@
 #!/usr/bin/env python3
-"""Run wellposed-mpm2d on a deck and check its outcome (plane-strain plate regressions).
+"""Run a driver (wellposed-point, wellposed-mpm2d) on a deck and check its
+outcome: the regressions of tests/regression/point and tests/regression/plate.
 
 usage:
-  plate_check.py EXE DECK RUN_NAME [--no-plot] [--png NAME ...] CHECK ...
+  driver_check.py [--expect FILE ...] [--expect-suffix SUFFIX ...]
+                  EXE DECK RUN_NAME [--no-plot] [--png NAME ...] CHECK ...
       CHECK is key=expected:tolerance (absolute) or key=true / key=false;
-      runs in the current folder, reads out/RUN_NAME/summary.txt.
-  plate_check.py --fail REGEX EXE DECK RUN_NAME
+      runs in the current folder, reads out/RUN_NAME/summary.txt. The run
+      folder must hold summary.txt, the deck, every --expect FILE and a file
+      ending in every --expect-suffix (e.g. the XDMF beside the HDF5).
+  driver_check.py --fail REGEX EXE DECK RUN_NAME
       the run must exit non-zero, print REGEX (Python re) on stderr and leave
       no finished folder out/RUN_NAME.
 """
@@ -33,6 +37,10 @@ def summary(path):
 
 
 def main(argv):
+    expect, suffixes = [], []
+    while argv and argv[0] in ("--expect", "--expect-suffix"):
+        (expect if argv[0] == "--expect" else suffixes).append(argv[1])
+        argv = argv[2:]
     if argv and argv[0] == "--fail":
         regex, exe, deck, name = argv[1:5]
         shutil.rmtree(os.path.join("out", name), ignore_errors=True)
@@ -93,12 +101,13 @@ def main(argv):
         if not os.path.exists(path) or os.path.getsize(path) < 10000:
             print(f"FAIL: plot {path} missing or empty")
             ok = False
-    if "mpm2d" in os.path.basename(exe) and not any(x.endswith(".xdmf") for x in os.listdir(folder)):
-        print(f"FAIL: no .xdmf file in {folder}")
-        ok = False
-    for f in ("run.h5", "summary.txt", os.path.basename(deck)):
+    for f in ["summary.txt", os.path.basename(deck)] + expect:
         if not os.path.exists(os.path.join(folder, f)):
             print(f"FAIL: {f} missing from {folder}")
+            ok = False
+    for suffix in suffixes:
+        if not any(x.endswith(suffix) for x in os.listdir(folder)):
+            print(f"FAIL: no file ending in {suffix} in {folder}")
             ok = False
     return 0 if ok else 1
 
