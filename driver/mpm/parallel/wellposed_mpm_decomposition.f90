@@ -41,6 +41,7 @@ module wellposed_mpm_decomposition
             restrict_grid, restrict_particles, hand_off_particles, sum_ghost_values, &
             sum_ghost_grid, copy_owned_to_ghosts, ensure_capacity, particle_record_length, &
             pack_particle, unpack_particle, gather_by_gid, check_support, ghost_layers
+  public :: patch_nodes, hand_off_particles_with
 
   !> How the grid is shared out; the same on every rank but for `rank`.
   type :: decomposition_t
@@ -623,5 +624,96 @@ contains
       allocate (all(nc, 0))
     end if
   end subroutine gather_by_gid
+
+  !> Global node range [glo, ghi] of this rank's patch (its ghost layers
+  !> included): the bounds a host allocates its own nodal arrays with so
+  !> that sum_ghost_values and copy_owned_to_ghosts apply to them.
+  pure subroutine patch_nodes(self, glo, ghi)
+    type(decomposition_t), intent(in) :: self
+    integer, intent(out) :: glo, ghi
+    integer :: lo, hi
+    call patch_layers(self, self%rank, lo, hi)
+    glo = lo*self%layer_nodes
+    ghi = (hi + 1)*self%layer_nodes - 1
+  end subroutine patch_nodes
+
+  !> hand_off_particles for a host that keeps more per-particle data beside
+  !> particles_t: extra(:, p) (any number of reals per particle, columns
+  !> 1 .. parts%n in use) travels with particle p and ends in the same slot;
+  !> it grows with the particles' capacity. Collective; same order rules.
+  subroutine hand_off_particles_with(self, comm, parts, extra, err, moved)
+    type(decomposition_t), intent(in) :: self
+    type(comm_t), intent(in) :: comm
+    type(particles_t), intent(inout) :: parts
+    real(dp), allocatable, intent(inout) :: extra(:, :)
+    type(error_t), allocatable, intent(out) :: err
+    integer, intent(out), optional :: moved
+    integer :: owner(parts%n), scount(0:comm%size - 1), rcount(0:comm%size - 1)
+    integer :: sdispl(0:comm%size - 1), rdispl(0:comm%size - 1), fill(0:comm%size - 1)
+    integer :: p, q, m, reclen, plen, ne, nin, bad
+    real(dp), allocatable :: sbuf(:), rbuf(:), grown(:, :)
+    plen = particle_record_length(parts)
+    ne = size(extra, 1)
+    reclen = plen + ne
+    bad = 0
+    scount = 0
+    do p = 1, parts%n
+      owner(p) = owner_of_position(self, parts%x(self%axis, p))
+      if (owner(p) < 0) then
+        if (bad == 0) bad = p
+        owner(p) = self%rank
+      end if
+      if (owner(p) /= self%rank) scount(owner(p)) = scount(owner(p)) + 1
+    end do
+    if (allreduce_any(comm, bad > 0)) then
+      if (bad > 0) then
+        call outside(self, parts, bad, err)
+      else
+        call new_error(err, status_invalid, 'grid', 'a particle on another rank left the grid')
+      end if
+      return
+    end if
+    if (present(moved)) moved = sum(scount)
+    call alltoall_counts(comm, scount, rcount)
+    scount = scount*reclen
+    rcount = rcount*reclen
+    sdispl(0) = 0
+    rdispl(0) = 0
+    do q = 1, comm%size - 1
+      sdispl(q) = sdispl(q - 1) + scount(q - 1)
+      rdispl(q) = rdispl(q - 1) + rcount(q - 1)
+    end do
+    allocate (sbuf(max(1, sum(scount))), rbuf(max(1, sum(rcount))))
+    fill = sdispl
+    m = 0
+    do p = 1, parts%n
+      q = owner(p)
+      if (q /= self%rank) then
+        call pack_particle(parts, p, sbuf(fill(q) + 1:fill(q) + plen))
+        sbuf(fill(q) + plen + 1:fill(q) + reclen) = extra(:, p)
+        fill(q) = fill(q) + reclen
+      else
+        m = m + 1
+        if (m /= p) then
+          call copy_particle(parts, p, m)
+          extra(:, m) = extra(:, p)
+        end if
+      end if
+    end do
+    call alltoallv_real(comm, sbuf, scount, sdispl, rbuf, rcount, rdispl)
+    nin = sum(rcount)/reclen
+    parts%n = m
+    call ensure_capacity(parts, m + nin)
+    if (size(extra, 2) < size(parts%gid)) then
+      allocate (grown(ne, size(parts%gid)))
+      grown(:, 1:m) = extra(:, 1:m)
+      call move_alloc(grown, extra)
+    end if
+    do p = 1, nin
+      call unpack_particle(parts, m + p, rbuf((p - 1)*reclen + 1:(p - 1)*reclen + plen))
+      extra(:, m + p) = rbuf((p - 1)*reclen + plen + 1:p*reclen)
+    end do
+    parts%n = m + nin
+  end subroutine hand_off_particles_with
 
 end module wellposed_mpm_decomposition
