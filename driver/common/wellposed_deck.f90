@@ -16,7 +16,7 @@ module wellposed_deck
   implicit none
   private
   public :: read_text_file, namelist_error, check_required, check_finite, check_range, &
-            unset, is_set, real_str, has_group
+            unset, is_set, real_str, has_group, lower
 
   !> Sentinel for "not given in the deck": a required real key is set to
   !> `unset` before the READ and tested with `is_set` after it.
@@ -299,6 +299,8 @@ contains
     end if
   end function real_str
 
+  !> `text` with ASCII capitals in lower case (namelist names are
+  !> case-insensitive; decks compare keys and words through this).
   pure function lower(text) result(low)
     character(len=*), intent(in) :: text
     character(len=len(text)) :: low

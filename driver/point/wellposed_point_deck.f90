@@ -18,7 +18,7 @@ module wellposed_point_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: read_text_file, namelist_error, check_required, check_finite, &
-                            check_range, unset, is_set, has_group, real_str
+                            check_range, unset, is_set, has_group, real_str, lower
   use wellposed_point_material, only: material_t, ntens
   use wellposed_point_path, only: leg_t, solver_t
   use wellposed_point_chapter3, only: ch3_config_t
@@ -502,16 +502,5 @@ contains
     deck%chapter3 = .true.
     deck%ch3 = ch3_config_t(magnitude, phi, n_cycles, analysis_cycle, drift_axial, n_sub)
   end subroutine read_chapter3
-
-  pure function lower(text) result(low)
-    character(len=*), intent(in) :: text
-    character(len=len(text)) :: low
-    integer :: i, c
-    low = text
-    do i = 1, len(text)
-      c = iachar(text(i:i))
-      if (c >= iachar('A') .and. c <= iachar('Z')) low(i:i) = achar(c + 32)
-    end do
-  end function lower
 
 end module wellposed_point_deck
