@@ -1,7 +1,9 @@
 !> wellposed-mpm2d: the plane-strain MPM on the plate of seed chapter 4
 !> (fig. 4.1-4.6), one or more cases per deck (meshes, sizes: &study).
 !>
-!>   wellposed-mpm2d [--out ROOT] [--name NAME] [--no-plot] DECK [group.key=value ...]
+!>   [mpirun -np N] wellposed-mpm2d [--out ROOT] [--name NAME] [--no-plot]
+!>        [--checkpoint-every STEPS] [--restart | --restart-from FILE]
+!>        DECK [group.key=value ...]
 !>
 !> Writes ROOT/NAME/ (NAME = the deck's &scene name): the deck, run.h5
 !> (per case: particle snapshots, the stress-strain curve, nonlocal
@@ -11,17 +13,39 @@
 !> contours, stress-strain curves). Everything goes to ROOT/NAME.partial and
 !> is renamed at the end, so a failed run leaves nothing that looks
 !> finished. Errors go to standard error and the exit status is 1.
+!>
+!> Ranks (issue 7): under mpirun every rank reads the deck and advances its
+!> strip of the plate (wellposed_mpm_plane_strain); rank 0 gathers the
+!> particles in global-id order for snapshots and band widths and writes
+!> every file, so the outputs have the serial layout. One rank is the
+!> serial program.
+!>
+!> Checkpoints: every STEPS steps (default a tenth of a case's steps; 0:
+!> none) the run's state goes to ROOT/NAME.checkpoints/checkpoint_<n>.h5
+!> (n counts the steps of all cases so far; written atomically, the newest
+!> two kept): the scene on every rank, the case being run with its curves,
+!> the finished cases, the summary lines and everything written to run.h5
+!> so far. `--restart` continues from the newest one (`--restart-from FILE`
+!> from FILE) with the same deck and overrides: a fresh run folder gets the
+!> same files the uninterrupted run would have written, bit for bit on the
+!> same number of ranks (wall times aside).
 program wellposed_mpm2d
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, status_cutback
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_plane_strain, only: ps_config_t, ps_scene_t, new_ps_scene, ps_advance, &
-                                        ps_applied_stress, ps_plastic_strain
+                                        ps_applied_stress, ps_plastic_strain, ps_save, &
+                                        ps_restore, ps_max_substeps, ps_plastic_count
   use wellposed_mpm_shape_2d, only: shape2d_names
   use wellposed_mpm_nonlocal, only: nl_scheme_names
   use wellposed_mpm_ps_deck, only: read_ps_deck, ps_study_t
   use wellposed_mpm_paths, only: source_dir, install_data_dir
+  use wellposed_mpm_decomposition, only: gather_by_gid
+  use wellposed_mpi, only: comm_t, comm_start, comm_stop, comm_abort, allreduce_max, &
+                           allreduce_sum
+  use wellposed_checkpoint, only: checkpoint_t, write_checkpoint, read_checkpoint, &
+                                  latest_checkpoint
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
   use wellposed_h5, only: h5_file_t
@@ -30,32 +54,65 @@ program wellposed_mpm2d
   use wellposed_fs, only: path_exists, shell_quote
   implicit none
 
+  !> What a finished case leaves for the files written at the end.
+  type :: case_out_t
+    character(len=:), allocatable :: tag
+    real(dp), allocatable :: curve(:, :)     !< (time, strain, stress, sample)
+    integer, allocatable :: its(:), nplast(:)
+    real(dp), allocatable :: bounds(:, :)    !< (n_alpha, seed bound, error, step)
+    !> dt, final time, sharp bound, wall time, peak (strain, stress), band FWHM
+    real(dp) :: scal(7) = 0.0_dp
+    integer :: nsnap = 0, nparticles = 0, nsteps = 0
+  end type case_out_t
+
+  !> Everything written to run.h5 so far (rank 0), so a restart can write
+  !> it again: names, kind and shape, values.
+  type :: journal_t
+    character(len=:), allocatable :: names   !< each name ends with a new line
+    integer, allocatable :: meta(:, :)       !< (kind: 1 real 1D, 2 real 2D, 3 integer; n1; n2)
+    real(dp), allocatable :: r(:)
+    integer, allocatable :: iv(:)
+    integer :: n = 0, nr = 0, ni = 0
+  end type journal_t
+
   type(ps_config_t) :: cfg0, cfg
   type(ps_study_t) :: study
   type(ps_scene_t) :: sc, prev
-  logical :: ended_early, measured
+  type(case_out_t), allocatable :: outs(:)
+  type(journal_t) :: jn
+  type(comm_t) :: comm
+  logical :: ended_early, measured, root, restart, resuming
   real(dp) :: band_t
   character(len=512) :: end_message
   type(run_dir_t) :: rd
   type(h5_file_t) :: h5
   type(summary_t) :: sm
   type(error_t), allocatable :: err
+  type(checkpoint_t) :: ck
   character(len=:), allocatable :: deck_path, out_root, run_name, deck_text, arg, tag, script
+  character(len=:), allocatable :: ck_dir, ck_file
   character(len=512), allocatable :: overrides(:)
-  character(len=32), allocatable :: tags(:)
   logical :: no_plot
-  integer :: i, nargs, ic, nsteps_est, nsnap, ncurve, nit, u
+  integer :: i, nargs, ic, ic0, nsteps_est, nsnap, ncurve, nit, u, ck_every, ck_every_deck
+  integer :: steps_before, ntotal, moved_sum
   integer(int64) :: c0, c1, crate, clast
-  real(dp) :: wall, next_snap, next_sample, s, fwhm, peak_x, peak_v, yline
-  real(dp), allocatable :: curve(:, :), peaks(:, :), widths(:), walls(:), bounds(:, :)
+  real(dp) :: wall, wall_before, next_snap, next_sample, s, fwhm, peak_x, peak_v, yline, epmax
+  real(dp), allocatable :: curve(:, :), bounds(:, :)
   integer, allocatable :: its(:), nplast(:)
-  real(dp), allocatable :: curves_all(:, :, :)
-  integer, allocatable :: ncurves(:)
 
+  call comm_start(comm, err)
+  if (allocated(err)) then
+    write (error_unit, '(a)') 'wellposed-mpm2d: error: '//err%message
+    error stop 1
+  end if
+  root = comm%rank == 0
   out_root = 'out'
   run_name = ''
   no_plot = .false.
   deck_path = ''
+  ck_every_deck = -1
+  restart = .false.
+  ck_file = ''
   allocate (overrides(0))
   nargs = command_argument_count()
   i = 0
@@ -64,24 +121,38 @@ program wellposed_mpm2d
     arg = get_arg(i)
     select case (arg)
     case ('-h', '--help')
-      call usage(); stop
+      if (root) call usage()
+      call comm_stop(comm)
+      stop
     case ('--out')
       i = i + 1; out_root = get_arg(i)
     case ('--name')
       i = i + 1; run_name = get_arg(i)
     case ('--no-plot')
       no_plot = .true.
+    case ('--checkpoint-every')
+      i = i + 1
+      arg = get_arg(i)
+      if (verify(arg, '0123456789') /= 0 .or. len(arg) == 0 .or. len(arg) > 9) &
+        call die('--checkpoint-every needs a whole number of steps >= 0, not "'//arg//'"')
+      read (arg, *) ck_every_deck
+    case ('--restart')
+      restart = .true.
+    case ('--restart-from')
+      i = i + 1
+      restart = .true.
+      ck_file = get_arg(i)
     case default
       if (index(arg, '=') > 0) then
         overrides = [character(len=512) :: overrides, arg]
       else if (len(deck_path) == 0) then
         deck_path = arg
       else
-        call die_text('unexpected argument "'//arg//'" (one DECK only; see --help)')
+        call die('unexpected argument "'//arg//'" (one DECK only; see --help)')
       end if
     end select
   end do
-  if (len(deck_path) == 0) call die_text('no deck given (see --help)')
+  if (len(deck_path) == 0) call die('no deck given (see --help)')
 
   call read_ps_deck(deck_path, overrides, cfg0, study, deck_text, err)
   if (allocated(err)) call die(err%message)
@@ -94,58 +165,72 @@ program wellposed_mpm2d
         'dx/scale or labels')
     end do
     cfg = case_config(ic)
-    call new_ps_scene(sc, cfg, err)
+    call new_ps_scene(sc, cfg, err, comm)
     if (allocated(err)) call die(deck_path//' (case '//int_text(ic)//'): '//err%message)
   end do
-  call rd%create(out_root, cfg0%name, deck_path, err)
-  if (allocated(err)) call die(err%message)
-  call h5%create(rd%path('run.h5'), err)
-  if (allocated(err)) call die(err%message)
-  call h5%write_attr('wellposed_version', wellposed_version)
-  call h5%write_attr('git_revision', wellposed_git_revision)
-  call h5%write_attr('deck', deck_text)
-  call h5%write_attr('props', cfg0%props(1:cfg0%nprops))
-
-  write (output_unit, '(a)') 'wellposed-mpm2d '//wellposed_version//': '//cfg0%name//' ('// &
-    trim(cfg0%title)//'), '//int_text(study%ncases)//' case(s)'
-  write (output_unit, '(a)') '  writing '//rd%partial//' (renamed to '//rd%final//' when done)'
-  flush (output_unit)
-  call sm%add('scene', cfg0%name)
-  call sm%add('cases', study%ncases)
-  call sm%add('shape', trim(shape2d_names(cfg0%shape)))
-  call sm%add('nonlocal_scheme', trim(nl_scheme_names(cfg0%nonlocal%scheme)))
-  if (study%band_axis == 'x') then
-    call sm%add('band_line', 'horizontal line y = band_y * scale through the band', &
-                'the FWHM of ||eps^p|| along it, measured on particles within half a '// &
-                'particle spacing of it')
-    call sm%add('band_y', study%band_y, 'm (unscaled plate)')
-  else
-    call sm%add('band_line', 'vertical line x = band_x * scale through the zone', &
-                'the FWHM of ||eps^p|| along it, measured on particles within half a '// &
-                'particle spacing of it')
-    call sm%add('band_x', study%band_x, 'm (unscaled plate)')
+  ck_dir = out_root//'/'//cfg0%name//'.checkpoints'
+  ic0 = 1
+  if (restart) call read_restart()
+  if (root) then
+    call rd%create(out_root, cfg0%name, deck_path, err)
+    if (allocated(err)) call die_root(err%message)
+    call h5%create(rd%path('run.h5'), err)
+    if (allocated(err)) call die_root(err%message)
+    call h5%write_attr('wellposed_version', wellposed_version)
+    call h5%write_attr('git_revision', wellposed_git_revision)
+    call h5%write_attr('deck', deck_text)
+    call h5%write_attr('props', cfg0%props(1:cfg0%nprops))
+    write (output_unit, '(a)') 'wellposed-mpm2d '//wellposed_version//': '//cfg0%name// &
+      ' ('//trim(cfg0%title)//'), '//int_text(study%ncases)//' case(s)'
+    if (comm%size > 1) write (output_unit, '(a)') '  on '//int_text(comm%size)// &
+      ' ranks (strips of cell rows; rank 0 writes)'
+    write (output_unit, '(a)') '  writing '//rd%partial//' (renamed to '//rd%final// &
+      ' when done)'
+    flush (output_unit)
   end if
-  allocate (tags(study%ncases), peaks(2, study%ncases), widths(study%ncases), &
-            walls(study%ncases))
-  allocate (curves_all(3, 20000, study%ncases), ncurves(study%ncases))
+  allocate (outs(study%ncases))
+  steps_before = 0
+  if (restart) then
+    call resume_run()
+  else if (root) then
+    call sm%add('scene', cfg0%name)
+    call sm%add('cases', study%ncases)
+    call sm%add('shape', trim(shape2d_names(cfg0%shape)))
+    call sm%add('nonlocal_scheme', trim(nl_scheme_names(cfg0%nonlocal%scheme)))
+    if (study%band_axis == 'x') then
+      call sm%add('band_line', 'horizontal line y = band_y * scale through the band', &
+                  'the FWHM of ||eps^p|| along it, measured on particles within half a '// &
+                  'particle spacing of it')
+      call sm%add('band_y', study%band_y, 'm (unscaled plate)')
+    else
+      call sm%add('band_line', 'vertical line x = band_x * scale through the zone', &
+                  'the FWHM of ||eps^p|| along it, measured on particles within half a '// &
+                  'particle spacing of it')
+      call sm%add('band_x', study%band_x, 'm (unscaled plate)')
+    end if
+  end if
 
-  do ic = 1, study%ncases
+  do ic = ic0, study%ncases
     cfg = case_config(ic)
     s = study%scale(ic)
     tag = case_tag(ic)
-    tags(ic) = tag
-    call new_ps_scene(sc, cfg, err)
+    call new_ps_scene(sc, cfg, err, comm)
     if (allocated(err)) call die(err%message)
+    ntotal = sc%ntotal
     nsteps_est = ceiling(cfg%t_end/sc%dt)
-    write (output_unit, '(a)') '  case '//tag//': '//int_text(sc%parts%n)//' particles, '// &
-      int_text(sc%nnodes)//' nodes, dt = '//real_text(sc%dt)//' s, ~'// &
-      int_text(nsteps_est)//' steps, c = '//real_text(sc%c_max)//' m/s'
-    if (sc%nl%active) write (output_unit, '(a)') '    nonlocal: L = '// &
-      real_text(sc%nl%length)//' m, support radius '//real_text(sc%nl%radius)// &
-      ' m, |h_zeta/(a + h_eta)| = '//real_text(sc%nl%bound_43)//' (eq. 4.43), '// &
-      '|(h_eta + h_zeta)/a| = '//real_text(sc%nl%bound_45)//' (eq. 4.45), scheme '// &
-      trim(nl_scheme_names(cfg%nonlocal%scheme))
-    flush (output_unit)
+    ck_every = ck_every_deck
+    if (ck_every < 0) ck_every = max(1, nsteps_est/10)
+    if (root) then
+      write (output_unit, '(a)') '  case '//tag//': '//int_text(ntotal)//' particles, '// &
+        int_text(sc%nnodes)//' nodes, dt = '//real_text(sc%dt)//' s, ~'// &
+        int_text(nsteps_est)//' steps, c = '//real_text(sc%c_max)//' m/s'
+      if (sc%nl%active) write (output_unit, '(a)') '    nonlocal: L = '// &
+        real_text(sc%nl%length)//' m, support radius '//real_text(sc%nl%radius)// &
+        ' m, |h_zeta/(a + h_eta)| = '//real_text(sc%nl%bound_43)//' (eq. 4.43), '// &
+        '|(h_eta + h_zeta)/a| = '//real_text(sc%nl%bound_45)//' (eq. 4.45), scheme '// &
+        trim(nl_scheme_names(cfg%nonlocal%scheme))
+      flush (output_unit)
+    end if
     allocate (curve(3, nsteps_est + 10), its(nsteps_est + 10), nplast(nsteps_est + 10), &
               bounds(3, nsteps_est + 10))
     ncurve = 0
@@ -153,11 +238,17 @@ program wellposed_mpm2d
     nsnap = 0
     next_snap = 0.0_dp
     next_sample = 0.0_dp
+    wall_before = 0.0_dp
+    measured = .false.
+    resuming = restart .and. ic == ic0
     call system_clock(c0, crate)
     clast = c0
-    call snapshot()
+    if (resuming) then
+      call resume_case()
+    else
+      call snapshot()
+    end if
     ended_early = .false.
-    measured = .false.
     end_message = ''
     do while (sc%t < cfg%t_end - 0.5_dp*sc%dt)
       if (study%stop_on_cutback) prev = sc
@@ -169,15 +260,15 @@ program wellposed_mpm2d
         sc = prev
         ended_early = .true.
         end_message = err%message
-        write (output_unit, '(a)') '    '//tag//': ended at t = '//real_text(sc%t)// &
-          ' s (&time stop_on_cutback): '//err%message
+        if (root) write (output_unit, '(a)') '    '//tag//': ended at t = '// &
+          real_text(sc%t)//' s (&time stop_on_cutback): '//err%message
         exit
       end if
       nit = nit + 1
       if (study%band_time > 0.0_dp .and. .not. measured .and. sc%t >= study%band_time) &
         call measure_band()
       its(nit) = sc%nl%last%iterations
-      nplast(nit) = sc%nl%last%n_plastic
+      nplast(nit) = ps_plastic_count(sc)
       bounds(:, nit) = [sc%nl%last%n_alpha, sc%nl%last%bound_seed, sc%nl%last%error]
       if (sc%t >= next_sample - 1.0e-12_dp) then
         ncurve = ncurve + 1
@@ -185,13 +276,17 @@ program wellposed_mpm2d
         next_sample = next_sample + study%sample_dt
       end if
       if (study%snapshot_dt > 0.0_dp .and. sc%t >= next_snap - 1.0e-12_dp) call snapshot()
+      if (ck_every > 0) then
+        if (mod(sc%nstep, ck_every) == 0 .and. sc%t < cfg%t_end - 0.5_dp*sc%dt) &
+          call checkpoint()
+      end if
       call system_clock(c1)
-      if (study%progress .and. real(c1 - clast, dp)/crate > 10.0_dp) then
+      if (root .and. study%progress .and. real(c1 - clast, dp)/crate > 10.0_dp) then
         clast = c1
         write (output_unit, '(a)') '    '//tag//': step '//int_text(sc%nstep)//'/'// &
           int_text(nsteps_est)//', t = '//real_text(sc%t)//' s, stress = '// &
-          real_text(ps_applied_stress(sc)*1.0e-6_dp)//' MPa, plastic '// &
-          int_text(sc%nl%last%n_plastic)//', iterations '//int_text(sc%nl%last%iterations)// &
+          real_text(curve(3, max(ncurve, 1))*1.0e-6_dp)//' MPa, plastic '// &
+          int_text(nplast(nit))//', iterations '//int_text(sc%nl%last%iterations)// &
           ', ~'//int_text(nint(real(c1 - c0, dp)/crate*(nsteps_est - sc%nstep)/ &
           max(sc%nstep, 1)))//' s left'
         flush (output_unit)
@@ -200,97 +295,134 @@ program wellposed_mpm2d
     if (study%snapshot_dt <= 0.0_dp .or. next_snap - study%snapshot_dt < sc%t - 0.5_dp*sc%dt) &
       call snapshot()
     call system_clock(c1)
-    wall = real(c1 - c0, dp)/crate
-    walls(ic) = wall
-    ! ---- measures
+    wall = wall_before + real(c1 - c0, dp)/crate
+    ! ---- measures (collective: band width, largest plastic strain, substeps)
     if (.not. measured) call measure_band()
-    widths(ic) = fwhm
-    i = maxloc(curve(3, 1:ncurve), dim=1)
-    peaks(:, ic) = [curve(2, i), curve(3, i)]
-    ncurves(ic) = min(ncurve, size(curves_all, 2))
-    curves_all(:, 1:ncurves(ic), ic) = curve(:, 1:ncurves(ic))
-    call sm%add(tag//'.dx', cfg%dx, 'm')
-    call sm%add(tag//'.scale', s)
-    call sm%add(tag//'.particles', sc%parts%n)
-    call sm%add(tag//'.steps', sc%nstep)
-    call sm%add(tag//'.dt', sc%dt, 's')
-    call sm%add(tag//'.wall_time', wall, 's')
-    call sm%add(tag//'.ns_per_particle_step', wall*1.0e9_dp/(real(sc%parts%n, dp)*sc%nstep))
-    call sm%add(tag//'.peak_stress', peaks(2, ic)*1.0e-6_dp, 'MPa, compression +')
-    call sm%add(tag//'.strain_at_peak', peaks(1, ic), 'apparent axial strain')
-    call sm%add(tag//'.final_stress', curve(3, ncurve)*1.0e-6_dp, 'MPa')
-    call sm%add(tag//'.final_strain', curve(2, ncurve))
-    call sm%add(tag//'.max_plastic_strain', maxval(ps_plastic_strain(sc)))
-    call sm%add(tag//'.band_fwhm', fwhm, 'm, along the band line at '//real_text(yline)//' m')
-    call sm%add(tag//'.band_peak_at', peak_x, 'm, along the band line')
-    call sm%add(tag//'.band_time', band_t, 's, when the band width was measured')
-    call sm%add(tag//'.band_peak_plastic_strain', peak_v)
-    call sm%add(tag//'.max_substeps', sc%max_substeps)
-    call sm%add(tag//'.ended_early', ended_early, 'true: the UMAT could not go on '// &
-                '(stop_on_cutback); the curve ends at final_strain')
-    if (ended_early) call sm%add(tag//'.end_reason', trim(end_message))
-    if (sc%nl%active) then
-      call sm%add(tag//'.nonlocal_steps_iterated', sc%nl%steps_iterated)
-      call sm%add(tag//'.nonlocal_iterations_mean', &
-                  real(sc%nl%iterations_total, dp)/max(sc%nl%steps_iterated, 1))
-      call sm%add(tag//'.nonlocal_iterations_max', sc%nl%iterations_max)
-      call sm%add(tag//'.lipschitz_eq4_43_sharp', sc%nl%bound_43, 'N_alpha = 1')
-      call sm%add(tag//'.lipschitz_eq4_45_sharp', sc%nl%bound_45, 'N_alpha = 1')
-      if (sc%nl%calls_sweeps > 0 .and. sc%nl%calls_local > 0) &
-        call sm%add(tag//'.sweep_cost_over_local_update', &
-                    (real(sc%nl%ticks_sweeps, dp)/sc%nl%calls_sweeps)/ &
-                    (real(max(sc%nl%ticks_local, 1_int64), dp)/sc%nl%calls_local), &
-                    'time per particle of one sweep (average + UMAT + eq. 4.49-4.50) '// &
-                    'over one local UMAT update')
+    epmax = maxval(ps_plastic_strain(sc))
+    if (comm%size > 1) call allreduce_max(comm, epmax)
+    i = ps_max_substeps(sc)
+    moved_sum = sc%moved
+    if (comm%size > 1) call allreduce_sum(comm, moved_sum)
+    steps_before = steps_before + sc%nstep
+    if (root) then
+      outs(ic)%tag = tag
+      outs(ic)%curve = curve(:, 1:ncurve)
+      outs(ic)%its = its(1:nit)
+      outs(ic)%nplast = nplast(1:nit)
+      outs(ic)%bounds = bounds(:, 1:nit)
+      outs(ic)%nsnap = nsnap
+      outs(ic)%nparticles = ntotal
+      outs(ic)%nsteps = sc%nstep
+      outs(ic)%scal(1:4) = [sc%dt, sc%t, sc%nl%bound_43, wall]
+      outs(ic)%scal(7) = fwhm
+      call finish_case(i)
     end if
-    call h5%write('cases/'//tag//'/curve', transpose(curve(:, 1:ncurve)))
-    call h5%write('cases/'//tag//'/iterations', its(1:nit))
-    call h5%write('cases/'//tag//'/n_plastic', nplast(1:nit))
-    call write_csv_curve(rd%path(tag//'_curve.csv'), curve(:, 1:ncurve))
-    call write_csv_iterations(rd%path(tag//'_iterations.csv'), its(1:nit), nplast(1:nit), sc%dt, &
-                              bounds(:, 1:nit), sc%nl%bound_43)
-    call write_xdmf(rd%path(tag//'.xdmf'), tag, nsnap, sc%parts%n)
-    write (output_unit, '(a)') '    done in '//real_text(wall)//' s: peak '// &
-      real_text(peaks(2, ic)*1.0e-6_dp)//' MPa at strain '//real_text(peaks(1, ic))// &
-      ', band FWHM '//real_text(fwhm)//' m along the line at '//real_text(yline)//' m'
-    if (sc%nl%active) write (output_unit, '(a)') '    nonlocal iterations per step: mean '// &
-      real_text(real(sc%nl%iterations_total, dp)/max(sc%nl%steps_iterated, 1))//', max '// &
-      int_text(sc%nl%iterations_max)//' over '//int_text(sc%nl%steps_iterated)// &
-      ' plastic steps'
-    flush (output_unit)
     deallocate (curve, its, nplast, bounds)
   end do
 
+  if (.not. root) then
+    call comm_stop(comm)
+    stop
+  end if
   ! ---- across cases: successive meshes, sizes
   do ic = 2, study%ncases
-    call sm%add(trim(tags(ic))//'.curve_difference_to_'//trim(tags(ic - 1)), &
+    call sm%add(outs(ic)%tag//'.curve_difference_to_'//outs(ic - 1)%tag, &
                 curve_difference(ic - 1, ic)*1.0e-6_dp, &
                 'MPa: max |stress difference| over the common strain range')
-    call sm%add(trim(tags(ic))//'.band_fwhm_ratio_to_'//trim(tags(ic - 1)), &
-                widths(ic)/widths(ic - 1))
+    call sm%add(outs(ic)%tag//'.band_fwhm_ratio_to_'//outs(ic - 1)%tag, &
+                outs(ic)%scal(7)/outs(ic - 1)%scal(7))
   end do
-  call sm%add('total_wall_time', sum(walls), 's')
+  call sm%add('total_wall_time', sum([(outs(ic)%scal(4), ic=1, study%ncases)]), 's')
   call h5%close(err)
-  if (allocated(err)) call die(err%message)
+  if (allocated(err)) call die_root(err%message)
   call sm%write(rd%path('summary.txt'), err)
-  if (allocated(err)) call die(err%message)
+  if (allocated(err)) call die_root(err%message)
+  do ic = 1, study%ncases
+    associate (o => outs(ic))
+      call write_csv_curve(rd%path(o%tag//'_curve.csv'), o%curve)
+      call write_csv_iterations(rd%path(o%tag//'_iterations.csv'), o%its, o%nplast, &
+                                o%scal(1), o%bounds, o%scal(3))
+      call write_xdmf(rd%path(o%tag//'.xdmf'), o%tag, o%nsnap, o%nparticles, o%scal(2))
+    end associate
+  end do
   if (study%plot .and. .not. no_plot) then
     script = find_script()
     block
       character(len=:), allocatable :: args
       args = shell_quote(rd%partial)
       do ic = 1, study%ncases
-        args = args//' '//shell_quote(trim(tags(ic)))
+        args = args//' '//shell_quote(outs(ic)%tag)
       end do
       call run_plot(script, args, err)
     end block
-    if (allocated(err)) call die(err%message)
+    if (allocated(err)) call die_root(err%message)
   end if
   call rd%commit(err)
-  if (allocated(err)) call die(err%message)
-  write (output_unit, '(a)') '  finished: '//rd%final//' (total '//real_text(sum(walls))//' s)'
+  if (allocated(err)) call die_root(err%message)
+  write (output_unit, '(a)') '  finished: '//rd%final//' (total '// &
+    real_text(sum([(outs(ic)%scal(4), ic=1, study%ncases)]))//' s)'
+  call comm_stop(comm)
 
 contains
+
+  !> The summary lines and run.h5 datasets of the case just finished (rank
+  !> 0); `nsub` the largest UMAT cut-back split over the ranks.
+  subroutine finish_case(nsub)
+    integer, intent(in) :: nsub
+    integer :: j
+    associate (o => outs(ic))
+      j = maxloc(o%curve(3, :), dim=1)
+      o%scal(5:6) = [o%curve(2, j), o%curve(3, j)]
+      call sm%add(tag//'.dx', cfg%dx, 'm')
+      call sm%add(tag//'.scale', s)
+      call sm%add(tag//'.particles', ntotal)
+      call sm%add(tag//'.steps', sc%nstep)
+      call sm%add(tag//'.dt', sc%dt, 's')
+      call sm%add(tag//'.wall_time', wall, 's')
+      call sm%add(tag//'.ns_per_particle_step', wall*1.0e9_dp/(real(ntotal, dp)*sc%nstep))
+      call sm%add(tag//'.peak_stress', o%scal(6)*1.0e-6_dp, 'MPa, compression +')
+      call sm%add(tag//'.strain_at_peak', o%scal(5), 'apparent axial strain')
+      call sm%add(tag//'.final_stress', o%curve(3, size(o%curve, 2))*1.0e-6_dp, 'MPa')
+      call sm%add(tag//'.final_strain', o%curve(2, size(o%curve, 2)))
+      call sm%add(tag//'.max_plastic_strain', epmax)
+      call sm%add(tag//'.band_fwhm', fwhm, 'm, along the band line at '//real_text(yline)//' m')
+      call sm%add(tag//'.band_peak_at', peak_x, 'm, along the band line')
+      call sm%add(tag//'.band_time', band_t, 's, when the band width was measured')
+      call sm%add(tag//'.band_peak_plastic_strain', peak_v)
+      call sm%add(tag//'.max_substeps', nsub)
+      call sm%add(tag//'.ended_early', ended_early, 'true: the UMAT could not go on '// &
+                  '(stop_on_cutback); the curve ends at final_strain')
+      if (ended_early) call sm%add(tag//'.end_reason', trim(end_message))
+      if (sc%nl%active) then
+        call sm%add(tag//'.nonlocal_steps_iterated', sc%nl%steps_iterated)
+        call sm%add(tag//'.nonlocal_iterations_mean', &
+                    real(sc%nl%iterations_total, dp)/max(sc%nl%steps_iterated, 1))
+        call sm%add(tag//'.nonlocal_iterations_max', sc%nl%iterations_max)
+        call sm%add(tag//'.lipschitz_eq4_43_sharp', sc%nl%bound_43, 'N_alpha = 1')
+        call sm%add(tag//'.lipschitz_eq4_45_sharp', sc%nl%bound_45, 'N_alpha = 1')
+        if (sc%nl%calls_sweeps > 0 .and. sc%nl%calls_local > 0) &
+          call sm%add(tag//'.sweep_cost_over_local_update', &
+                      (real(sc%nl%ticks_sweeps, dp)/sc%nl%calls_sweeps)/ &
+                      (real(max(sc%nl%ticks_local, 1_int64), dp)/sc%nl%calls_local), &
+                      'time per particle of one sweep (average + UMAT + eq. 4.49-4.50) '// &
+                      'over one local UMAT update')
+      end if
+      call put_r2('cases/'//tag//'/curve', transpose(o%curve))
+      call put_i1('cases/'//tag//'/iterations', o%its)
+      call put_i1('cases/'//tag//'/n_plastic', o%nplast)
+      write (output_unit, '(a)') '    done in '//real_text(wall)//' s: peak '// &
+        real_text(o%scal(6)*1.0e-6_dp)//' MPa at strain '//real_text(o%scal(5))// &
+        ', band FWHM '//real_text(fwhm)//' m along the line at '//real_text(yline)//' m'
+      if (sc%nl%active) write (output_unit, '(a)') '    nonlocal iterations per step: '// &
+        'mean '//real_text(real(sc%nl%iterations_total, dp)/max(sc%nl%steps_iterated, 1))// &
+        ', max '//int_text(sc%nl%iterations_max)//' over '// &
+        int_text(sc%nl%steps_iterated)//' plastic steps'
+      if (comm%size > 1) write (output_unit, '(a)') '    particles handed between ranks: '// &
+        int_text(moved_sum)
+      flush (output_unit)
+    end associate
+  end subroutine finish_case
+
 
   !> The case's name: its label, else h<dx>[_s<scale>].
   function case_tag(k) result(t)
@@ -316,59 +448,341 @@ contains
     c%top_velocity = cfg0%top_velocity*f
   end function case_config
 
-  !> The band width now (fwhm, peak_x, peak_v, yline, band_t, measured).
+  !> The band width now (fwhm, peak_x, peak_v on rank 0; yline, band_t,
+  !> measured everywhere). Collective: rank 0 gathers the particles.
   subroutine measure_band()
+    real(dp), allocatable :: f(:, :), all(:, :)
+    integer :: n, axis
+    n = sc%parts%n
+    allocate (f(3, n))
+    f(1:2, :) = sc%parts%x(:, 1:n)
+    f(3, :) = ps_plastic_strain(sc)
+    call gather_by_gid(comm, sc%parts%gid(1:n), f, 0, all)
     if (study%band_axis == 'x') then
       yline = study%band_y*study%scale(ic)
-      call band_width(sc, 1, yline, fwhm, peak_x, peak_v)
+      axis = 1
     else
       yline = study%band_x*study%scale(ic)
-      call band_width(sc, 2, yline, fwhm, peak_x, peak_v)
+      axis = 2
     end if
+    fwhm = 0.0_dp; peak_x = 0.0_dp; peak_v = 0.0_dp
+    if (root) call band_width(all(1:2, :), all(3, :), axis, yline, fwhm, peak_x, peak_v)
     band_t = sc%t
     measured = .true.
   end subroutine measure_band
 
-  !> Particle fields of the current state into run.h5: cases/<tag>/snap_<n>/.
+  !> Particle fields of the current state into run.h5: cases/<tag>/snap_<n>/
+  !> (collective: rank 0 gathers them in global-id order and writes).
   subroutine snapshot()
     character(len=:), allocatable :: g
-    real(dp), allocatable :: xy(:, :)
+    real(dp), allocatable :: f(:, :), all(:, :)
     integer :: n
     nsnap = nsnap + 1
-    n = sc%parts%n
-    g = 'cases/'//tag//'/snap_'//int_text(nsnap)//'/'
-    xy = transpose(sc%parts%x(:, 1:n))
-    call h5%write(g//'xy', xy)
-    call h5%write(g//'plastic_strain', ps_plastic_strain(sc))
-    call h5%write(g//'sigma_xx', sc%parts%stress(1, 1:n))
-    call h5%write(g//'sigma_yy', sc%parts%stress(2, 1:n))
-    call h5%write(g//'sigma_xy', sc%parts%stress(4, 1:n))
-    call h5%write(g//'dlambda', sc%parts%statev(2, 1:n))
-    call h5%write(g//'zeta', sc%parts%statev(4, 1:n))
-    call h5%write(g//'time', [sc%t])
     next_snap = next_snap + study%snapshot_dt
+    n = sc%parts%n
+    allocate (f(8, n))
+    f(1:2, :) = sc%parts%x(:, 1:n)
+    f(3, :) = ps_plastic_strain(sc)
+    f(4, :) = sc%parts%stress(1, 1:n)
+    f(5, :) = sc%parts%stress(2, 1:n)
+    f(6, :) = sc%parts%stress(4, 1:n)
+    f(7, :) = sc%parts%statev(2, 1:n)
+    f(8, :) = sc%parts%statev(4, 1:n)
+    call gather_by_gid(comm, sc%parts%gid(1:n), f, 0, all)
+    if (.not. root) return
+    g = 'cases/'//tag//'/snap_'//int_text(nsnap)//'/'
+    call put_r2(g//'xy', transpose(all(1:2, :)))
+    call put_r1(g//'plastic_strain', all(3, :))
+    call put_r1(g//'sigma_xx', all(4, :))
+    call put_r1(g//'sigma_yy', all(5, :))
+    call put_r1(g//'sigma_xy', all(6, :))
+    call put_r1(g//'dlambda', all(7, :))
+    call put_r1(g//'zeta', all(8, :))
+    call put_r1(g//'time', [sc%t])
   end subroutine snapshot
+
+  !> A real array into run.h5 and the journal (rank 0).
+  subroutine put_r1(name, a)
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: a(:)
+    call h5%write(name, a)
+    call journal_add(name, 1, size(a), 1)
+    call journal_reals(a)
+  end subroutine put_r1
+
+  !> A real matrix into run.h5 and the journal (rank 0).
+  subroutine put_r2(name, a)
+    character(len=*), intent(in) :: name
+    real(dp), intent(in) :: a(:, :)
+    call h5%write(name, a)
+    call journal_add(name, 2, size(a, 1), size(a, 2))
+    call journal_reals(reshape(a, [size(a)]))
+  end subroutine put_r2
+
+  !> An integer array into run.h5 and the journal (rank 0).
+  subroutine put_i1(name, a)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: a(:)
+    integer, allocatable :: grown(:)
+    call h5%write(name, a)
+    call journal_add(name, 3, size(a), 1)
+    if (.not. allocated(jn%iv)) allocate (jn%iv(1024))
+    if (jn%ni + size(a) > size(jn%iv)) then
+      allocate (grown(2*(jn%ni + size(a))))
+      grown(1:jn%ni) = jn%iv(1:jn%ni)
+      call move_alloc(grown, jn%iv)
+    end if
+    jn%iv(jn%ni + 1:jn%ni + size(a)) = a
+    jn%ni = jn%ni + size(a)
+  end subroutine put_i1
+
+  subroutine journal_add(name, kind, n1, n2)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: kind, n1, n2
+    integer, allocatable :: grown(:, :)
+    if (.not. allocated(jn%names)) jn%names = ''
+    if (.not. allocated(jn%meta)) allocate (jn%meta(3, 64))
+    if (jn%n == size(jn%meta, 2)) then
+      allocate (grown(3, 2*jn%n))
+      grown(:, 1:jn%n) = jn%meta(:, 1:jn%n)
+      call move_alloc(grown, jn%meta)
+    end if
+    jn%n = jn%n + 1
+    jn%meta(:, jn%n) = [kind, n1, n2]
+    jn%names = jn%names//name//new_line('a')
+  end subroutine journal_add
+
+  subroutine journal_reals(a)
+    real(dp), intent(in) :: a(:)
+    real(dp), allocatable :: grown(:)
+    if (.not. allocated(jn%r)) allocate (jn%r(4096))
+    if (jn%nr + size(a) > size(jn%r)) then
+      allocate (grown(2*(jn%nr + size(a))))
+      grown(1:jn%nr) = jn%r(1:jn%nr)
+      call move_alloc(grown, jn%r)
+    end if
+    jn%r(jn%nr + 1:jn%nr + size(a)) = a
+    jn%nr = jn%nr + size(a)
+  end subroutine journal_reals
+
+  !> Write every journal entry into run.h5 again (rank 0, on restart).
+  subroutine journal_replay()
+    integer :: k, at, ir, ii, n
+    character(len=:), allocatable :: name
+    at = 1
+    ir = 0
+    ii = 0
+    do k = 1, jn%n
+      n = index(jn%names(at:), new_line('a'))
+      name = jn%names(at:at + n - 2)
+      at = at + n
+      associate (m => jn%meta(:, k))
+        select case (m(1))
+        case (1)
+          call h5%write(name, jn%r(ir + 1:ir + m(2)))
+          ir = ir + m(2)
+        case (2)
+          call h5%write(name, reshape(jn%r(ir + 1:ir + m(2)*m(3)), [m(2), m(3)]))
+          ir = ir + m(2)*m(3)
+        case default
+          call h5%write(name, jn%iv(ii + 1:ii + m(2)))
+          ii = ii + m(2)
+        end select
+      end associate
+    end do
+  end subroutine journal_replay
+
+  !> Character codes of a text (checkpoints hold numbers only).
+  pure function codes(text) result(c)
+    character(len=*), intent(in) :: text
+    integer :: c(len(text)), k
+    c = [(iachar(text(k:k)), k=1, len(text))]
+  end function codes
+
+  !> The text of character codes.
+  pure function decoded(c) result(text)
+    integer, intent(in) :: c(:)
+    character(len=size(c)) :: text
+    integer :: k
+    do k = 1, size(c)
+      text(k:k) = achar(c(k))
+    end do
+  end function decoded
+
+  !> The run's state after this step into ROOT/NAME.checkpoints (collective;
+  !> rank 0 writes): the scene, this case's curves and counters, the
+  !> finished cases, the summary lines and the run.h5 journal.
+  subroutine checkpoint()
+    type(checkpoint_t) :: ckw
+    type(error_t), allocatable :: e
+    character(len=:), allocatable :: path, pre, lines
+    integer :: k
+    call ps_save(sc, ckw)
+    if (.not. root) return
+    call system_clock(c1)
+    call ckw%put('main/deck', [0, codes(deck_text)])
+    call ckw%put('main/case', [ic, ncurve, nit, nsnap, merge(1, 0, measured), steps_before])
+    call ckw%put('main/reals', [next_snap, next_sample, fwhm, peak_x, peak_v, yline, band_t, &
+                                wall_before + real(c1 - c0, dp)/crate])
+    call ckw%put('main/curve', [0.0_dp, reshape(curve(:, 1:ncurve), [3*ncurve])])
+    call ckw%put('main/its', [0, its(1:nit)])
+    call ckw%put('main/nplast', [0, nplast(1:nit)])
+    call ckw%put('main/bounds', [0.0_dp, reshape(bounds(:, 1:nit), [3*nit])])
+    do k = 1, ic - 1
+      pre = 'main/done_'//int_text(k)//'/'
+      associate (o => outs(k))
+        call ckw%put(pre//'tag', [0, codes(o%tag)])
+        call ckw%put(pre//'curve', [0.0_dp, reshape(o%curve, [size(o%curve)])])
+        call ckw%put(pre//'its', [0, o%its])
+        call ckw%put(pre//'nplast', [0, o%nplast])
+        call ckw%put(pre//'bounds', [0.0_dp, reshape(o%bounds, [size(o%bounds)])])
+        call ckw%put(pre//'scal', o%scal)
+        call ckw%put(pre//'ints', [o%nsnap, o%nparticles, o%nsteps])
+      end associate
+    end do
+    lines = ''
+    do k = 1, sm%n
+      lines = lines//sm%lines(k)%text//new_line('a')
+    end do
+    call ckw%put('main/summary', [0, codes(lines)])
+    call ckw%put('main/journal_names', [0, codes(jn%names)])
+    call ckw%put('main/journal_meta', [0, reshape(jn%meta(:, 1:jn%n), [3*jn%n])])
+    call ckw%put('main/journal_r', [0.0_dp, jn%r(1:jn%nr)])
+    call ckw%put('main/journal_i', [0, jn%iv(1:jn%ni)])
+    call write_checkpoint(ckw, ck_dir, steps_before + sc%nstep, 2, path, e)
+    if (allocated(e)) call die_root(e%message)
+  end subroutine checkpoint
+
+  !> --restart: read the newest checkpoint (or --restart-from FILE) on every
+  !> rank and check that it belongs to this deck; ic0 is its case.
+  subroutine read_restart()
+    type(error_t), allocatable :: e
+    integer, allocatable :: dk(:), cs(:)
+    if (len(ck_file) == 0) then
+      call latest_checkpoint(ck_dir, ck_file, e)
+      if (allocated(e)) call die(e%message//' (run with --checkpoint-every STEPS first)')
+    end if
+    call read_checkpoint(ck_file, ck, e)
+    if (allocated(e)) call die(e%message//'; an older checkpoint of '//ck_dir// &
+      ' may be given with --restart-from FILE')
+    call ck%get('main/deck', dk, e)
+    if (allocated(e)) call die(ck_file//': '//e%message)
+    if (decoded(dk(2:)) /= deck_text .or. size(dk) - 1 /= len(deck_text)) &
+      call die(ck_file//' was written for another deck than '//deck_path)
+    call ck%get('main/case', cs, e)
+    if (allocated(e)) call die(ck_file//': '//e%message)
+    if (size(cs) /= 6) call die(ck_file//': its case entry is garbled')
+    if (cs(1) < 1 .or. cs(1) > study%ncases) call die(ck_file//': case '//int_text(cs(1))// &
+      ' is not a case of '//deck_path)
+    ic0 = cs(1)
+  end subroutine read_restart
+
+  !> --restart, before the cases: the finished cases, steps so far, and on
+  !> rank 0 the summary lines and run.h5 as they were at the checkpoint.
+  subroutine resume_run()
+    type(error_t), allocatable :: e
+    integer, allocatable :: cs(:), iv(:), meta(:)
+    real(dp), allocatable :: a(:)
+    character(len=:), allocatable :: pre, lines, line
+    integer :: k, at, n, eq
+    call ck%get('main/case', cs, e)
+    steps_before = cs(6)
+    do k = 1, ic0 - 1
+      pre = 'main/done_'//int_text(k)//'/'
+      associate (o => outs(k))
+        call ck%get(pre//'tag', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
+        o%tag = decoded(iv(2:))
+        call ck%get(pre//'ints', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
+        o%nsnap = iv(1)
+        o%nparticles = iv(2)
+        o%nsteps = iv(3)
+        call ck%get(pre//'scal', a, e); if (allocated(e)) call die(ck_file//': '//e%message)
+        o%scal = a
+        call ck%get(pre//'its', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
+        o%its = iv(2:)
+        call ck%get(pre//'nplast', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
+        o%nplast = iv(2:)
+        call ck%get(pre//'curve', a, e); if (allocated(e)) call die(ck_file//': '//e%message)
+        o%curve = reshape(a(2:), [3, (size(a) - 1)/3])
+        call ck%get(pre//'bounds', a, e); if (allocated(e)) call die(ck_file//': '//e%message)
+        o%bounds = reshape(a(2:), [3, (size(a) - 1)/3])
+      end associate
+    end do
+    if (.not. root) return
+    call ck%get('main/summary', iv, e); if (allocated(e)) call die_root(e%message)
+    lines = decoded(iv(2:))
+    at = 1
+    do while (at <= len(lines))
+      n = index(lines(at:), new_line('a'))
+      line = lines(at:at + n - 2)
+      at = at + n
+      eq = index(line, ' = ')
+      call sm%add(line(1:eq - 1), line(eq + 3:))
+    end do
+    call ck%get('main/journal_names', iv, e); if (allocated(e)) call die_root(e%message)
+    jn%names = decoded(iv(2:))
+    call ck%get('main/journal_meta', meta, e); if (allocated(e)) call die_root(e%message)
+    jn%n = (size(meta) - 1)/3
+    jn%meta = reshape(meta(2:), [3, jn%n])
+    call ck%get('main/journal_r', a, e); if (allocated(e)) call die_root(e%message)
+    jn%nr = size(a) - 1
+    jn%r = a(2:)
+    call ck%get('main/journal_i', iv, e); if (allocated(e)) call die_root(e%message)
+    jn%ni = size(iv) - 1
+    jn%iv = iv(2:)
+    call journal_replay()
+    write (output_unit, '(a)') '  restarted from '//ck_file//' (case '// &
+      int_text(ic0)//', '//int_text(steps_before)//' steps of earlier cases)'
+    flush (output_unit)
+  end subroutine resume_run
+
+  !> --restart, in the case it interrupted: the scene on every rank and the
+  !> case's curves and counters.
+  subroutine resume_case()
+    type(error_t), allocatable :: e
+    integer, allocatable :: cs(:), iv(:)
+    real(dp), allocatable :: a(:)
+    call ps_restore(sc, ck, e)
+    if (allocated(e)) call die(ck_file//': '//e%message)
+    call ck%get('main/case', cs, e)
+    ncurve = cs(2)
+    nit = cs(3)
+    nsnap = cs(4)
+    measured = cs(5) == 1
+    call ck%get('main/reals', a, e)
+    if (allocated(e) .or. size(a) /= 8) call die(ck_file//': its main/reals entry is garbled')
+    next_snap = a(1); next_sample = a(2); fwhm = a(3); peak_x = a(4); peak_v = a(5)
+    yline = a(6); band_t = a(7); wall_before = a(8)
+    call ck%get('main/curve', a, e); if (allocated(e)) call die(ck_file//': '//e%message)
+    curve(:, 1:ncurve) = reshape(a(2:), [3, ncurve])
+    call ck%get('main/bounds', a, e); if (allocated(e)) call die(ck_file//': '//e%message)
+    bounds(:, 1:nit) = reshape(a(2:), [3, nit])
+    call ck%get('main/its', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
+    its(1:nit) = iv(2:)
+    call ck%get('main/nplast', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
+    nplast(1:nit) = iv(2:)
+    if (root) write (output_unit, '(a)') '    '//tag//': continuing at step '// &
+      int_text(sc%nstep)//', t = '//real_text(sc%t)//' s'
+  end subroutine resume_case
 
   !> FWHM of ||eps^p|| along a line: axis 1, the horizontal line y = yl (m);
   !> axis 2, the vertical line x = yl. From the particles within half a
   !> particle spacing of it, sorted along it; the half maximum crossings are
   !> interpolated linearly. Where a crossing lies beyond the body the
   !> body's edge counts.
-  subroutine band_width(scn, axis, yl, w, xpk, vpk)
-    type(ps_scene_t), intent(in) :: scn
+  subroutine band_width(xy, ep, axis, yl, w, xpk, vpk)
+    real(dp), intent(in) :: xy(:, :), ep(:)
     integer, intent(in) :: axis
     real(dp), intent(in) :: yl
     real(dp), intent(out) :: w, xpk, vpk
-    real(dp), allocatable :: xs(:), vs(:), ep(:)
+    real(dp), allocatable :: xs(:), vs(:)
     real(dp) :: half, xl, xr, tx, tv
     integer :: p, m, j, k, ipk, across
-    allocate (ep(scn%parts%n))
-    ep = ps_plastic_strain(scn)
     allocate (xs(0), vs(0))
     across = 3 - axis
-    do p = 1, scn%parts%n
-      if (abs(scn%parts%x(across, p) - yl) <= 0.5_dp*scn%cfg%dx/scn%cfg%ppc) then
-        xs = [xs, scn%parts%x(axis, p)]
+    do p = 1, size(ep)
+      if (abs(xy(across, p) - yl) <= 0.5_dp*cfg%dx/cfg%ppc) then
+        xs = [xs, xy(axis, p)]
         vs = [vs, ep(p)]
       end if
     end do
@@ -411,23 +825,25 @@ contains
   !> curve b interpolated linearly at a's strains.
   real(dp) function curve_difference(a, b) result(d)
     integer, intent(in) :: a, b
-    integer :: j, k
+    integer :: j, k, na, nb
     real(dp) :: e, sb, emax
     d = 0.0_dp
-    emax = min(curves_all(2, ncurves(a), a), curves_all(2, ncurves(b), b))
-    k = 1
-    do j = 1, ncurves(a)
-      e = curves_all(2, j, a)
-      if (e > emax) exit
-      do while (k < ncurves(b) - 1 .and. curves_all(2, k + 1, b) < e)
-        k = k + 1
+    associate (ca => outs(a)%curve, cb => outs(b)%curve)
+      na = min(size(ca, 2), 20000)
+      nb = min(size(cb, 2), 20000)
+      emax = min(ca(2, na), cb(2, nb))
+      k = 1
+      do j = 1, na
+        e = ca(2, j)
+        if (e > emax) exit
+        do while (k < nb - 1 .and. cb(2, k + 1) < e)
+          k = k + 1
+        end do
+        if (cb(2, k + 1) == cb(2, k)) cycle
+        sb = cb(3, k) + (e - cb(2, k))*(cb(3, k + 1) - cb(3, k))/(cb(2, k + 1) - cb(2, k))
+        d = max(d, abs(sb - ca(3, j)))
       end do
-      if (curves_all(2, k + 1, b) == curves_all(2, k, b)) cycle
-      sb = curves_all(3, k, b) + (e - curves_all(2, k, b))* &
-           (curves_all(3, k + 1, b) - curves_all(3, k, b))/ &
-           (curves_all(2, k + 1, b) - curves_all(2, k, b))
-      d = max(d, abs(sb - curves_all(3, j, a)))
-    end do
+    end associate
   end function curve_difference
 
   subroutine write_csv_curve(path, c)
@@ -461,9 +877,10 @@ contains
 
   !> An XDMF 2 file: a temporal collection of polyvertex grids whose
   !> geometry and attributes are the snapshot datasets in run.h5.
-  subroutine write_xdmf(path, tg, ns, n)
+  subroutine write_xdmf(path, tg, ns, n, t_final)
     character(len=*), intent(in) :: path, tg
     integer, intent(in) :: ns, n
+    real(dp), intent(in) :: t_final
     integer :: j, f
     character(len=*), parameter :: fields(7) = [character(len=14) :: 'plastic_strain', &
       'sigma_xx', 'sigma_yy', 'sigma_xy', 'dlambda', 'zeta', 'plastic_strain']
@@ -476,7 +893,7 @@ contains
     do j = 1, ns
       g = 'run.h5:/cases/'//tg//'/snap_'//int_text(j)//'/'
       write (u, '(a)') '   <Grid Name="snap_'//int_text(j)//'" GridType="Uniform">'
-      write (u, '(a)') '    <Time Value="'//real_text(snap_time(j))//'"/>'
+      write (u, '(a)') '    <Time Value="'//real_text(snap_time(j, t_final))//'"/>'
       write (u, '(a)') '    <Topology TopologyType="Polyvertex" NumberOfElements="'// &
         int_text(n)//'"/>'
       write (u, '(a)') '    <Geometry GeometryType="XY">'
@@ -497,13 +914,15 @@ contains
     close (u)
   end subroutine write_xdmf
 
-  !> Time of snapshot j (the snapshots are every snapshot_dt, the last at the end).
-  real(dp) function snap_time(j)
+  !> Time of snapshot j (the snapshots are every snapshot_dt, the last at
+  !> the end of the case, t_final).
+  real(dp) function snap_time(j, t_final)
     integer, intent(in) :: j
+    real(dp), intent(in) :: t_final
     if (study%snapshot_dt > 0.0_dp) then
-      snap_time = min((j - 1)*study%snapshot_dt, sc%t)
+      snap_time = min((j - 1)*study%snapshot_dt, t_final)
     else
-      snap_time = merge(0.0_dp, sc%t, j == 1)
+      snap_time = merge(0.0_dp, t_final, j == 1)
     end if
   end function snap_time
 
@@ -535,22 +954,40 @@ contains
   end function get_arg
 
   subroutine usage()
-    write (output_unit, '(a)') 'usage: wellposed-mpm2d [--out ROOT] [--name NAME] [--no-plot] '// &
-      'DECK [group.key=value ...]'
-    write (output_unit, '(a)') '  the plane-strain plate of seed chapter 4; decks in inputs/fig4_*.nml'
+    write (output_unit, '(a)') 'usage: [mpirun -np N] wellposed-mpm2d [--out ROOT] [--name NAME] '// &
+      '[--no-plot] [--checkpoint-every STEPS] [--restart | --restart-from FILE] DECK '// &
+      '[group.key=value ...]'
+    write (output_unit, '(a)') '  the plane-strain plate of seed chapter 4; decks in '// &
+      'inputs/fig4_*.nml'
+    write (output_unit, '(a)') '  --checkpoint-every STEPS  checkpoint into ROOT/NAME.checkpoints '// &
+      '(default: a tenth of a case; 0: none)'
+    write (output_unit, '(a)') '  --restart                 continue from the newest checkpoint '// &
+      '(same deck and overrides)'
+    write (output_unit, '(a)') '  --restart-from FILE       continue from checkpoint FILE'
   end subroutine usage
 
-  subroutine die_text(message)
-    character(len=*), intent(in) :: message
-    write (error_unit, '(a)') 'wellposed-mpm2d: error: '//message
-    if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm2d: the run did not '// &
-      'finish; its partial output is in '//rd%partial
-    error stop 1
-  end subroutine die_text
-
+  !> Stop every rank with `message` (collective: every rank calls it; rank 0
+  !> prints).
   subroutine die(message)
     character(len=*), intent(in) :: message
-    call die_text(message)
+    if (root) then
+      write (error_unit, '(a)') 'wellposed-mpm2d: error: '//message
+      if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm2d: the run did '// &
+        'not finish; its partial output is in '//rd%partial
+    end if
+    call comm_stop(comm)
+    error stop 1
   end subroutine die
+
+  !> Stop the run for an error rank 0 alone met (its files): the other
+  !> ranks are aborted.
+  subroutine die_root(message)
+    character(len=*), intent(in) :: message
+    write (error_unit, '(a)') 'wellposed-mpm2d: error: '//message
+    if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm2d: the run did '// &
+      'not finish; its partial output is in '//rd%partial
+    if (comm%size > 1) call comm_abort(comm, 1)
+    error stop 1
+  end subroutine die_root
 
 end program wellposed_mpm2d

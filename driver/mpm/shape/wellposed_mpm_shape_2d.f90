@@ -21,7 +21,7 @@ module wellposed_mpm_shape_2d
   implicit none
   private
   public :: shape2d_linear, shape2d_gimp, shape2d_cpdi, shape2d_names, support_size_2d, &
-            shape_2d, cpdi_corners
+            shape_2d, cpdi_corners, shape2d_reach
 
   !> Families in 2D.
   integer, parameter :: shape2d_linear = 1, shape2d_gimp = 2, shape2d_cpdi = 3
@@ -42,6 +42,24 @@ contains
       support_size_2d = 4
     end select
   end function support_size_2d
+
+  !> Node layers a particle's support reaches beyond the cell holding its
+  !> centre, per side (the ghost width of a domain decomposition,
+  !> wellposed_mpm_decomposition): linear 0; uGIMP 1 (lp <= h/2); CPDI 2,
+  !> which holds while a corner stays less than 2 h from the centre along
+  !> the split axis (|F21 lx| + |F22 ly| < 2 h: a fourfold stretch of the
+  !> initial domain; a run checks it every step).
+  pure integer function shape2d_reach(kind) result(layers)
+    integer, intent(in) :: kind
+    select case (kind)
+    case (shape2d_gimp)
+      layers = 1
+    case (shape2d_cpdi)
+      layers = 2
+    case default
+      layers = 0
+    end select
+  end function shape2d_reach
 
   !> Weights of one particle at xp (m): lp(2) the half-widths of its initial
   !> rectangle (m), f(2, 2) the in-plane deformation gradient (CPDI only);

@@ -18,6 +18,21 @@
 !> part of the material state.
 !> Time step dt = cfl * dx / c_max, c_max = sqrt(M/rho) with the
 !> constrained modulus M probed through the UMAT. SI units, tension +.
+!>
+!> Ranks (issue 7): the scene carries a communicator and a domain
+!> decomposition (wellposed_mpm_decomposition): strips of whole cell rows
+!> (node g = i + nx*j, so a strip is one range of node numbers), each rank
+!> holding the nodes its cells touch plus ghost rows as wide as the shape's
+!> reach (shape2d_reach: linear 0, GIMP 1, CPDI 2). A particle belongs to the
+!> rank of its cell row and is handed off, whole and with its viscous
+!> pressure and material, when it crosses (start of a step). Mass, momentum
+!> and force are summed over the ranks sharing a node (every holder adds the
+!> partial sums in rank order, so all copies agree bitwise); the grid update
+!> then runs over the whole patch, so ghost nodes hold their owners'
+!> velocities without a second exchange. An error on one rank stops every
+!> rank with its message. With one rank every exchange is skipped and the
+!> step is the serial one bit for bit; with more, results differ from it by
+!> the order of the nodal additions only.
 module wellposed_mpm_plane_strain
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -28,20 +43,29 @@ module wellposed_mpm_plane_strain
   use wellposed_umat_layout, only: prop_k0
   use wellposed_mpm_particles, only: particles_t, new_particles
   use wellposed_mpm_shape_2d, only: shape_2d, support_size_2d, shape2d_cpdi, shape2d_gimp, &
-                                    shape2d_linear
+                                    shape2d_linear, shape2d_reach, shape2d_names
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nonlocal_t, nonlocal_host_t, &
                                     new_nonlocal, nonlocal_solve
+  use wellposed_mpi, only: comm_t, allreduce_any, allreduce_min, allreduce_max, &
+                           allreduce_sum, broadcast, gatherv_real
+  use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, patch_nodes, &
+                                         owner_of_position, hand_off_particles_with, &
+                                         sum_ghost_values, particle_record_length, &
+                                         pack_particle, unpack_particle, ensure_capacity
+  use wellposed_checkpoint, only: checkpoint_t
   implicit none
   private
   public :: ps_config_t, ps_scene_t, new_ps_scene, ps_advance, ps_applied_stress, &
             ps_plastic_strain, bc_roller, bc_fixed2, bc_free2, bc_velocity, bc2_names, &
-            ps_kinetic_energy
+            ps_kinetic_energy, ps_save, ps_restore, ps_max_substeps, ps_plastic_count
 
   !> Boundary kinds in 2D.
   integer, parameter :: bc_roller = 1, bc_fixed2 = 2, bc_free2 = 3, bc_velocity = 4
   character(len=8), parameter :: bc2_names(4) = [character(len=8) :: 'roller', 'fixed', 'free', &
                                                  'velocity']
   integer, parameter :: max_props2 = 40
+  !> Version of the checkpoint entries of ps_save; ps_restore refuses others.
+  integer, parameter :: ps_layout_version = 1
 
   !> One plane-strain scene (defaults: the 4 m x 5 m plate of fig. 4.1 with
   !> the local softening material of section 4.7.1, h = 0.5 m).
@@ -90,10 +114,16 @@ module wellposed_mpm_plane_strain
     integer, allocatable :: mat(:)            !< material of each particle
     real(dp), allocatable :: q(:)             !< artificial viscous pressure (Pa)
     real(dp), allocatable :: s0(:, :), sv0(:, :), de(:, :)  !< start-of-step copies, increments
-    real(dp), allocatable :: lp0(:, :)        !< initial half-widths (2, p), m
     integer :: max_substeps = 1
     integer :: nl_iterations_step = 0
     integer(int64) :: ticks_umat = 0, ticks_total = 0
+    ! the ranks sharing the scene (one: the serial run)
+    type(comm_t) :: comm
+    type(decomposition_t) :: dec
+    integer :: glo = 0, ghi = -1              !< this rank's nodes, ghost rows included
+    integer :: ntotal = 0                     !< particles of the whole scene
+    integer :: moved = 0                      !< particles this rank handed to others, so far
+    real(dp) :: mass_floor = 0.0_dp           !< nodes lighter than this have no velocity (kg/m)
   contains
     procedure :: update => ps_update
   end type ps_scene_t
@@ -101,29 +131,38 @@ module wellposed_mpm_plane_strain
 contains
 
   !> Build grid, particles, materials and the time step; errors name keys.
-  subroutine new_ps_scene(self, cfg, err)
+  !> With `comm` (collective; default one rank) this rank keeps its strip of
+  !> cell rows, the nodes they touch with their ghost rows, and the
+  !> particles in them (global ids as in the serial scene).
+  subroutine new_ps_scene(self, cfg, err, comm)
     type(ps_scene_t), intent(out) :: self
     type(ps_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
-    integer :: ncx, ncy, np, p, a, b, k, nsup, g, i, j
+    type(comm_t), intent(in), optional :: comm
+    integer :: ncx, ncy, np, p, a, b, k, nsup, g, i, j, nlocal, cap
     real(dp) :: lp, xy(2), ds(4)
 
     call check(cfg, err)
     if (allocated(err)) return
     self%cfg = cfg
+    if (present(comm)) self%comm = comm
     ncx = nint(cfg%width/cfg%dx)
     ncy = nint(cfg%height/cfg%dx)
     self%nx = ncx + 2*cfg%pad_cells + 1
     self%ny = ncy + 2*cfg%pad_cells + 1
     self%nnodes = self%nx*self%ny
     self%origin = -cfg%pad_cells*cfg%dx
-    allocate (self%gmass(0:self%nnodes - 1), self%gmom(2, 0:self%nnodes - 1), &
-              self%gforce(2, 0:self%nnodes - 1), self%gvel(2, 0:self%nnodes - 1), &
-              self%gacc(2, 0:self%nnodes - 1), self%gfix(2, 0:self%nnodes - 1))
+    call new_decomposition(self%dec, self%comm, self%ny - 1, self%nx, shape2d_reach(cfg%shape), &
+                           2, self%origin(2), cfg%dx, err)
+    if (allocated(err)) return
+    call patch_nodes(self%dec, self%glo, self%ghi)
+    allocate (self%gmass(self%glo:self%ghi), self%gmom(2, self%glo:self%ghi), &
+              self%gforce(2, self%glo:self%ghi), self%gvel(2, self%glo:self%ghi), &
+              self%gacc(2, self%glo:self%ghi), self%gfix(2, self%glo:self%ghi))
     self%gvel = 0.0_dp
     self%gacc = 0.0_dp
     self%gfix = 0
-    do j = 0, self%ny - 1
+    do j = self%glo/self%nx, self%ghi/self%nx
       do i = 0, self%nx - 1
         g = i + self%nx*j
         xy = self%origin + cfg%dx*[i, j]
@@ -145,46 +184,62 @@ contains
 
     nsup = support_size_2d(cfg%shape)
     np = ncx*ncy*cfg%ppc**2
-    call new_particles(self%parts, np, 2, nsup, cfg%nstatv)
+    self%ntotal = np
     lp = 0.5_dp*cfg%dx/cfg%ppc
-    allocate (self%mat(np), self%q(np), self%s0(4, np), self%sv0(cfg%nstatv, np), &
-              self%de(4, np), self%lp0(2, np))
+    ! this rank's particles: those whose cell row it owns (all on one rank)
+    nlocal = 0
+    do b = 1, ncy*cfg%ppc
+      if (owner_of_position(self%dec, (b - 0.5_dp)*2.0_dp*lp) == self%dec%rank) &
+        nlocal = nlocal + ncx*cfg%ppc
+    end do
+    cap = np
+    if (self%dec%nranks > 1) cap = min(np, nlocal + nlocal/4 + 64)
+    call new_particles(self%parts, cap, 2, nsup, cfg%nstatv)
+    allocate (self%mat(cap), self%q(cap), self%s0(4, cap), self%sv0(cfg%nstatv, cap), &
+              self%de(4, cap))
     allocate (self%props_p(cfg%nprops, 2))
     self%props_p(:, 1) = cfg%props(1:cfg%nprops)
     self%props_p(:, 2) = cfg%props(1:cfg%nprops)
     if (cfg%weak_k0 > 0.0_dp) self%props_p(prop_k0, 2) = cfg%weak_k0
     p = 0
+    g = 0
     do b = 1, ncy*cfg%ppc
       do a = 1, ncx*cfg%ppc
+        g = g + 1
+        xy = [(a - 0.5_dp)*2.0_dp*lp, (b - 0.5_dp)*2.0_dp*lp]
+        if (owner_of_position(self%dec, xy(2)) /= self%dec%rank) cycle
         p = p + 1
-        self%parts%gid(p) = p
-        self%parts%x0(:, p) = [(a - 0.5_dp)*2.0_dp*lp, (b - 0.5_dp)*2.0_dp*lp]
+        self%parts%gid(p) = g
+        self%parts%x0(:, p) = xy
         self%mat(p) = 1
         if (cfg%weak_k0 > 0.0_dp) then
-          xy = self%parts%x0(:, p)
           if (xy(1) >= cfg%weak_x(1) .and. xy(1) <= cfg%weak_x(2) .and. &
               xy(2) >= cfg%weak_y(1) .and. xy(2) <= cfg%weak_y(2)) self%mat(p) = 2
         end if
       end do
     end do
-    self%parts%n = np
-    self%parts%x = self%parts%x0
-    do p = 1, np
-      self%parts%v(:, p) = matmul(cfg%velocity_gradient0, self%parts%x0(:, p))
-    end do
-    self%parts%lp = lp
-    self%lp0 = lp
-    self%parts%vol0 = (2.0_dp*lp)**2
-    self%parts%vol = self%parts%vol0
-    self%parts%mass = cfg%density*self%parts%vol0
-    self%parts%defgrad = 0.0_dp
-    do k = 1, 3
-      self%parts%defgrad(k, k, :) = 1.0_dp
-    end do
-    self%parts%stress = 0.0_dp
-    self%parts%stran = 0.0_dp
-    self%parts%statev = 0.0_dp
-    self%q = 0.0_dp
+    self%parts%n = nlocal
+    associate (n => nlocal)
+      self%parts%x(:, 1:n) = self%parts%x0(:, 1:n)
+      do p = 1, n
+        self%parts%v(:, p) = matmul(cfg%velocity_gradient0, self%parts%x0(:, p))
+      end do
+      ! lp: the half-widths of the initial domain (GIMP, CPDI), never changed
+      self%parts%lp(:, 1:n) = lp
+      self%parts%vol0(1:n) = (2.0_dp*lp)**2
+      self%parts%vol(1:n) = self%parts%vol0(1:n)
+      self%parts%mass(1:n) = cfg%density*self%parts%vol0(1:n)
+      self%parts%defgrad(:, :, 1:n) = 0.0_dp
+      do k = 1, 3
+        self%parts%defgrad(k, k, 1:n) = 1.0_dp
+      end do
+      self%parts%stress(:, 1:n) = 0.0_dp
+      self%parts%stran(:, 1:n) = 0.0_dp
+      self%parts%statev(:, 1:n) = 0.0_dp
+      self%q(1:n) = 0.0_dp
+    end associate
+    ! every particle has this mass: the floor of the serial run's minval
+    self%mass_floor = 1.0e-9_dp*(cfg%density*(2.0_dp*lp)**2)
 
     ! moduli through the UMAT: uniaxial strain (M) and isotropic (3K)
     ds = probe([-1.0e-7_dp, 0.0_dp, 0.0_dp, 0.0_dp])
@@ -200,7 +255,15 @@ contains
     self%dt = cfg%cfl*cfg%dx/self%c_max
 
     call new_nonlocal(self%nl, cfg%nonlocal, cfg%props(1:cfg%nprops), 2, self%origin, cfg%dx, &
-                      [self%nx, self%ny], 0, self%nnodes - 1, err)
+                      [self%nx, self%ny], self%glo, self%ghi, err)
+    if (allocated(err)) return
+    if (self%nl%active .and. self%dec%nranks > 1) then
+      call new_error(err, status_invalid, 'material%h_zeta', 'nonlocal averaging (h_zeta /= 0)'// &
+        ' runs on one rank only: its nodal dlambda field and Gauss-Seidel sweep are not yet '// &
+        'shared across ranks; run this deck without mpirun or with -np 1 (the local decks, '// &
+        'h_zeta = 0, run on any number of ranks)')
+      return
+    end if
 
   contains
 
@@ -278,9 +341,15 @@ contains
     integer :: p, k, i, n, ns
     real(dp) :: dt, w, vtop, mmin, lg(2, 2), dkk, rho, sig(2, 2), wspin, f2(2, 2), c
     real(dp) :: s4(4)
+    real(dp), allocatable :: sums(:, :)
     integer(int64) :: t0, t1, t2
 
     call system_clock(t0)
+    ! --- particles to the rank of their cell row (collective errors)
+    if (self%dec%nranks > 1) then
+      call hand_off(self, err)
+      if (allocated(err)) return
+    end if
     associate (pt => self%parts, cfg => self%cfg)
       n = pt%n
       dt = self%dt
@@ -288,15 +357,26 @@ contains
       ! --- weights at x^n
       do p = 1, n
         f2 = pt%defgrad(1:2, 1:2, p)
-        call shape_2d(cfg%shape, pt%x(:, p), self%lp0(:, p), f2, self%origin, cfg%dx, &
+        call shape_2d(cfg%shape, pt%x(:, p), pt%lp(:, p), f2, self%origin, cfg%dx, &
                       self%nx, pt%node(:, p), pt%phi(:, p), pt%grad(:, :, p))
-        if (minval(pt%node(:, p)) < 0 .or. maxval(pt%node(:, p)) >= self%nnodes) then
-          call new_error(err, status_invalid, 'grid', 'step '//int_text(self%nstep + 1)// &
-            ': particle '//int_text(p)//' at ('//real_text(pt%x(1, p))//', '// &
-            real_text(pt%x(2, p))//') m left the grid; enlarge &grid pad_cells')
-          return
+        if (minval(pt%node(:, p)) < self%glo .or. maxval(pt%node(:, p)) > self%ghi) then
+          if (minval(pt%node(:, p)) < 0 .or. maxval(pt%node(:, p)) >= self%nnodes) then
+            call new_error(err, status_invalid, 'grid', 'step '//int_text(self%nstep + 1)// &
+              ': particle '//int_text(pt%gid(p))//' at ('//real_text(pt%x(1, p))//', '// &
+              real_text(pt%x(2, p))//') m left the grid; enlarge &grid pad_cells')
+          else
+            call new_error(err, status_invalid, 'grid', 'step '//int_text(self%nstep + 1)// &
+              ': the domain of particle '//int_text(pt%gid(p))//' at ('// &
+              real_text(pt%x(1, p))//', '//real_text(pt%x(2, p))//') m reaches more than '// &
+              int_text(self%dec%ghost)//' node rows beyond its cell row (the ghost rows of '// &
+              'rank '//int_text(self%dec%rank)//'): stretched beyond what '// &
+              trim(shape_name(cfg%shape))//' supports on several ranks')
+          end if
+          exit
         end if
       end do
+      call sync_error(self, err)
+      if (allocated(err)) return
       ! --- P2G: mass, momentum, internal force (sigma - q I)
       self%gmass = 0.0_dp
       self%gmom = 0.0_dp
@@ -312,11 +392,22 @@ contains
           self%gforce(:, i) = self%gforce(:, i) - pt%vol(p)*matmul(sig, pt%grad(:, k, p))
         end do
       end do
-      ! --- grid update and boundaries
+      ! nodes shared with other ranks: the sums over every rank
+      if (self%dec%nnb > 0) then
+        allocate (sums(5, self%glo:self%ghi))
+        sums(1, :) = self%gmass
+        sums(2:3, :) = self%gmom
+        sums(4:5, :) = self%gforce
+        call sum_ghost_values(self%dec, self%comm, sums)
+        self%gmass = sums(1, :)
+        self%gmom = sums(2:3, :)
+        self%gforce = sums(4:5, :)
+      end if
+      ! --- grid update and boundaries, on every node of the patch
       vtop = cfg%top_velocity
       if (cfg%ramp_time > 0.0_dp) vtop = vtop*min(1.0_dp, (self%t + dt)/cfg%ramp_time)
-      mmin = 1.0e-9_dp*minval(pt%mass(1:n))
-      do i = 0, self%nnodes - 1
+      mmin = self%mass_floor
+      do i = self%glo, self%ghi
         if (self%gmass(i) > mmin) then
           self%gacc(:, i) = self%gforce(:, i)/self%gmass(i)
           self%gvel(:, i) = self%gmom(:, i)/self%gmass(i) + self%gacc(:, i)*dt
@@ -342,7 +433,8 @@ contains
           self%gmom(:, i) = self%gmom(:, i) + pt%phi(k, p)*pt%mass(p)*pt%v(:, p)
         end do
       end do
-      do i = 0, self%nnodes - 1
+      if (self%dec%nnb > 0) call sum_ghost_values(self%dec, self%comm, self%gmom)
+      do i = self%glo, self%ghi
         if (self%gmass(i) > mmin) then
           self%gvel(:, i) = self%gmom(:, i)/self%gmass(i)
         else
@@ -368,9 +460,9 @@ contains
                                 pt%defgrad(1, 2, p)*pt%defgrad(2, 1, p))
         if (.not. pt%vol(p) > 0.0_dp) then
           call new_error(err, status_cutback, 'time', 'step '//int_text(self%nstep + 1)// &
-            ': particle '//int_text(p)//' was turned inside out (det F <= 0); a smaller '// &
-            '&time cfl may help')
-          return
+            ': particle '//int_text(pt%gid(p))//' was turned inside out (det F <= 0); a '// &
+            'smaller &time cfl may help')
+          exit
         end if
         dkk = lg(1, 1) + lg(2, 2)
         rho = pt%mass(p)/pt%vol(p)
@@ -386,21 +478,22 @@ contains
         pt%stress(2, p) = s4(2) - 2.0_dp*dt*wspin*s4(4)
         pt%stress(4, p) = s4(4) + dt*wspin*(s4(2) - s4(1))
       end do
-      ! --- stress update: Algorithm 1 (one local pass when h_zeta = 0)
-      do p = 1, n
-        self%s0(:, p) = pt%stress(1:4, p)
-        self%sv0(:, p) = pt%statev(:, p)
-      end do
-      call system_clock(t1)
-      call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
-                          pt%phi(:, 1:n), err, log_unit)
-      call system_clock(t2)
-      self%ticks_umat = self%ticks_umat + (t2 - t1)
-      if (allocated(err)) then
-        err%message = 'step '//int_text(self%nstep + 1)//', t = '//real_text(self%t + dt)// &
-                      ' s: '//err%message
-        return
+      if (.not. allocated(err)) then
+        ! --- stress update: Algorithm 1 (one local pass when h_zeta = 0)
+        do p = 1, n
+          self%s0(:, p) = pt%stress(1:4, p)
+          self%sv0(:, p) = pt%statev(:, p)
+        end do
+        call system_clock(t1)
+        call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
+                            pt%phi(:, 1:n), err, log_unit)
+        call system_clock(t2)
+        self%ticks_umat = self%ticks_umat + (t2 - t1)
+        if (allocated(err)) err%message = 'step '//int_text(self%nstep + 1)//', t = '// &
+                                          real_text(self%t + dt)//' s: '//err%message
       end if
+      call sync_error(self, err)
+      if (allocated(err)) return
       do p = 1, n
         pt%stran(1:4, p) = pt%stran(1:4, p) + self%de(:, p)
       end do
@@ -429,6 +522,69 @@ contains
     end subroutine apply_bc
 
   end subroutine ps_advance
+
+  !> The name of shape family `kind`.
+  pure function shape_name(kind) result(name)
+    integer, intent(in) :: kind
+    character(len=6) :: name
+    name = shape2d_names(kind)
+  end function shape_name
+
+  !> Particles whose cell row another rank owns go there, with their
+  !> viscous pressure and material (collective); the workspace follows the
+  !> particles' capacity.
+  subroutine hand_off(self, err)
+    type(ps_scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: err
+    real(dp), allocatable :: extra(:, :)
+    integer :: n, cap, moved
+    n = self%parts%n
+    allocate (extra(2, size(self%parts%gid)))
+    extra(1, 1:n) = self%q(1:n)
+    extra(2, 1:n) = real(self%mat(1:n), dp)
+    call hand_off_particles_with(self%dec, self%comm, self%parts, extra, err, moved)
+    if (allocated(err)) return
+    self%moved = self%moved + moved
+    n = self%parts%n
+    cap = size(self%parts%gid)
+    if (size(self%q) < cap) then
+      deallocate (self%q, self%mat, self%s0, self%sv0, self%de)
+      allocate (self%q(cap), self%mat(cap), self%s0(4, cap), self%sv0(self%cfg%nstatv, cap), &
+                self%de(4, cap))
+    end if
+    self%q(1:n) = extra(1, 1:n)
+    self%mat(1:n) = nint(extra(2, 1:n))
+  end subroutine hand_off
+
+  !> Make an error on any rank an error on every rank (collective; nothing
+  !> on one rank): the lowest failing rank's status and message.
+  subroutine sync_error(self, err)
+    type(ps_scene_t), intent(in) :: self
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: first, head(2), k
+    integer, allocatable :: codes(:)
+    if (self%dec%nranks == 1) return
+    if (.not. allreduce_any(self%comm, allocated(err))) return
+    first = self%comm%size
+    if (allocated(err)) first = self%comm%rank
+    call allreduce_min(self%comm, first)
+    head = 0
+    if (self%comm%rank == first) head = [err%status, len(err%message)]
+    call broadcast(self%comm, head, first)
+    allocate (codes(head(2)))
+    if (self%comm%rank == first) codes = [(iachar(err%message(k:k)), k=1, head(2))]
+    call broadcast(self%comm, codes, first)
+    if (self%comm%rank /= first) then
+      if (allocated(err)) deallocate (err)
+      allocate (err)
+      err%status = head(1)
+      err%key = ''
+      allocate (character(len=head(2)) :: err%message)
+      do k = 1, head(2)
+        err%message(k:k) = achar(codes(k))
+      end do
+    end if
+  end subroutine sync_error
 
   !> The host side of Algorithm 1: particle p from its start-of-step copies
   !> with STATEV(3) = avg, through the UMAT (NTENS = 4); dlambda = STATEV(2).
@@ -522,13 +678,30 @@ contains
   !> equilibrium without body force, int sigma_yy dV = F_top * H, H the
   !> current height): -sum_p sigma_yy V_p / (width * (height + top_disp)).
   !> Robust to the boundary layer under a laterally fixed top and to the mesh.
-  pure real(dp) function ps_applied_stress(self) result(s)
+  !> Collective: the sum runs over every rank's particles.
+  real(dp) function ps_applied_stress(self) result(s)
     type(ps_scene_t), intent(in) :: self
     integer :: n
     n = self%parts%n
-    s = -sum(self%parts%stress(2, 1:n)*self%parts%vol(1:n))/ &
-        (self%cfg%width*(self%cfg%height + self%top_disp))
+    s = sum(self%parts%stress(2, 1:n)*self%parts%vol(1:n))
+    if (self%dec%nranks > 1) call allreduce_sum(self%comm, s)
+    s = -s/(self%cfg%width*(self%cfg%height + self%top_disp))
   end function ps_applied_stress
+
+  !> Plastic particles of the last step's Algorithm 1, over every rank
+  !> (collective).
+  integer function ps_plastic_count(self) result(count_all)
+    type(ps_scene_t), intent(in) :: self
+    count_all = self%nl%last%n_plastic
+    if (self%dec%nranks > 1) call allreduce_sum(self%comm, count_all)
+  end function ps_plastic_count
+
+  !> The largest UMAT cut-back split used so far on any rank (collective).
+  integer function ps_max_substeps(self) result(nsub)
+    type(ps_scene_t), intent(in) :: self
+    nsub = self%max_substeps
+    if (self%dec%nranks > 1) call allreduce_max(self%comm, nsub)
+  end function ps_max_substeps
 
   !> Magnitude of the plastic strain tensor ||eps^p|| of each particle
   !> (STATEV 5-10, engineering shears halved), as in fig. 4.2 and 4.4.
@@ -543,12 +716,164 @@ contains
     end do
   end function ps_plastic_strain
 
-  !> Kinetic energy of the particles (J per m of thickness).
-  pure real(dp) function ps_kinetic_energy(self) result(e)
+  !> Kinetic energy of the particles (J per m of thickness), over every
+  !> rank (collective).
+  real(dp) function ps_kinetic_energy(self) result(e)
     type(ps_scene_t), intent(in) :: self
     integer :: n
     n = self%parts%n
     e = 0.5_dp*sum(self%parts%mass(1:n)*(self%parts%v(1, 1:n)**2 + self%parts%v(2, 1:n)**2))
+    if (self%dec%nranks > 1) call allreduce_sum(self%comm, e)
   end function ps_kinetic_energy
+
+  !> Put the state of a running scene into `ckpt` (collective; `ckpt` is
+  !> filled on rank 0 only): time, step, time step, top displacement, the
+  !> run totals of Algorithm 1, and every particle (all fields but the
+  !> connectivity, rebuilt each step, with its viscous pressure and
+  !> material) in every rank's order, with the count each rank held. The
+  !> grid is rebuilt every step, so this is all the next step reads.
+  subroutine ps_save(self, ckpt)
+    type(ps_scene_t), intent(in) :: self
+    type(checkpoint_t), intent(inout) :: ckpt
+    real(dp), allocatable :: rec(:), recs(:)
+    integer, allocatable :: counts(:)
+    integer :: plen, reclen, p, nsub, moved
+    plen = particle_record_length(self%parts)
+    reclen = plen + 2
+    allocate (rec(reclen*self%parts%n))
+    do p = 1, self%parts%n
+      call pack_particle(self%parts, p, rec((p - 1)*reclen + 1:(p - 1)*reclen + plen))
+      rec((p - 1)*reclen + plen + 1) = self%q(p)
+      rec(p*reclen) = real(self%mat(p), dp)
+    end do
+    call gatherv_real(self%comm, rec, recs, 0, counts)
+    nsub = ps_max_substeps(self)
+    moved = self%moved
+    if (self%dec%nranks > 1) call allreduce_sum(self%comm, moved)
+    if (self%comm%rank /= 0) return
+    call ckpt%put('ps/layout', [ps_layout_version, self%parts%ndim, self%parts%nsup, &
+                                self%parts%nstatv, self%ntotal, self%comm%size, reclen])
+    call ckpt%put('ps/counts', counts/reclen)
+    call ckpt%put('ps/particles', recs)
+    call ckpt%put('ps/scalars', [self%t, self%dt, self%top_disp, self%cfg%dx])
+    call ckpt%put('ps/steps', [self%nstep, nsub, moved])
+    call ckpt%put('ps/nonlocal', [self%nl%steps_iterated, self%nl%iterations_total, &
+                                  self%nl%iterations_max, merge(1, 0, self%nl%warned_sharp), &
+                                  merge(1, 0, self%nl%warned_seed)])
+  end subroutine ps_save
+
+  !> Continue `self`, freshly built by new_ps_scene from the deck of the run
+  !> that wrote `ckpt` (every rank holds the whole checkpoint). Saved on as
+  !> many ranks as now: every rank takes back its particles in their order,
+  !> and the run continues bit for bit. Saved on another number: every rank
+  !> takes the particles of its cell rows in global-id order (the
+  !> continuation then differs by the order of nodal additions only). A
+  !> checkpoint of another layout, cell size or time step is refused.
+  subroutine ps_restore(self, ckpt, err)
+    type(ps_scene_t), intent(inout) :: self
+    type(checkpoint_t), intent(in) :: ckpt
+    type(error_t), allocatable, intent(out) :: err
+    integer, allocatable :: layout(:), counts(:), steps(:), nl(:), order(:)
+    real(dp), allocatable :: recs(:), sc(:)
+    integer :: plen, reclen, nsaved, first, p, m, g, cap, k
+    call ckpt%get('ps/layout', layout, err)
+    if (allocated(err)) return
+    plen = particle_record_length(self%parts)
+    if (size(layout) /= 7) then
+      call bad('its plane-strain layout entry is garbled'); return
+    end if
+    if (layout(1) /= ps_layout_version) then
+      call bad('plane-strain checkpoint layout '//int_text(layout(1))//', this program '// &
+               'reads '//int_text(ps_layout_version)); return
+    end if
+    if (layout(2) /= self%parts%ndim .or. layout(3) /= self%parts%nsup .or. &
+        layout(4) /= self%parts%nstatv .or. layout(5) /= self%ntotal .or. &
+        layout(7) /= plen + 2) then
+      call bad('it holds '//int_text(layout(5))//' particles with nsup, nstatv = '// &
+               int_text(layout(3))//', '//int_text(layout(4))//'; this deck gives '// &
+               int_text(self%ntotal)//', '//int_text(self%parts%nsup)//', '// &
+               int_text(self%parts%nstatv)//' (another deck?)'); return
+    end if
+    reclen = layout(7)
+    nsaved = layout(6)
+    call ckpt%get('ps/scalars', sc, err); if (allocated(err)) return
+    if (size(sc) /= 4) then
+      call bad('its scalars entry is garbled'); return
+    end if
+    if (sc(4) /= self%cfg%dx .or. sc(2) /= self%dt) then
+      call bad('it was written with dx = '//real_text(sc(4))//' m and dt = '// &
+               real_text(sc(2))//' s; this deck gives '//real_text(self%cfg%dx)//' m and '// &
+               real_text(self%dt)//' s: restart with the deck (and overrides) of the '// &
+               'interrupted run'); return
+    end if
+    call ckpt%get('ps/counts', counts, err); if (allocated(err)) return
+    call ckpt%get('ps/particles', recs, err); if (allocated(err)) return
+    call ckpt%get('ps/steps', steps, err); if (allocated(err)) return
+    call ckpt%get('ps/nonlocal', nl, err); if (allocated(err)) return
+    if (size(counts) /= nsaved .or. sum(counts) /= self%ntotal .or. &
+        size(recs) /= reclen*self%ntotal .or. size(steps) /= 3 .or. size(nl) /= 5) then
+      call bad('its particle entries do not match its layout'); return
+    end if
+    ! which saved records this rank takes, in which order
+    if (nsaved == self%comm%size) then
+      first = sum(counts(1:self%comm%rank))
+      order = [(first + p, p=1, counts(self%comm%rank + 1))]
+    else
+      allocate (order(self%ntotal))
+      order = 0
+      do p = 1, self%ntotal
+        g = nint(recs((p - 1)*reclen + 1))
+        if (g < 1 .or. g > self%ntotal) then
+          call bad('its particle ids are not 1 .. '//int_text(self%ntotal)); return
+        end if
+        order(g) = p
+      end do
+      m = 0
+      do k = 1, self%ntotal
+        p = order(k)
+        if (p == 0) then
+          call bad('its particle ids are not 1 .. '//int_text(self%ntotal)); return
+        end if
+        if (owner_of_position(self%dec, recs((p - 1)*reclen + 1 + self%parts%ndim + self%dec%axis)) &
+            /= self%dec%rank) cycle
+        m = m + 1
+        order(m) = p
+      end do
+      order = order(1:m)
+    end if
+    m = size(order)
+    self%parts%n = 0
+    call ensure_capacity(self%parts, m)
+    cap = size(self%parts%gid)
+    if (size(self%q) < cap) then
+      deallocate (self%q, self%mat, self%s0, self%sv0, self%de)
+      allocate (self%q(cap), self%mat(cap), self%s0(4, cap), self%sv0(self%cfg%nstatv, cap), &
+                self%de(4, cap))
+    end if
+    do k = 1, m
+      p = order(k)
+      call unpack_particle(self%parts, k, recs((p - 1)*reclen + 1:(p - 1)*reclen + plen))
+      self%q(k) = recs((p - 1)*reclen + plen + 1)
+      self%mat(k) = nint(recs(p*reclen))
+    end do
+    self%parts%n = m
+    self%t = sc(1)
+    self%top_disp = sc(3)
+    self%nstep = steps(1)
+    self%max_substeps = steps(2)
+    self%moved = 0
+    if (self%comm%rank == 0) self%moved = steps(3)
+    self%nl%steps_iterated = nl(1)
+    self%nl%iterations_total = nl(2)
+    self%nl%iterations_max = nl(3)
+    self%nl%warned_sharp = nl(4) == 1
+    self%nl%warned_seed = nl(5) == 1
+  contains
+    subroutine bad(why)
+      character(len=*), intent(in) :: why
+      call new_error(err, status_invalid, 'checkpoint', 'the checkpoint cannot continue this '// &
+                     'scene: '//why)
+    end subroutine bad
+  end subroutine ps_restore
 
 end module wellposed_mpm_plane_strain
