@@ -1,0 +1,100 @@
+#!/usr/bin/env python3
+"""Serial = parallel for wellposed-mpm2d (issue 7).
+
+check_ranks_2d.py --program wellposed-mpm2d --deck DECK --out DIR
+                  [--launcher "mpirun --oversubscribe"] [--np-flag -np]
+                  [--ranks 2 4] [--tolerance 1e-12] [--min-handed 1] -- [ARGS]
+
+Runs DECK serially (no launcher) into DIR/np1, then under the launcher on
+each rank count into DIR/np<N>, and compares every run.h5 dataset with the
+serial one: the largest difference relative to the dataset's largest
+magnitude must stay within the tolerance (summation order of the nodal sums
+is the only difference). Also: the same datasets, the same summary.txt lines
+but for wall times and the figures computed from the stress curve (compared
+with the same tolerance), and at least --min-handed particles handed between
+ranks, as the program reports, so the run did cross rank boundaries.
+Exit status 0 when all hold.
+"""
+import argparse, os, re, shlex, subprocess, sys
+import h5py, numpy as np
+
+ap = argparse.ArgumentParser()
+ap.add_argument('--program', required=True)
+ap.add_argument('--deck', required=True)
+ap.add_argument('--out', required=True)
+ap.add_argument('--launcher', default='')
+ap.add_argument('--np-flag', default='-np')
+ap.add_argument('--ranks', type=int, nargs='+', default=[2, 4])
+ap.add_argument('--tolerance', type=float, default=1e-12)
+ap.add_argument('--min-handed', type=int, default=1)
+ap.add_argument('args', nargs='*')
+a = ap.parse_args()
+common = ['--no-plot', '--checkpoint-every', '0', a.deck] + a.args
+name = re.search(r"name\s*=\s*'([^']+)'", open(a.deck).read()).group(1)
+
+
+def run(cmd):
+    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    if r.returncode != 0:
+        sys.exit('FAIL: %s exited %d\n%s' % (' '.join(cmd), r.returncode, r.stdout[-3000:]))
+    return r.stdout
+
+
+def summary(d):
+    out = {}
+    with open(os.path.join(d, name, 'summary.txt')) as f:
+        for line in f:
+            key, _, value = line.partition(' = ')
+            out[key] = value.split('  #')[0].strip()
+    return out
+
+
+subprocess.run(['rm', '-rf', a.out])
+ref = os.path.join(a.out, 'np1')
+run([a.program, '--out', ref] + common)
+fa = h5py.File(os.path.join(ref, name, 'run.h5'))
+names = []
+fa.visit(lambda n: names.append(n) if isinstance(fa[n], h5py.Dataset) else None)
+sa = summary(ref)
+failed = False
+for np_ in a.ranks:
+    d = os.path.join(a.out, 'np%d' % np_)
+    text = run(shlex.split(a.launcher) + [a.np_flag, str(np_), a.program, '--out', d] + common)
+    handed = sum(int(m) for m in re.findall(r'particles handed between ranks: (\d+)', text))
+    fb = h5py.File(os.path.join(d, name, 'run.h5'))
+    bad, worst = [], (0.0, '')
+    for n in names:
+        if n not in fb:
+            bad.append(n + ' (missing)')
+            continue
+        x, y = fa[n][()], fb[n][()]
+        if x.shape != y.shape:
+            bad.append(n + ' (shape)')
+            continue
+        if x.size == 0:
+            continue
+        s = float(np.max(np.abs(x)))
+        r = float(np.max(np.abs(x - y))) / s if s > 0 else float(np.max(np.abs(y)))
+        if r > worst[0]:
+            worst = (r, n)
+        if not r <= a.tolerance:
+            bad.append('%s (%.2e)' % (n, r))
+    sb = summary(d)
+    for key, value in sa.items():
+        if key.endswith(('wall_time', 'ns_per_particle_step')):
+            continue
+        other = sb.get(key)
+        try:
+            u, v = float(value), float(other)
+            same = abs(u - v) <= a.tolerance * max(abs(u), abs(v), 1e-300)
+        except (TypeError, ValueError):
+            same = value == other
+        if not same:
+            bad.append('summary %s: %s against %s' % (key, value, other))
+    if handed < a.min_handed:
+        bad.append('only %d particles handed between ranks' % handed)
+    print('%d ranks: %d datasets, worst relative difference %.2e (%s), %d particles handed; %s'
+          % (np_, len(names), worst[0], worst[1], handed, 'equal' if not bad else
+             'differ: ' + ', '.join(bad)))
+    failed = failed or bool(bad)
+sys.exit(1 if failed else 0)
