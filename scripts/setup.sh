@@ -11,12 +11,18 @@
 
 WELLPOSED_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 WELLPOSED_BUILD="${WELLPOSED_ROOT}/build"
+# Both HDF5 flavours: the build links the Open MPI one (CMake finds it
+# through its wrapper h5pfc, which the Debian alternatives point at
+# h5pfc.openmpi) so that many ranks write one file; the serial one is what
+# python3-h5py-serial (the plots' h5py, named so apt never picks
+# python3-h5py-mpi) reads the files with, and what a build with
+# WELLPOSED_WITH_MPI=OFF uses.
 WELLPOSED_PACKAGES=(
   gfortran cmake make
   liblapack-dev libblas-dev
-  libhdf5-dev
+  libhdf5-dev libhdf5-openmpi-dev
   libopenmpi-dev openmpi-bin
-  python3 python3-matplotlib python3-h5py
+  python3 python3-matplotlib python3-h5py python3-h5py-serial
 )
 
 wellposed_setup() {

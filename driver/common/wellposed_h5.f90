@@ -1,4 +1,6 @@
-!> HDF5 output of the drivers: the only module that uses HDF5. A file is
+!> HDF5 output of the drivers, one process writing (the HDF5 adapter is this
+!> module, wellposed_h5_read for reading back, and wellposed_h5_parallel,
+!> with wellposed_h5_mpio, for one file written by many ranks). A file is
 !> written under a temporary name (`<path>.tmp.<pid>`) and renamed to `path`
 !> by `close`, so a crashed run never leaves a file that looks complete.
 !> Dataset names may contain '/' (groups are created as needed). A 2-D
@@ -39,13 +41,17 @@ contains
     class(h5_file_t), intent(inout) :: self
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(out) :: err
-    integer :: hdferr
+    integer :: hdferr, e2
     self%path = path
     self%tmp = path//'.tmp.'//int_text(process_id())
     if (allocated(self%failure)) deallocate (self%failure)
     call h5open_f(hdferr)
+    ! Failures are reported in one sentence (here, or by close); HDF5's own
+    ! error stack is not printed while the file is open.
+    if (hdferr == 0) call h5eset_auto_f(0, hdferr)
     if (hdferr == 0) call h5fcreate_f(self%tmp, H5F_ACC_TRUNC_F, self%id, hdferr)
     if (hdferr /= 0) then
+      call h5eset_auto_f(1, e2)
       call new_error(err, status_invalid, path, 'cannot create the HDF5 file "'//self%tmp//'"')
       return
     end if
@@ -119,6 +125,7 @@ contains
     call make_groups(self, name)
     ! HDF5's Fortran API reverses the dimensions; store the transpose so
     ! that row-major readers see a(i, j) at [i-1, j-1].
+    allocate (t(size(data, 2), size(data, 1)))
     t = transpose(data)
     dims = int(shape(t), hsize_t)
     call h5screate_simple_f(2, dims, space, hdferr)
@@ -206,13 +213,14 @@ contains
   subroutine h5_close(self, err)
     class(h5_file_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
-    integer :: hdferr
+    integer :: hdferr, e2
     logical :: removed
     if (.not. self%is_open) then
       call new_error(err, status_invalid, 'h5', 'close of an HDF5 file that is not open')
       return
     end if
     call h5fclose_f(self%id, hdferr)
+    call h5eset_auto_f(1, e2)
     self%is_open = .false.
     if (hdferr /= 0) call fail(self, 'cannot close '//self%tmp, hdferr)
     if (allocated(self%failure)) then

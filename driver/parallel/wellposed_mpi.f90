@@ -16,7 +16,7 @@ module wellposed_mpi
   public :: comm_t, comm_start, comm_stop, comm_abort, comm_self, mpi_available
   public :: barrier, allreduce_sum, allreduce_min, allreduce_max, allreduce_any, &
             broadcast, alltoall_counts, alltoallv_real, gatherv_real, gatherv_int, &
-            sendrecv_real
+            sendrecv_real, exscan_sum, alltoallv_int, legacy_handles
 
   !> True in the MPI build (false in wellposed_mpi_serial).
   logical, parameter :: mpi_available = .true.
@@ -42,7 +42,7 @@ module wellposed_mpi
   end interface allreduce_max
   !> Broadcast from `root` to every rank, in place.
   interface broadcast
-    module procedure bcast_r1, bcast_i1, bcast_i0, bcast_l0
+    module procedure bcast_r1, bcast_i1, bcast_i0, bcast_l0, bcast_text
   end interface broadcast
 
 contains
@@ -279,5 +279,53 @@ contains
     call MPI_Sendrecv(send, size(send), MPI_DOUBLE_PRECISION, dest, tag, recv, size(recv), &
                       MPI_DOUBLE_PRECISION, source, tag, comm%handle, MPI_STATUS_IGNORE)
   end subroutine sendrecv_real
+
+  !> Exclusive prefix sum: the sum of `x` over the ranks below this one
+  !> (0 on rank 0), e.g. the first row of this rank's block in a file.
+  integer function exscan_sum(comm, x) result(below)
+    type(comm_t), intent(in) :: comm
+    integer, intent(in) :: x
+    integer :: y(1)
+    y = 0
+    call MPI_Exscan([x], y, 1, MPI_INTEGER, MPI_SUM, comm%handle)
+    below = 0
+    if (comm%rank > 0) below = y(1)   ! MPI leaves rank 0's result undefined
+  end function exscan_sum
+
+  !> Broadcast a text of any length from `root` (reallocated elsewhere).
+  subroutine bcast_text(comm, text, root)
+    type(comm_t), intent(in) :: comm
+    character(len=:), allocatable, intent(inout) :: text
+    integer, intent(in) :: root
+    integer :: n(1)
+    n = 0
+    if (comm%rank == root) n = len(text)
+    call MPI_Bcast(n, 1, MPI_INTEGER, root, comm%handle)
+    if (comm%rank /= root) then
+      if (allocated(text)) deallocate (text)
+      allocate (character(len=n(1)) :: text)
+    end if
+    if (n(1) > 0) call MPI_Bcast(text, n(1), MPI_CHARACTER, root, comm%handle)
+  end subroutine bcast_text
+
+  !> `alltoallv_real` for default integers.
+  subroutine alltoallv_int(comm, send, scount, sdispl, recv, rcount, rdispl)
+    type(comm_t), intent(in) :: comm
+    integer, intent(in) :: send(:)
+    integer, intent(in) :: scount(0:), sdispl(0:), rcount(0:), rdispl(0:)
+    integer, intent(inout) :: recv(:)
+    call MPI_Alltoallv(send, scount, sdispl, MPI_INTEGER, recv, rcount, rdispl, &
+                       MPI_INTEGER, comm%handle)
+  end subroutine alltoallv_int
+
+  !> The communicator and MPI_INFO_NULL as integer handles of the older
+  !> Fortran binding (`use mpi`), for libraries that take those (HDF5's
+  !> h5pset_fapl_mpio_f). Not collective.
+  subroutine legacy_handles(comm, comm_f, info_f)
+    type(comm_t), intent(in) :: comm
+    integer, intent(out) :: comm_f, info_f
+    comm_f = comm%handle%MPI_VAL
+    info_f = MPI_INFO_NULL%MPI_VAL
+  end subroutine legacy_handles
 
 end module wellposed_mpi

@@ -10,7 +10,7 @@ module wellposed_mpi
   public :: comm_t, comm_start, comm_stop, comm_abort, comm_self, mpi_available
   public :: barrier, allreduce_sum, allreduce_min, allreduce_max, allreduce_any, &
             broadcast, alltoall_counts, alltoallv_real, gatherv_real, gatherv_int, &
-            sendrecv_real
+            sendrecv_real, exscan_sum, alltoallv_int, legacy_handles
 
   !> False: this build has no MPI.
   logical, parameter :: mpi_available = .false.
@@ -32,7 +32,7 @@ module wellposed_mpi
     module procedure keep_r0, keep_i0
   end interface allreduce_max
   interface broadcast
-    module procedure bkeep_r1, bkeep_i1, bkeep_i0, bkeep_l0
+    module procedure bkeep_r1, bkeep_i1, bkeep_i0, bkeep_l0, bkeep_text
   end interface broadcast
 
 contains
@@ -178,5 +178,38 @@ contains
       error stop 'sendrecv_real: one rank only'
     recv(1:size(send)) = send
   end subroutine sendrecv_real
+
+  !> Nothing below rank 0.
+  integer function exscan_sum(comm, x) result(below)
+    type(comm_t), intent(in) :: comm
+    integer, intent(in) :: x
+    below = 0
+    if (comm%size /= 1) below = x
+  end function exscan_sum
+
+  subroutine bkeep_text(comm, text, root)
+    type(comm_t), intent(in) :: comm
+    character(len=:), allocatable, intent(inout) :: text
+    integer, intent(in) :: root
+    if (comm%size /= 1 .or. root /= 0) text = text
+  end subroutine bkeep_text
+
+  subroutine alltoallv_int(comm, send, scount, sdispl, recv, rcount, rdispl)
+    type(comm_t), intent(in) :: comm
+    integer, intent(in) :: send(:)
+    integer, intent(in) :: scount(0:), sdispl(0:), rcount(0:), rdispl(0:)
+    integer, intent(inout) :: recv(:)
+    if (comm%size /= 1 .or. rcount(0) /= scount(0)) error stop 'alltoallv_int: counts'
+    recv(rdispl(0) + 1:rdispl(0) + rcount(0)) = send(sdispl(0) + 1:sdispl(0) + scount(0))
+  end subroutine alltoallv_int
+
+  !> No MPI: both handles are 0.
+  subroutine legacy_handles(comm, comm_f, info_f)
+    type(comm_t), intent(in) :: comm
+    integer, intent(out) :: comm_f, info_f
+    comm_f = 0
+    info_f = 0
+    if (comm%size /= 1) comm_f = -1
+  end subroutine legacy_handles
 
 end module wellposed_mpi
