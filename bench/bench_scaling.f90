@@ -1,0 +1,183 @@
+!> bench_scaling: strong and weak scaling of the plane-strain MPM over
+!> ranks (issue 7) and the cost of a checkpoint, measured in one run:
+!>
+!>   mpirun -np 2 bench_scaling [CHECKPOINT_DIR]
+!>
+!> Scene: the 4 m x 5 m plate in CPDI, 2 x 2 particles per cell at
+!> h = 0.02 m (200 000 particles), von Mises with k0 = 40 MPa, free edges and
+!> an initial pure shear v = (-100 x, 100 y) 1/s, so that every particle is
+!> plastic after a few steps and the work is even over the plate (a loaded
+!> top would leave one strip elastic and measure load balance, not
+!> scaling). Each phase builds its scene, runs `nwarm` steps and times
+!> `nsteps` more (the slowest rank's time):
+!>   S1  200 000 particles on rank 0 alone (the other rank waits);
+!>   W1  the lower half, 4 m x 2.5 m, 100 000 particles, on rank 0 alone;
+!>   P   200 000 particles on all ranks (100 000 per rank on 2).
+!> Strong efficiency T(S1) / (N T(P)); weak efficiency T(W1) / T(P) (on 2
+!> ranks each holds the particles of W1). Then the checkpoint of P (and of
+!> S1): ps_save (gather to rank 0) + write_checkpoint (HDF5 through a
+!> temporary name, rename, keep two), as time and as a share of a step.
+!> Prints measures and ratios (target: strong >= 85 % on 2 ranks); never a
+!> pass/fail on wall time. On one rank only S1, W1 and the checkpoint run.
+program bench_scaling
+  use, intrinsic :: iso_fortran_env, only: output_unit, int64
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t
+  use wellposed_mpi, only: comm_t, comm_start, comm_stop, comm_self, barrier, allreduce_max
+  use wellposed_mpm_plane_strain, only: ps_config_t, ps_scene_t, new_ps_scene, ps_advance, &
+                                        ps_save, bc_free2, ps_plastic_count
+  use wellposed_mpm_shape_2d, only: shape2d_cpdi
+  use wellposed_checkpoint, only: checkpoint_t, write_checkpoint
+  use wellposed_fs, only: remove_tree
+  implicit none
+  integer, parameter :: nwarm = 25, nsteps = 25, nwrites = 2
+  type(comm_t) :: world
+  type(error_t), allocatable :: err
+  character(len=:), allocatable :: ckdir
+  character(len=512) :: arg
+  real(dp) :: t_s1, t_w1, t_p, ck_p, ck_s1, mb_p
+  integer :: np_s1, np_w1, np_p, pl_p
+
+  call comm_start(world, err)
+  if (allocated(err)) error stop 'bench_scaling: MPI did not start'
+  ckdir = 'bench_scaling.checkpoints'
+  if (command_argument_count() >= 1) then
+    call get_command_argument(1, arg)
+    ckdir = trim(arg)
+  end if
+  if (world%rank == 0) then
+    write (output_unit, '(a)') 'bench_scaling: plane-strain plate, CPDI, h = 0.02 m, 2 x 2 '// &
+      'particles per cell, plastic von Mises, '//itoa(world%size)//' rank(s), '// &
+      itoa(nsteps)//' timed steps after '//itoa(nwarm)
+    flush (output_unit)
+  end if
+
+  ! S1 and W1: rank 0 alone; the others wait
+  t_s1 = 0.0_dp
+  t_w1 = 0.0_dp
+  ck_s1 = 0.0_dp
+  np_s1 = 0
+  np_w1 = 0
+  if (world%rank == 0) then
+    call phase(comm_self(), 5.0_dp, t_s1, np_s1, ck_s1, mb_p)
+    write (output_unit, '(a,i0,a,f9.4,a,f8.1,a)') '  S1  1 rank : ', np_s1, &
+      ' particles, ', t_s1, ' s/step, ', t_s1*1.0e9_dp/np_s1, ' ns/particle-step'
+    flush (output_unit)
+    call phase(comm_self(), 2.5_dp, t_w1, np_w1)
+    write (output_unit, '(a,i0,a,f9.4,a,f8.1,a)') '  W1  1 rank : ', np_w1, &
+      ' particles, ', t_w1, ' s/step, ', t_w1*1.0e9_dp/np_w1, ' ns/particle-step'
+    flush (output_unit)
+  end if
+  call barrier(world)
+  if (world%size > 1) then
+    call phase(world, 5.0_dp, t_p, np_p, ck_p, mb_p, pl_p)
+    if (world%rank == 0) then
+      write (output_unit, '(a,i0,a,i0,a,f9.4,a,i0,a)') '  P   ', world%size, ' ranks: ', &
+        np_p, ' particles, ', t_p, ' s/step (', pl_p, ' plastic)'
+      write (output_unit, '(a,f6.1,a,f6.2,a)') '  strong scaling 1 -> '//itoa(world%size)// &
+        ' ranks: efficiency ', 100.0_dp*t_s1/(world%size*t_p), ' % (speed-up ', &
+        t_s1/t_p, '; target >= 85 %)'
+      write (output_unit, '(a,f6.1,a)') '  weak scaling ('//itoa(np_w1)//' particles per '// &
+        'rank): efficiency ', 100.0_dp*t_w1/t_p, ' %'
+      write (output_unit, '(a,f8.4,a,f6.2,a,f7.1,a,f6.3,a)') '  checkpoint on '// &
+        itoa(world%size)//' ranks: ', ck_p, ' s = ', ck_p/t_p, ' steps (', mb_p, &
+        ' MB); every 1000 steps: ', 100.0_dp*ck_p/(1000.0_dp*t_p), ' % of the run'
+    end if
+  end if
+  if (world%rank == 0) then
+    write (output_unit, '(a,f8.4,a,f6.2,a,f6.3,a)') '  checkpoint on 1 rank : ', ck_s1, &
+      ' s = ', ck_s1/t_s1, ' steps; every 1000 steps: ', 100.0_dp*ck_s1/(1000.0_dp*t_s1), &
+      ' % of the run'
+    call remove_tree(ckdir, err)
+  end if
+  call comm_stop(world)
+
+contains
+
+  !> Build the plate of height `height` on `comm`, warm up, time nsteps
+  !> steps (s per step, slowest rank); optionally time nwrites checkpoints.
+  subroutine phase(comm, height, t_step, ntotal, t_ckpt, mbytes, nplastic)
+    type(comm_t), intent(in) :: comm
+    real(dp), intent(in) :: height
+    real(dp), intent(out) :: t_step
+    integer, intent(out) :: ntotal
+    real(dp), intent(out), optional :: t_ckpt, mbytes
+    integer, intent(out), optional :: nplastic
+    type(ps_scene_t) :: sc
+    type(checkpoint_t) :: ck
+    type(error_t), allocatable :: e
+    character(len=:), allocatable :: path
+    integer(int64) :: c0, c1, rate, bytes
+    integer :: k
+    call new_ps_scene(sc, plate(height), e, comm)
+    if (allocated(e)) error stop 'bench_scaling: the scene was refused'
+    ntotal = sc%ntotal
+    do k = 1, nwarm
+      call ps_advance(sc, e)
+      if (allocated(e)) error stop 'bench_scaling: a warm-up step failed'
+    end do
+    call barrier(comm)
+    call system_clock(c0, rate)
+    do k = 1, nsteps
+      call ps_advance(sc, e)
+      if (allocated(e)) error stop 'bench_scaling: a step failed'
+    end do
+    call system_clock(c1)
+    t_step = real(c1 - c0, dp)/rate/nsteps
+    call allreduce_max(comm, t_step)
+    if (present(nplastic)) nplastic = ps_plastic_count(sc)
+    if (.not. present(t_ckpt)) return
+    call barrier(comm)
+    call system_clock(c0)
+    do k = 1, nwrites
+      ck = checkpoint_t()
+      call ps_save(sc, ck)
+      if (comm%rank == 0) then
+        call write_checkpoint(ck, ckdir, sc%nstep + k, 2, path, e)
+        if (allocated(e)) error stop 'bench_scaling: the checkpoint was not written'
+      end if
+      call barrier(comm)
+    end do
+    call system_clock(c1)
+    t_ckpt = real(c1 - c0, dp)/rate/nwrites
+    call allreduce_max(comm, t_ckpt)
+    if (present(mbytes)) then
+      mbytes = 0.0_dp
+      if (comm%rank == 0) then
+        inquire (file=path, size=bytes)
+        mbytes = real(bytes, dp)/1.0e6_dp
+      end if
+    end if
+  end subroutine phase
+
+  !> The plate: 4 m wide, `height` m high, h = 0.02 m, CPDI, von Mises
+  !> (k0 = 40 MPa, no hardening), free edges, initial pure shear.
+  function plate(height) result(c)
+    real(dp), intent(in) :: height
+    type(ps_config_t) :: c
+    c = ps_config_t()
+    c%name = 'bench_scaling'
+    c%title = 'scaling plate'
+    c%width = 4.0_dp
+    c%height = height
+    c%dx = 0.02_dp
+    c%shape = shape2d_cpdi
+    c%props = 0.0_dp
+    c%props(1:5) = [76.0e9_dp, 26.0e9_dp, 0.0_dp, 0.0_dp, 40.0e6_dp]
+    c%props(14) = 1.0_dp
+    c%nprops = 14
+    c%bottom = bc_free2
+    c%top = bc_free2
+    c%velocity_gradient0 = reshape([-100.0_dp, 0.0_dp, 0.0_dp, 100.0_dp], [2, 2])
+    c%t_end = 1.0_dp
+  end function plate
+
+  function itoa(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=16) :: b
+    write (b, '(i0)') i
+    s = trim(b)
+  end function itoa
+
+end program bench_scaling
