@@ -11,7 +11,10 @@
 !>             tau, h_zeta, L (Pa, s, m; PROPS 1-13 of the UMAT contract)
 !>             OR props = <list> (any user's UMAT, passed as given)
 !>   &initial  stress (6 values, Pa, Abaqus order, tension +), velocity (m/s)
-!>   &load     base, peak (Pa), duration, start (s), pulse ('triangle'|'cosine')
+!>   &load     base, peak (Pa), duration, start (s), pulse ('triangle'|'cosine'|
+!>             'ramp_sine'); ramp_sine only: rate (Pa/s), amplitude (Pa),
+!>             frequency (Hz), required, with |amplitude| 2 pi frequency < |rate|
+!>             (the surface never unloads); peak and duration are not used
 !>   &stations first (m), spacing (m), count
 !>   &output   sample_dt (s), snapshot_dt (s), progress, plot
 !>   &nonlocal scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
@@ -24,7 +27,7 @@ module wellposed_mpm_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: read_text_file, namelist_error, check_range, check_finite, &
-                            unset, is_set, has_group
+                            unset, is_set, has_group, real_str
   use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
                                    prop_h, prop_k_lim, prop_z_ref, prop_p_v, prop_p_d, &
                                    prop_tau, prop_h_zeta, prop_length, prop_explicit
@@ -60,7 +63,7 @@ contains
     real(dp) :: props(max_props)
     integer :: nstatv
     real(dp) :: stress(6), velocity
-    real(dp) :: base, peak, duration, start
+    real(dp) :: base, peak, duration, start, rate, amplitude, frequency
     integer :: count
     real(dp) :: first, spacing
     real(dp) :: sample_dt, snapshot_dt
@@ -71,7 +74,7 @@ contains
     namelist /material/ density, k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, &
       h_zeta, l, props, nstatv
     namelist /initial/ stress, velocity
-    namelist /load/ base, peak, duration, start, pulse
+    namelist /load/ base, peak, duration, start, pulse, rate, amplitude, frequency
     namelist /stations/ first, spacing, count
     namelist /output/ sample_dt, snapshot_dt, progress, plot
     character(len=16) :: pulse
@@ -93,6 +96,7 @@ contains
     stress = cfg%stress0; velocity = cfg%velocity0
     base = cfg%load_base; peak = cfg%load_peak; duration = cfg%load_duration
     start = cfg%load_start
+    rate = unset; amplitude = unset; frequency = unset
     first = cfg%station_first; spacing = cfg%station_spacing; count = cfg%nstations
     sample_dt = cfg%sample_dt; snapshot_dt = cfg%snapshot_dt
     progress = .true.; plot = .true.
@@ -220,6 +224,7 @@ contains
     call check_finite(path, 'initial', 'stress', stress, err); if (allocated(err)) return
     cfg%load_base = base; cfg%load_peak = peak; cfg%load_duration = duration
     cfg%load_start = start
+    call ramp_sine_keys(); if (allocated(err)) return
     cfg%station_first = first; cfg%station_spacing = spacing; cfg%nstations = count
     call check_range(path, 'stations', 'count', count, 0, 1000, err)
     if (allocated(err)) return
@@ -233,6 +238,54 @@ contains
     end if
 
   contains
+
+    !> The keys of pulse = 'ramp_sine' (eq. of wellposed_mpm_loads): all
+    !> three given and finite, frequency > 0, and |amplitude| 2 pi frequency
+    !> < |rate| so that the surface stress rate never changes sign (a
+    !> reversal would unload the material elastically and the measured
+    !> speed would no longer be the linearised loading one). With another
+    !> pulse the keys are refused rather than silently ignored.
+    subroutine ramp_sine_keys()
+      character(len=*), parameter :: keys(3) = [character(len=9) :: 'rate', 'amplitude', &
+                                                'frequency']
+      real(dp) :: values(3)
+      integer :: j
+      real(dp), parameter :: two_pi = 6.28318530717958647692_dp
+      values = [rate, amplitude, frequency]
+      if (cfg%pulse /= pulse_ramp_sine) then
+        do j = 1, 3
+          if (is_set(values(j))) then
+            call new_error(err, status_invalid, trim(keys(j)), path//': &load: '// &
+              trim(keys(j))//" is used only by pulse = 'ramp_sine' (pulse is '"// &
+              trim(pulse_names(cfg%pulse))//"')")
+            return
+          end if
+        end do
+        return
+      end if
+      do j = 1, 3
+        if (.not. is_set(values(j))) then
+          call new_error(err, status_invalid, trim(keys(j)), path//': &load: key '// &
+            trim(keys(j))//" is required with pulse = 'ramp_sine'")
+          return
+        end if
+        call check_finite(path, 'load', trim(keys(j)), values(j), err)
+        if (allocated(err)) return
+      end do
+      if (.not. frequency > 0.0_dp) then
+        call new_error(err, status_invalid, 'frequency', path//': &load: frequency = '// &
+          real_str(frequency)//' must be > 0 Hz'); return
+      end if
+      if (.not. two_pi*frequency*abs(amplitude) < abs(rate)) then
+        call new_error(err, status_invalid, 'amplitude', path//': &load: amplitude = '// &
+          real_str(amplitude)//' Pa at frequency = '//real_str(frequency)//' Hz changes '// &
+          'the surface stress at up to 2 pi frequency |amplitude| = '// &
+          real_str(two_pi*frequency*abs(amplitude))//' Pa/s, which must stay below |rate| '// &
+          '= '//real_str(abs(rate))//" Pa/s: with pulse = 'ramp_sine' the surface must "// &
+          'never unload'); return
+      end if
+      cfg%load_rate = rate; cfg%load_amplitude = amplitude; cfg%load_frequency = frequency
+    end subroutine ramp_sine_keys
 
     subroutine nml_fail(grp)
       character(len=*), intent(in) :: grp

@@ -9,7 +9,7 @@ module wellposed_mpm_config
   private
   public :: mpm_config_t, shape_linear, shape_gimp, shape_names, scheme_usl, scheme_musl, &
             scheme_names, bc_fixed, bc_symmetric, bc_free, bc_names, pulse_triangle, &
-            pulse_cosine, pulse_names, max_props
+            pulse_cosine, pulse_ramp_sine, pulse_names, max_props
 
   !> Shape function families (seed eq. 4.6-4.8): standard MPM (Dirac chi_p)
   !> and uGIMP (undeforming particle domain). CPDI comes with 2D.
@@ -25,10 +25,13 @@ module wellposed_mpm_config
   integer, parameter :: bc_fixed = 1, bc_symmetric = 2, bc_free = 3
   character(len=9), parameter :: bc_names(3) = [character(len=9) :: 'fixed', 'symmetric', &
                                                  'free']
-  !> Pulse shapes: the seed's triangle (fig. 2.1) and a raised cosine
-  !> (smooth, for convergence studies against d'Alembert).
-  integer, parameter :: pulse_triangle = 1, pulse_cosine = 2
-  character(len=8), parameter :: pulse_names(2) = [character(len=8) :: 'triangle', 'cosine']
+  !> Surface loads: the seed's triangle pulse (fig. 2.1), a raised-cosine
+  !> pulse (smooth, for convergence studies against d'Alembert), and a
+  !> monotonic ramp with a small superposed sinusoid (the dispersion
+  !> measurement of fig. 2.10 left: every particle keeps loading).
+  integer, parameter :: pulse_triangle = 1, pulse_cosine = 2, pulse_ramp_sine = 3
+  character(len=9), parameter :: pulse_names(3) = [character(len=9) :: 'triangle', 'cosine', &
+                                                    'ramp_sine']
   !> Most PROPS a deck may give (the wellposed contract has 14 slots).
   integer, parameter :: max_props = 40
 
@@ -60,6 +63,11 @@ module wellposed_mpm_config
     real(dp) :: load_duration = 2.0e-3_dp
     real(dp) :: load_start = 0.0_dp
     integer :: pulse = pulse_triangle
+    ! pulse = ramp_sine: sigma_xx(surface) = base + rate*s + amplitude*sin(2 pi
+    ! frequency s), s = t - start > 0 (peak and duration are not used)
+    real(dp) :: load_rate = 0.0_dp      !< Pa/s, ramp rate (sign: loading direction)
+    real(dp) :: load_amplitude = 0.0_dp !< Pa, sinusoid amplitude
+    real(dp) :: load_frequency = 0.0_dp !< Hz, sinusoid frequency
     ! stations (Lagrangian positions, m) and sampling (s)
     real(dp) :: station_first = 100.0_dp
     real(dp) :: station_spacing = 100.0_dp

@@ -1,15 +1,22 @@
 !> Surface load history of the case study (seed section 2.3, fig. 2.1): the
-!> axial stress prescribed at the free surface, sigma_b(t) = base + peak *
-!> g((t - start)/duration), with g the triangle (rise over the first half,
-!> fall over the second; shared reference A) or a raised cosine
-!> g(s) = (1 - cos(2 pi s))/2 (smooth, for convergence studies). g = 0
-!> outside 0 < s < 1. Units: Pa, s.
+!> axial stress prescribed at the free surface. Pulses:
+!> sigma_b(t) = base + peak * g((t - start)/duration), with g the triangle
+!> (rise over the first half, fall over the second; shared reference A) or a
+!> raised cosine g(s) = (1 - cos(2 pi s))/2 (smooth, for convergence
+!> studies). g = 0 outside 0 < s < 1.
+!> Ramp with a sinusoid (`ramp_sine`, the dispersion measurement of seed
+!> fig. 2.10 left): sigma_b(t) = base + rate s + amplitude sin(2 pi f s),
+!> s = t - start > 0, base before. With |amplitude| 2 pi f < |rate| the
+!> surface stress rate never changes sign, so a material that yields under
+!> the ramp keeps loading plastically everywhere the ramp has arrived, and
+!> the sinusoid travels with the linearised (dispersive) wave speed at f.
+!> Units: Pa, s, Hz.
 module wellposed_mpm_loads
   use wellposed_kinds, only: dp
-  use wellposed_mpm_config, only: mpm_config_t, pulse_triangle, pulse_cosine
+  use wellposed_mpm_config, only: mpm_config_t, pulse_triangle, pulse_cosine, pulse_ramp_sine
   implicit none
   private
-  public :: surface_stress, pulse_shape
+  public :: surface_stress, pulse_shape, ramp_sine
 
   real(dp), parameter :: pi = 3.14159265358979323846_dp
 
@@ -20,8 +27,13 @@ contains
     type(mpm_config_t), intent(in) :: cfg
     real(dp), intent(in) :: t
     surface_stress = cfg%load_base
-    if (cfg%load_duration > 0.0_dp) surface_stress = surface_stress + &
-      cfg%load_peak*pulse_shape(cfg%pulse, (t - cfg%load_start)/cfg%load_duration)
+    if (cfg%pulse == pulse_ramp_sine) then
+      surface_stress = surface_stress + ramp_sine(cfg%load_rate, cfg%load_amplitude, &
+                                                  cfg%load_frequency, t - cfg%load_start)
+    else if (cfg%load_duration > 0.0_dp) then
+      surface_stress = surface_stress + &
+        cfg%load_peak*pulse_shape(cfg%pulse, (t - cfg%load_start)/cfg%load_duration)
+    end if
   end function surface_stress
 
   !> Dimensionless pulse shape g(s), peak 1 at s = 1/2.
@@ -37,5 +49,15 @@ contains
       pulse_shape = 1.0_dp - abs(2.0_dp*s - 1.0_dp)
     end select
   end function pulse_shape
+
+  !> Increment of the ramp-and-sinusoid load at time s after its start (Pa):
+  !> rate s + amplitude sin(2 pi frequency s) for s > 0, else 0.
+  !> rate in Pa/s, amplitude in Pa, frequency in Hz.
+  elemental real(dp) function ramp_sine(rate, amplitude, frequency, s)
+    real(dp), intent(in) :: rate, amplitude, frequency, s
+    ramp_sine = 0.0_dp
+    if (s <= 0.0_dp) return
+    ramp_sine = rate*s + amplitude*sin(2.0_dp*pi*frequency*s)
+  end function ramp_sine
 
 end module wellposed_mpm_loads
