@@ -51,9 +51,24 @@
 !> reducing the error for `stall_iterations` sweeps, or exceeds
 !> `max_iterations`, is an error value: the host stops.
 !>
-!> MPI (issue 7): the nodal field is a patch array [glo, ghi]; a
-!> decomposed run sums its ghost nodes after each projection and each sweep
-!> (Gauss-Seidel inside a rank, block Jacobi across ranks).
+!> Across ranks (issue 7): the nodal mass and field are patch arrays
+!> [glo, ghi] whose ghost layers cover the Gaussian's support around every
+!> particle of the patch (nonlocal_ghost_nodes). A decomposed run passes
+!> `ranks` (a nonlocal_ranks_t: its neighbour exchanges and reductions) and
+!> `key` (each local particle's place in the serial order, its global id) to
+!> nonlocal_solve, which then keeps the seed's Gauss-Seidel sweep in the
+!> serial order across ranks by pipelining every pass that updates the
+!> nodal field as it goes (projection, sweep, plastic diffusion): rank r
+!> takes the values of the nodes it shares with rank r-1 as r-1 left them,
+!> does its particles in key order, hands its shared nodes on to r+1, and
+!> at the end every node takes the values of the highest rank holding it
+!> (which has seen every update). Each node then sees the same updates in
+!> the same order as in one process, so a pass gives the serial answer bit
+!> for bit from the same particle data, and iteration counts are the
+!> serial ones. Anderson works on the whole plastic set in key order, the
+!> same on every rank. The price: the sweeps of the ranks run one after
+!> the other (the UMAT calls of step 1, most of a step's work, stay
+!> parallel). Without `ranks` nothing of this runs: one process.
 module wellposed_mpm_nonlocal
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -72,6 +87,7 @@ module wellposed_mpm_nonlocal
   public :: nonlocal_settings_t, nonlocal_t, nonlocal_host_t, nonlocal_step_stats_t
   public :: new_nonlocal, nonlocal_solve, nonlocal_project, nonlocal_average
   public :: nl_fixed_point, nl_anderson, nl_scheme_names, nl_scheme_id
+  public :: nonlocal_ranks_t, nonlocal_ghost_nodes
 
   !> Iteration schemes: the seed's Gauss-Seidel fixed point of eq. 4.39,
   !> and Anderson acceleration of the same sweep.
@@ -125,6 +141,56 @@ module wellposed_mpm_nonlocal
     end subroutine host_update
   end interface
 
+  !> What Algorithm 1 needs from a run spread over ranks (issue 7). Node
+  !> arrays are a patch's nodal values, values(1) at its first node; the
+  !> pipeline calls are collective in rank order (see the module comment).
+  type, abstract :: nonlocal_ranks_t
+  contains
+    !> values of the nodes shared with the next lower rank, as that rank left them
+    procedure(ranks_nodes), deferred :: nodes_from_lower
+    !> this rank's values of the nodes shared with the next higher rank, to it
+    procedure(ranks_nodes), deferred :: nodes_to_higher
+    !> every node the value of the highest rank holding it
+    procedure(ranks_nodes), deferred :: nodes_from_highest
+    !> maximum over the ranks, in place
+    procedure(ranks_max), deferred :: max_real
+    !> sum over the ranks, in place
+    procedure(ranks_sum_int), deferred :: sum_int
+    !> true on every rank when true on any
+    procedure(ranks_any), deferred :: any_true
+    !> every rank's `mine` concatenated in rank order, on every rank
+    procedure(ranks_gather), deferred :: gather_all
+  end type nonlocal_ranks_t
+
+  abstract interface
+    subroutine ranks_nodes(self, values)
+      import :: nonlocal_ranks_t, dp
+      class(nonlocal_ranks_t), intent(inout) :: self
+      real(dp), intent(inout) :: values(:)
+    end subroutine ranks_nodes
+    subroutine ranks_max(self, x)
+      import :: nonlocal_ranks_t, dp
+      class(nonlocal_ranks_t), intent(inout) :: self
+      real(dp), intent(inout) :: x
+    end subroutine ranks_max
+    subroutine ranks_sum_int(self, i)
+      import :: nonlocal_ranks_t
+      class(nonlocal_ranks_t), intent(inout) :: self
+      integer, intent(inout) :: i
+    end subroutine ranks_sum_int
+    logical function ranks_any(self, flag)
+      import :: nonlocal_ranks_t
+      class(nonlocal_ranks_t), intent(inout) :: self
+      logical, intent(in) :: flag
+    end function ranks_any
+    subroutine ranks_gather(self, mine, all)
+      import :: nonlocal_ranks_t, dp
+      class(nonlocal_ranks_t), intent(inout) :: self
+      real(dp), intent(in) :: mine(:)
+      real(dp), allocatable, intent(out) :: all(:)
+    end subroutine ranks_gather
+  end interface
+
   !> Nonlocal solver state: settings, material constants for the bounds,
   !> grid geometry, the nodal field, and run totals.
   type :: nonlocal_t
@@ -175,6 +241,17 @@ contains
     end do
     id = 0
   end function nl_scheme_id
+
+  !> Node layers beyond a particle's cell that Algorithm 1 reads around it
+  !> (0 when h_zeta = 0): the cut Gaussian's radius in cells, rounded up,
+  !> plus one because the averages are taken at the end-of-step positions,
+  !> up to a cell (CFL < 1) away from the cell that holds the particle when
+  !> the step begins. A patch needs at least this many ghost layers.
+  pure integer function nonlocal_ghost_nodes(self) result(layers)
+    type(nonlocal_t), intent(in) :: self
+    layers = 0
+    if (self%active) layers = ceiling(self%radius/self%dx) + 1
+  end function nonlocal_ghost_nodes
 
   !> Validate the settings, read h_zeta and L from PROPS (wellposed's
   !> layout, PROPS 12-13) and lay out the nodal field on the patch [glo, ghi]
@@ -451,21 +528,28 @@ contains
   !> state is the host's last update of it. Diverging or non-converging
   !> iterations, and host errors, return an error value. When `log_unit` is
   !> given, warnings about the contraction bounds are written there before
-  !> iterating (once per run each).
-  subroutine nonlocal_solve(self, host, x, mass, node, phi, err, log_unit)
+  !> iterating (once per run each). A run spread over ranks gives `ranks`
+  !> and `key` (n): the particles' places in the serial order (global ids,
+  !> unique); the solve is then collective, and its error values and the
+  !> step's measures (self%last, but umat_calls: this rank's) are the same
+  !> on every rank.
+  subroutine nonlocal_solve(self, host, x, mass, node, phi, err, log_unit, ranks, key)
     type(nonlocal_t), intent(inout) :: self
     class(nonlocal_host_t), intent(inout) :: host
     real(dp), intent(in) :: x(:, :), mass(:), phi(:, :)
     integer, intent(in) :: node(:, :)
     type(error_t), allocatable, intent(out) :: err
     integer, intent(in), optional :: log_unit
-    integer :: n, p, round
+    class(nonlocal_ranks_t), intent(inout), optional :: ranks
+    integer, intent(in), optional :: key(:)
+    integer :: n, p, q, round
     integer(int64) :: c0, c1
     real(dp) :: avg, dnew, smass
-    logical :: changed
-    integer, allocatable :: act(:)
+    logical :: changed, par
+    integer, allocatable :: act(:), order(:)
 
     n = size(mass)
+    par = present(ranks)
     self%last = nonlocal_step_stats_t()
     if (allocated(self%dl)) then
       if (size(self%dl) /= n) deallocate (self%dl, self%plastic)
@@ -481,13 +565,20 @@ contains
         self%wy(self%nbmax, n), self%den(n), self%blo(2, n), self%bhi(2, n), self%cached(n))
       self%cached = .false.
     end if
+    ! the local particles in the serial order
+    if (present(key)) then
+      call key_order(key(1:n), order)
+    else
+      order = [(p, p=1, n)]
+    end if
 
     ! Step 1: the local estimate, <dlambda> = 0.
     call system_clock(c0)
     do p = 1, n
       call host%update(p, 0.0_dp, self%dl(p), err)
-      if (allocated(err)) return
+      if (allocated(err)) exit
     end do
+    if (stopped(err)) return
     call system_clock(c1)
     self%ticks_local = self%ticks_local + (c1 - c0)
     self%calls_local = self%calls_local + n
@@ -495,8 +586,12 @@ contains
     self%plastic = self%dl > 0.0_dp
     self%last%n_plastic = count(self%plastic)
     self%last%max_dlambda = max(0.0_dp, maxval(self%dl))
+    if (par) then
+      call ranks%sum_int(self%last%n_plastic)
+      call ranks%max_real(self%last%max_dlambda)
+    end if
     if (.not. self%active .or. self%last%n_plastic == 0) return
-    call nonlocal_project(self, mass, node, phi, self%dl)
+    call project(self%dl)
 
     ! The bounds, before iterating.
     do p = 1, n
@@ -504,22 +599,25 @@ contains
       call nonlocal_average(self, x(:, p), avg, smass)
       self%last%n_alpha = max(self%last%n_alpha, smass/mass(p))
     end do
+    if (par) call ranks%max_real(self%last%n_alpha)
     if (self%bound_43 >= 0.0_dp) self%last%bound_seed = self%last%n_alpha*self%bound_43
     if (present(log_unit)) call warn_bounds(log_unit)
 
     do round = 1, self%set%max_rounds
       self%last%rounds = round
-      act = pack([(p, p=1, n)], self%plastic)
+      act = pack(order, self%plastic(order))
       call iterate(act, err)
       if (allocated(err)) return
       ! Step 3: plastic diffusion to the elastic particles.
       changed = .false.
-      do p = 1, n
+      if (par) call ranks%nodes_from_lower(self%field)
+      do q = 1, n
+        p = order(q)
         if (self%plastic(p)) cycle
         call cached_average(self, p, x(:, p), avg)
         if (avg == 0.0_dp) cycle   ! the step-1 call already had this input
         call host%update(p, avg, dnew, err)
-        if (allocated(err)) return
+        if (allocated(err)) exit
         self%last%umat_calls = self%last%umat_calls + 1
         if (dnew > 0.0_dp) then
           changed = .true.
@@ -529,6 +627,12 @@ contains
           self%dl(p) = dnew
         end if
       end do
+      if (par) then
+        call ranks%nodes_to_higher(self%field)
+        call ranks%nodes_from_highest(self%field)
+        changed = ranks%any_true(changed)
+      end if
+      if (stopped(err)) return
       if (.not. changed) exit
       if (round == self%set%max_rounds) then
         call new_error(err, status_cutback, 'max_rounds', 'the nonlocal plastic set kept '// &
@@ -539,38 +643,71 @@ contains
     end do
     self%last%n_plastic = count(self%plastic)
     self%last%max_dlambda = max(0.0_dp, maxval(self%dl))
+    if (par) then
+      call ranks%sum_int(self%last%n_plastic)
+      call ranks%sum_int(self%last%n_reclassified)
+      call ranks%max_real(self%last%max_dlambda)
+    end if
     self%steps_iterated = self%steps_iterated + 1
     self%iterations_total = self%iterations_total + self%last%iterations
     self%iterations_max = max(self%iterations_max, self%last%iterations)
 
   contains
 
-    !> Step 2 on the particles act(:): plain Gauss-Seidel or Anderson.
+    !> Step 2 on the particles act(:) (this rank's, in the serial order):
+    !> plain Gauss-Seidel or Anderson.
     subroutine iterate(act, err)
       integer, intent(in) :: act(:)
       type(error_t), allocatable, intent(out) :: err
-      real(dp) :: xk(size(act)), gx(size(act)), xn(size(act)), e, best, limit
-      integer :: k, kbest, q, pp
+      real(dp) :: xk(size(act)), gx(size(act)), e, best, limit, gmax
+      real(dp), allocatable :: xn(:), xall(:), gall(:), kall(:)
+      integer, allocatable :: perm(:), pos(:)
+      integer :: k, kbest, q, pp, nact
       integer(int64) :: s0, s1
       type(anderson_t) :: acc
       character(len=:), allocatable :: why, hint
 
-      if (self%set%scheme == nl_anderson) call new_anderson(acc, size(act), &
-        self%set%anderson_depth, self%set%anderson_mixing)
+      nact = size(act)
+      if (par) call ranks%sum_int(nact)
+      allocate (pos(size(act)), perm(0), xn(0))
+      if (self%set%scheme == nl_anderson) then
+        ! Anderson acts on the whole plastic set in the serial order: with
+        ! ranks, every rank runs it on the gathered vectors (bitwise alike)
+        ! and keeps its own entries (pos)
+        if (par) then
+          call ranks%gather_all(real(key_of(act), dp), kall)
+          call key_order(nint(kall), perm)
+          kall = kall(perm)
+          do q = 1, size(act)
+            pos(q) = find_sorted(kall, real(key_of([act(q)]), dp))
+          end do
+        else
+          pos = [(q, q=1, size(act))]
+        end if
+        call new_anderson(acc, nact, self%set%anderson_depth, self%set%anderson_mixing)
+        deallocate (xn)
+        allocate (xn(nact))
+      end if
       best = huge(1.0_dp)
       kbest = 0
       do k = 1, self%set%max_iterations
         xk = self%dl(act)
         ! one Gauss-Seidel sweep, eq. 4.47, 4.39 (through the UMAT), 4.49-4.50
         call system_clock(s0)
+        if (par) call ranks%nodes_from_lower(self%field)
         do q = 1, size(act)
           pp = act(q)
           call cached_average(self, pp, x(:, pp), avg)
           call host%update(pp, avg, dnew, err)
-          if (allocated(err)) return
+          if (allocated(err)) exit
           call correct_field(pp, dnew - self%dl(pp))
           self%dl(pp) = dnew
         end do
+        if (par) then
+          call ranks%nodes_to_higher(self%field)
+          call ranks%nodes_from_highest(self%field)
+        end if
+        if (stopped(err)) return
         call system_clock(s1)
         self%ticks_sweeps = self%ticks_sweeps + (s1 - s0)
         self%calls_sweeps = self%calls_sweeps + size(act)
@@ -578,8 +715,13 @@ contains
         self%last%iterations = self%last%iterations + 1
         gx = self%dl(act)
         e = maxval(abs(gx - xk))
+        gmax = maxval(abs(gx))
+        if (par) then
+          call ranks%max_real(e)
+          call ranks%max_real(gmax)
+        end if
         self%last%error = e
-        limit = self%set%tolerance + self%set%rel_tolerance*maxval(abs(gx))
+        limit = self%set%tolerance + self%set%rel_tolerance*gmax
         if (.not. ieee_is_finite(e)) exit
         if (e <= limit) return
         if (e < best) then
@@ -589,9 +731,16 @@ contains
           exit
         end if
         if (self%set%scheme == nl_anderson) then
-          call anderson_step(acc, xk, gx, xn)
-          self%dl(act) = xn
-          call nonlocal_project(self, mass, node, phi, self%dl)
+          if (par) then
+            call ranks%gather_all(xk, xall)
+            call ranks%gather_all(gx, gall)
+            call anderson_step(acc, xall(perm), gall(perm), xn)
+            self%dl(act) = xn(pos)
+          else
+            call anderson_step(acc, xk, gx, xn)
+            self%dl(act) = xn
+          end if
+          call project(self%dl)
         end if
       end do
       if (k > self%set%max_iterations) then
@@ -611,9 +760,61 @@ contains
         trim(nl_scheme_names(self%set%scheme))//' iteration '//why// &
         ' (max |dlambda^{k+1} - dlambda^k| = '//real_text(e)//', smallest '// &
         real_text(best)//' at sweep '//int_text(kbest)//', tolerance '// &
-        real_text(limit)//'; '//int_text(size(act))//' plastic particles); '// &
+        real_text(limit)//'; '//int_text(nact)//' plastic particles); '// &
         'contraction factor |h_zeta/(a + h_eta)| of eq. 4.43 = '//real_text(self%bound_43)//hint)
     end subroutine iterate
+
+    !> The serial-order keys of local particles (their indices without `key`).
+    function key_of(idx) result(k)
+      integer, intent(in) :: idx(:)
+      integer :: k(size(idx))
+      if (present(key)) then
+        k = key(idx)
+      else
+        k = idx
+      end if
+    end function key_of
+
+    !> Node mass and field from particle `values` (eq. 4.46): with ranks,
+    !> pipelined in the serial order (the module comment), else
+    !> nonlocal_project.
+    subroutine project(values)
+      real(dp), intent(in) :: values(:)
+      integer :: k, i, qq, pq
+      real(dp) :: w
+      if (.not. par) then
+        call nonlocal_project(self, mass, node, phi, values)
+        return
+      end if
+      self%node_mass = 0.0_dp
+      self%field = 0.0_dp
+      call ranks%nodes_from_lower(self%node_mass)
+      call ranks%nodes_from_lower(self%field)
+      do qq = 1, n
+        pq = order(qq)
+        do k = 1, size(node, 1)
+          i = node(k, pq)
+          w = phi(k, pq)*mass(pq)
+          self%node_mass(i) = self%node_mass(i) + w
+          self%field(i) = self%field(i) + w*values(pq)
+        end do
+      end do
+      call ranks%nodes_to_higher(self%node_mass)
+      call ranks%nodes_to_higher(self%field)
+      call ranks%nodes_from_highest(self%node_mass)
+      call ranks%nodes_from_highest(self%field)
+    end subroutine project
+
+    !> An error on this rank or, with ranks, on any (collective then): every
+    !> rank stops with an error value.
+    logical function stopped(e)
+      type(error_t), allocatable, intent(inout) :: e
+      stopped = allocated(e)
+      if (.not. par) return
+      stopped = ranks%any_true(stopped)
+      if (stopped .and. .not. allocated(e)) call new_error(e, status_invalid, 'ranks', &
+        'Algorithm 1 stopped on another rank (its message is above)')
+    end function stopped
 
     !> eq. 4.49-4.50: move particle p's contribution on its nodes by `delta`.
     subroutine correct_field(p, delta)
@@ -647,5 +848,56 @@ contains
     end subroutine warn_bounds
 
   end subroutine nonlocal_solve
+
+  !> order(1:n): the indices of key(1:n) in ascending key order (stable
+  !> merge sort; the identity, at the cost of one pass, when already sorted).
+  pure subroutine key_order(key, order)
+    integer, intent(in) :: key(:)
+    integer, allocatable, intent(out) :: order(:)
+    integer, allocatable :: tmp(:)
+    integer :: n, width, lo, mid, hi, i, j, k, p
+    n = size(key)
+    order = [(p, p=1, n)]
+    if (n < 2) return
+    if (all(key(2:) >= key(:n - 1))) return
+    allocate (tmp(n))
+    width = 1
+    do while (width < n)
+      do lo = 1, n, 2*width
+        mid = min(lo + width, n + 1)
+        hi = min(lo + 2*width, n + 1)
+        i = lo
+        j = mid
+        do k = lo, hi - 1
+          if (i < mid .and. (j >= hi .or. key(order(min(i, n))) <= key(order(min(j, n))))) then
+            tmp(k) = order(i)
+            i = i + 1
+          else
+            tmp(k) = order(j)
+            j = j + 1
+          end if
+        end do
+      end do
+      order = tmp
+      width = 2*width
+    end do
+  end subroutine key_order
+
+  !> Index of `x` in the ascending `sorted` (x must occur).
+  pure integer function find_sorted(sorted, x) result(pos)
+    real(dp), intent(in) :: sorted(:), x(1)
+    integer :: lo, hi, mid
+    lo = 1
+    hi = size(sorted)
+    do while (lo < hi)
+      mid = (lo + hi)/2
+      if (sorted(mid) < x(1)) then
+        lo = mid + 1
+      else
+        hi = mid
+      end if
+    end do
+    pos = lo
+  end function find_sorted
 
 end module wellposed_mpm_nonlocal
