@@ -1,7 +1,10 @@
 !> wellposed-mpm: the explicit material point method of seed section 4.3 on
 !> the 1D uniaxial-strain scenes of chapter 2 (Sandler-Rubin case study).
 !>
-!>   wellposed-mpm [--out ROOT] [--name NAME] [--no-plot] [DECK] [group.key=value ...]
+!>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot]
+!>       [--checkpoint-every STEPS] [--restart | --restart-from FILE]
+!>       [DECK] [group.key=value ...]
+!>   [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] [--no-plot]
 !>
 !> Without DECK: the default scene inputs/sandler_rubin_default.nml. Writes
 !> ROOT/NAME/ (ROOT = out, NAME = the deck's &scene name): the deck, run.h5
@@ -9,11 +12,19 @@
 !> and stations.png. Everything is written into ROOT/NAME.partial and renamed
 !> at the end, so a failed run leaves nothing that looks finished. Errors go
 !> to standard error and the exit status is 1.
+!>
+!> On N ranks (issue 7) the scene is cut into strips of cells
+!> (wellposed_mpm_ranks); rank 0 gathers what the outputs need and writes
+!> every file, with the serial layout. Checkpoints go to
+!> ROOT/NAME.checkpoints/ every STEPS steps (default: a tenth of the run;
+!> 0: none; the newest two are kept, the folder is removed when the run
+!> finishes); --restart continues from the newest, on any number of ranks.
 program wellposed_mpm
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
-  use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_error, only: error_t
+  use wellposed_text, only: int_text, real_text
   use wellposed_mpm_config
   use wellposed_mpm_deck, only: read_mpm_deck, mpm_options_t
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, kinetic_energy, &
@@ -23,14 +34,24 @@ program wellposed_mpm
                                     field_syy, field_v, field_z
   use wellposed_mpm_paths, only: source_dir, install_data_dir, default_deck_name, &
                                  stations_plot_name
-  use wellposed_mpm_particles, only: particle_bytes
+  use wellposed_mpm_particles, only: particle_bytes, particles_t
   use wellposed_mpm_nonlocal, only: nl_scheme_names
+  use wellposed_mpi, only: comm_t, comm_start, comm_stop, comm_abort, allreduce_sum, &
+                           allreduce_max, broadcast
+  use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
+  use wellposed_mpm_decomposition, only: decomposition_t, gather_by_gid
+  use wellposed_mpm_parallel_io, only: station_proxy_t, gather_particles, make_station_proxy, &
+                                       fill_station_proxy, put_stations, get_stations
+  use wellposed_checkpoint, only: checkpoint_t, write_checkpoint, read_checkpoint, &
+                                  latest_checkpoint
+  use wellposed_mpm_restart, only: save_scene_ranks, restore_scene_ranks
+  use wellposed_batch_run, only: run_batch, default_figures
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
   use wellposed_h5, only: h5_file_t
   use wellposed_plot, only: run_plot
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
-  use wellposed_fs, only: path_exists, shell_quote
+  use wellposed_fs, only: path_exists, shell_quote, remove_tree
   implicit none
 
   type(mpm_config_t) :: cfg
@@ -45,6 +66,19 @@ program wellposed_mpm
   type(h5_file_t) :: h5
   type(summary_t) :: sm
   type(error_t), allocatable :: err, err2
+  ! ranks: the communicator, the scene's exchange, the stations' proxy
+  type(comm_t) :: comm
+  type(mpm_ranks_t) :: ranks
+  type(station_proxy_t) :: proxy
+  type(particles_t) :: everyone
+  logical :: root, sampled
+  integer :: ntotal, substeps, ghost
+  real(dp) :: sums(3), ke_end, p_end
+  ! checkpoints: every ck_every steps into <out>/<name>.checkpoints (keep two)
+  integer :: ck_every
+  logical :: restart
+  character(len=:), allocatable :: ck_dir, ck_file, batch_file
+  real(dp), allocatable :: snaps(:, :, :)   !< (7, particles, snapshot): t, x, x0, v, sxx, syy, z
   character(len=:), allocatable :: deck_path, out_root, run_name, deck_text, arg, script
   character(len=512), allocatable :: overrides(:)
   logical :: no_plot
@@ -54,6 +88,13 @@ program wellposed_mpm
   real(dp), allocatable :: energy(:, :)
   character(len=16) :: tag
 
+  call comm_start(comm, err)
+  if (allocated(err)) call die(err)
+  root = comm%rank == 0
+  ck_every = -1
+  restart = .false.
+  ck_file = ''
+  batch_file = ''
   ! ---- arguments
   out_root = 'out'
   run_name = ''
@@ -74,6 +115,21 @@ program wellposed_mpm
       i = i + 1; run_name = get_arg(i)
     case ('--no-plot')
       no_plot = .true.
+    case ('--checkpoint-every')
+      i = i + 1
+      arg = get_arg(i)
+      if (verify(arg, '0123456789') /= 0 .or. len(arg) == 0 .or. len(arg) > 9) &
+        call die_text('--checkpoint-every needs a number of steps >= 0, not "'//arg//'"')
+      read (arg, *) ck_every
+    case ('--restart')
+      restart = .true.
+    case ('--restart-from')
+      i = i + 1
+      restart = .true.
+      ck_file = get_arg(i)
+    case ('--batch')
+      i = i + 1
+      batch_file = get_arg(i)
     case default
       if (index(arg, '=') > 0) then
         overrides = [character(len=512) :: overrides, arg]
@@ -84,43 +140,73 @@ program wellposed_mpm
       end if
     end select
   end do
+  if (len(batch_file) > 0) call run_mpm_batch()
   if (len(deck_path) == 0) deck_path = find_data(default_deck_name)
 
   ! ---- deck and scene
   call read_mpm_deck(deck_path, overrides, cfg, opts, deck_text, err)
   if (allocated(err)) call die(err)
   if (len(run_name) > 0) cfg%name = run_name
-  call new_scene(scene, cfg, err)
+  ! every rank builds the scene and keeps its strip (errors: the same on all)
+  call new_mpm_ranks(ranks, comm)
+  call new_scene(scene, cfg, err, ranks)
   if (allocated(err)) then
     err%message = deck_path//': '//err%message
     call die(err)
   end if
+  ghost = scene%exchange%ghost_layers()
   c_e = sqrt(scene%modulus_elastic/cfg%density)
   c_p = sqrt(scene%modulus_plastic/cfg%density)
-  call rd%create(out_root, cfg%name, deck_path, err)
-  if (allocated(err)) call die(err)
-  call h5%create(rd%path('run.h5'), err)
-  if (allocated(err)) call die(err)
-  call new_stations(st, cfg, scene%parts, cfg%t_end)
+  if (root) then
+    call rd%create(out_root, cfg%name, deck_path, err)
+    if (allocated(err)) call die_alone(err)
+    call h5%create(rd%path('run.h5'), err)
+    if (allocated(err)) call die_alone(err)
+  end if
+  ! stations on rank 0 over every particle in id order, read through a proxy
+  ntotal = scene%parts%n
+  call allreduce_sum(comm, ntotal)
+  call gather_particles(comm, scene%parts, 0, everyone)
+  if (root) call new_stations(st, cfg, everyone, cfg%t_end)
+  call make_station_proxy(st, comm, ntotal, scene%parts, proxy)
 
   nsteps_est = ceiling(cfg%t_end/scene%dt)
-  write (output_unit, '(a)') 'wellposed-mpm '//wellposed_version//': scene '//cfg%name// &
-    ' ('//trim(cfg%title)//')'
-  write (output_unit, '(a,i0,a,i0,a,es10.3,a,i0,a)') '  ', scene%parts%n, ' particles, ', &
-    scene%grid%nnodes, ' nodes, dt = ', scene%dt, ' s, ~', nsteps_est, ' steps'
-  write (output_unit, '(a,a,a,a,a,f9.2,a,f9.2,a)') '  shape ', trim(shape_names(cfg%shape)), &
-    ', scheme ', trim(scheme_names(cfg%scheme)), ', C_E = ', c_e, ' m/s, C_P = ', c_p, &
-    ' m/s (UMAT moduli at the initial state)'
-  write (output_unit, '(a)') '  writing '//rd%partial//' (renamed to '//rd%final//' when done)'
-  flush (output_unit)
+  if (root) then
+    write (output_unit, '(a)') 'wellposed-mpm '//wellposed_version//': scene '//cfg%name// &
+      ' ('//trim(cfg%title)//')'
+    write (output_unit, '(a,i0,a,i0,a,es10.3,a,i0,a)') '  ', ntotal, ' particles, ', &
+      scene%grid%nnodes, ' nodes, dt = ', scene%dt, ' s, ~', nsteps_est, ' steps'
+    write (output_unit, '(a,a,a,a,a,f9.2,a,f9.2,a)') '  shape ', &
+      trim(shape_names(cfg%shape)), ', scheme ', trim(scheme_names(cfg%scheme)), ', C_E = ', &
+      c_e, ' m/s, C_P = ', c_p, ' m/s (UMAT moduli at the initial state)'
+    if (scene%nl%active) write (output_unit, '(a)') '  nonlocal: L = '// &
+      real_text(scene%nl%length)//' m, Gaussian support radius '// &
+      real_text(scene%nl%radius)//' m = '//real_text(scene%nl%radius/cfg%dx)//' cells'
+    if (comm%size > 1) write (output_unit, '(a)') '  on '//int_text(comm%size)// &
+      ' ranks, strips of cells with '//int_text(ghost)//' ghost node layers'
+    write (output_unit, '(a)') '  writing '//rd%partial//' (renamed to '//rd%final// &
+      ' when done)'
+    flush (output_unit)
+  end if
 
   ! ---- time loop
-  allocate (energy(5, size(st%time)))
+  if (root) then
+    allocate (energy(5, size(st%time)))
+    allocate (snaps(7, ntotal, int(cfg%t_end/max(cfg%snapshot_dt, tiny(1.0_dp))) + 3))
+  else
+    allocate (energy(5, 1), snaps(7, 0, 0))
+  end if
   nenergy = 1
   energy(:, 1) = [0.0_dp, scene%kinetic0, 0.0_dp, 0.0_dp, scene%momentum0]
   nsnap = 0
   next_snap = 0.0_dp
-  if (cfg%snapshot_dt > 0.0_dp) call snapshot()
+  ck_dir = out_root//'/'//cfg%name//'.checkpoints'
+  if (ck_every < 0) ck_every = max(1, nsteps_est/10)
+  if (restart) then
+    call resume()
+  else if (cfg%snapshot_dt > 0.0_dp) then
+    call snapshot()
+  end if
   call system_clock(c0, crate)
   clast = c0
   t_target = cfg%t_end - 0.5_dp*scene%dt
@@ -138,19 +224,35 @@ program wellposed_mpm
       nl_bound(nl_n) = scene%nl%last%bound_seed
     end if
     if (allocated(err)) then
-      ! close what was written (under its temporary name) and report the step's error
-      call h5%close(err2)
-      call die_text(deck_path//': '//err%message)
+      ! (every rank has an error: the step's errors are collective) close
+      ! what was written (under its temporary name) and report the error
+      if (root) call h5%close(err2)
+      if (err%key /= 'ranks') call die_text(deck_path//': '//err%message, .true.)
+      call die_quietly()
     end if
-    s = st%ns
-    call sample_stations(st, scene%parts, scene%t)
-    if (st%ns > s .and. nenergy < size(energy, 2)) then
-      nenergy = nenergy + 1
-      energy(:, nenergy) = [scene%t, kinetic_energy(scene), scene%work_internal, &
-                            scene%work_external, total_momentum(scene) - scene%impulse]
+    call fill_station_proxy(proxy, comm, scene%parts)
+    sampled = .false.
+    if (root) then
+      s = st%ns
+      call sample_stations(st, proxy%parts, scene%t)
+      sampled = st%ns > s .and. nenergy < size(energy, 2)
+    end if
+    call broadcast(comm, sampled, 0)
+    if (sampled) then
+      ke_end = kinetic_energy(scene)
+      p_end = total_momentum(scene)
+      sums = [scene%work_internal, scene%work_external, scene%impulse]
+      call allreduce_sum(comm, sums)
+      if (root) then
+        nenergy = nenergy + 1
+        energy(:, nenergy) = [scene%t, ke_end, sums(1), sums(2), p_end - sums(3)]
+      end if
     end if
     if (cfg%snapshot_dt > 0.0_dp .and. scene%t >= next_snap - 0.5_dp*scene%dt) call snapshot()
-    if (cfg%progress) then
+    if (ck_every > 0) then
+      if (mod(scene%nstep, ck_every) == 0 .and. scene%t < t_target) call checkpoint()
+    end if
+    if (cfg%progress .and. root) then
       call system_clock(c1)
       if (real(c1 - clast, dp)/crate > 2.0_dp) then
         clast = c1
@@ -164,28 +266,48 @@ program wellposed_mpm
   end do
   call system_clock(c1)
   wall = real(c1 - c0, dp)/crate
+  ! totals over the ranks, for the summary (collective)
+  ke_end = kinetic_energy(scene)
+  p_end = total_momentum(scene)
+  sums = [scene%work_internal, scene%work_external, scene%impulse]
+  call allreduce_sum(comm, sums)
+  substeps = scene%max_substeps
+  call allreduce_max(comm, substeps)
+  if (.not. root) then
+    call comm_stop(comm)
+    stop
+  end if
+  scene%work_internal = sums(1)
+  scene%work_external = sums(2)
+  scene%impulse = sums(3)
+  scene%max_substeps = substeps
 
-  ! ---- measures and outputs
+  ! ---- measures and outputs (rank 0)
   call measure_stations(st%time(1:st%ns), st%hist(field_sxx, :, 1:st%ns), st%x, &
                         0.5_dp*abs(cfg%load_peak), meas)
   escale = maxval(energy(2, 1:nenergy)) - scene%kinetic0
-  ebal = kinetic_energy(scene) - scene%kinetic0 + scene%work_internal - scene%work_external
+  ebal = ke_end - scene%kinetic0 + scene%work_internal - scene%work_external
   call write_summary()
   call sm%write(rd%path('summary.txt'), err)
-  if (allocated(err)) call die(err)
+  if (allocated(err)) call die_alone(err)
   call write_h5()
   call h5%close(err)
-  if (allocated(err)) call die(err)
+  if (allocated(err)) call die_alone(err)
   if (opts%plot .and. .not. no_plot) then
     script = find_data(stations_plot_name)
     call run_plot(script, shell_quote(rd%path('run.h5'))//' '// &
                   shell_quote(rd%path('stations.png')), err)
-    if (allocated(err)) call die(err)
+    if (allocated(err)) call die_alone(err)
   end if
   call rd%commit(err)
-  if (allocated(err)) call die(err)
+  if (allocated(err)) call die_alone(err)
+  ! the run is complete: its checkpoints have served
+  if (path_exists(ck_dir)) then
+    call remove_tree(ck_dir, err)
+    if (allocated(err)) write (error_unit, '(a)') 'wellposed-mpm: warning: '//err%message
+  end if
   write (output_unit, '(a,f8.2,a,i0,a,f7.1,a)') '  done in ', wall, ' s (', scene%nstep, &
-    ' steps, ', 1.0e9_dp*wall/(real(scene%nstep, dp)*scene%parts%n), ' ns per particle-step)'
+    ' steps, ', 1.0e9_dp*wall/(real(scene%nstep, dp)*ntotal), ' ns per particle-step)'
   do i = 1, st%n
     write (output_unit, '(a,f7.1,a,f8.3,a,f8.2,a,f8.2,a)') '  station ', st%x(i), &
       ' m: peak ', meas%peak(i)/1e6_dp, ' MPa, head ', meas%t_head(i)*1e3_dp, ' ms, tail ', &
@@ -193,8 +315,30 @@ program wellposed_mpm
   end do
   write (output_unit, '(a)') '  results in '//rd%final//'/ (summary.txt, run.h5'// &
     merge(', stations.png', '              ', opts%plot .and. .not. no_plot)//')'
+  call comm_stop(comm)
 
 contains
+
+  !> --batch FILE: every deck of FILE through this program, one process
+  !> each, shared over the ranks of an mpirun (wellposed_batch_run); exit
+  !> status 1 when any failed.
+  subroutine run_mpm_batch()
+    character(len=4096) :: self
+    character(len=:), allocatable :: command
+    integer :: nfailed
+    if (len(deck_path) > 0 .or. size(overrides) > 0 .or. restart .or. ck_every >= 0 .or. &
+        len(run_name) > 0) call die_text('--batch FILE takes only --out and --no-plot; '// &
+        'give decks, names and overrides on the lines of FILE')
+    call get_command_argument(0, self)
+    command = shell_quote(trim(self))
+    if (no_plot) command = command//' --no-plot'
+    call run_batch(comm, batch_file, command, out_root, default_figures('wellposed-mpm'), &
+                   nfailed, err)
+    call comm_stop(comm)
+    if (allocated(err)) call die(err)
+    if (nfailed > 0) error stop 1
+    stop
+  end subroutine run_mpm_batch
 
   function get_arg(k) result(a)
     integer, intent(in) :: k
@@ -226,22 +370,144 @@ contains
     path = rel
   end function find_data
 
+  !> Particle fields now, every particle in id order (the serial layout),
+  !> into run.h5 and, for checkpoints, into `snaps` (rank 0). Collective.
   subroutine snapshot()
-    character(len=:), allocatable :: grp
     integer :: n
+    real(dp), allocatable :: fields(:, :), gathered(:, :)
     nsnap = nsnap + 1
-    write (tag, '(i4.4)') nsnap
-    grp = 'snapshots/'//trim(tag)//'/'
     n = scene%parts%n
-    call h5%write(grp//'time', [scene%t])
-    call h5%write(grp//'x', scene%parts%x(1, 1:n))
-    call h5%write(grp//'x0', scene%parts%x0(1, 1:n))
-    call h5%write(grp//'velocity', scene%parts%v(1, 1:n))
-    call h5%write(grp//'sigma_xx', scene%parts%stress(1, 1:n))
-    call h5%write(grp//'sigma_yy', scene%parts%stress(2, 1:n))
-    call h5%write(grp//'z', scene%parts%statev(1, 1:n))
+    allocate (fields(6, n))
+    fields(1, :) = scene%parts%x(1, 1:n)
+    fields(2, :) = scene%parts%x0(1, 1:n)
+    fields(3, :) = scene%parts%v(1, 1:n)
+    fields(4, :) = scene%parts%stress(1, 1:n)
+    fields(5, :) = scene%parts%stress(2, 1:n)
+    fields(6, :) = scene%parts%statev(1, 1:n)
+    call gather_by_gid(comm, scene%parts%gid(1:n), fields, 0, gathered)
     next_snap = nsnap*cfg%snapshot_dt
+    if (.not. root) return
+    snaps(1, :, nsnap) = scene%t
+    snaps(2:7, :, nsnap) = gathered
+    call write_snapshot(nsnap)
   end subroutine snapshot
+
+  !> Snapshot k of `snaps` into run.h5 (rank 0).
+  subroutine write_snapshot(k)
+    integer, intent(in) :: k
+    character(len=:), allocatable :: grp
+    write (tag, '(i4.4)') k
+    grp = 'snapshots/'//trim(tag)//'/'
+    call h5%write(grp//'time', [snaps(1, 1, k)])
+    call h5%write(grp//'x', snaps(2, :, k))
+    call h5%write(grp//'x0', snaps(3, :, k))
+    call h5%write(grp//'velocity', snaps(4, :, k))
+    call h5%write(grp//'sigma_xx', snaps(5, :, k))
+    call h5%write(grp//'sigma_yy', snaps(6, :, k))
+    call h5%write(grp//'z', snaps(7, :, k))
+  end subroutine write_snapshot
+
+  !> The run's state at the end of a step (collective): the scene (every
+  !> rank's particles and partial sums), and from rank 0 the stations, the
+  !> energy rows, the snapshots and nonlocal records so far, the deck text;
+  !> rank 0 writes it atomically and keeps the newest two.
+  subroutine checkpoint()
+    type(checkpoint_t) :: ck
+    type(error_t), allocatable :: e
+    character(len=:), allocatable :: path
+    integer :: k
+    call save_scene_ranks(scene, comm, ck)
+    if (.not. root) return
+    call put_stations(ck, 'stations/', st)
+    call ck%put('main/counts', [nenergy, nsnap, ntotal, nl_n])
+    call ck%put('main/next_snap', next_snap)
+    call ck%put('main/energy', reshape(energy(:, 1:nenergy), [5*nenergy]))
+    call ck%put('main/snapshots', reshape(snaps(:, :, 1:nsnap), [7*ntotal*nsnap]))
+    if (nl_n > 0) then
+      call ck%put('main/nl_step', nl_plastic(1:nl_n))
+      call ck%put('main/nl_iterations', nl_its(1:nl_n))
+      call ck%put('main/nl_bound', nl_bound(1:nl_n))
+    end if
+    call ck%put('main/deck', [(iachar(deck_text(k:k)), k=1, len(deck_text))])
+    call write_checkpoint(ck, ck_dir, scene%nstep, 2, path, e)
+    if (allocated(e)) call die_alone(e)
+  end subroutine checkpoint
+
+  !> --restart: continue from the newest checkpoint of ck_dir, or from
+  !> --restart-from FILE, on this run's ranks (collective; every rank reads
+  !> the file). A damaged file or one of another deck is refused.
+  subroutine resume()
+    type(checkpoint_t) :: ck
+    type(error_t), allocatable :: e
+    integer, allocatable :: counts(:), deck_codes(:), ia(:)
+    real(dp), allocatable :: a(:)
+    type(decomposition_t) :: dec
+    integer :: k
+    if (len(ck_file) == 0) then
+      call latest_checkpoint(ck_dir, ck_file, e)
+      if (allocated(e)) call die(e)
+    end if
+    call read_checkpoint(ck_file, ck, e)
+    if (allocated(e)) call die_text(e%message//'; an older checkpoint of '//ck_dir// &
+      ' may be given with --restart-from FILE')
+    call ck%get('main/deck', deck_codes, e)
+    if (allocated(e)) call die(e)
+    if (size(deck_codes) /= len(deck_text)) call die_text(ck_file// &
+      ' was written for another deck')
+    do k = 1, len(deck_text)
+      if (deck_codes(k) /= iachar(deck_text(k:k))) call die_text(ck_file// &
+        ' was written for another deck')
+    end do
+    call ck%get('main/counts', counts, e)
+    if (allocated(e)) call die(e)
+    if (size(counts) /= 4) call die_text(ck_file//': the run counts are garbled')
+    if (counts(3) /= ntotal) call die_text(ck_file//' holds '//int_text(counts(3))// &
+      ' particles, this deck '//int_text(ntotal))
+    select type (ex => scene%exchange)
+    type is (mpm_ranks_t)
+      dec = ex%dec
+    end select
+    call restore_scene_ranks(scene, dec, comm, ck, e)
+    if (allocated(e)) call die(e)
+    call ck%get('main/next_snap', next_snap, e)
+    if (allocated(e)) call die(e)
+    nsnap = counts(2)
+    if (.not. root) return
+    call get_stations(ck, 'stations/', st, e)
+    if (allocated(e)) call die_alone(e)
+    nenergy = counts(1)
+    call ck%get('main/energy', a, e)
+    if (allocated(e)) call die_alone(e)
+    if (nenergy > size(energy, 2) .or. size(a) /= 5*nenergy .or. nsnap > size(snaps, 3)) &
+      call die_text(ck_file//': the energy rows or snapshots do not fit this deck', .true.)
+    energy(:, 1:nenergy) = reshape(a, [5, nenergy])
+    call ck%get('main/snapshots', a, e)
+    if (allocated(e)) call die_alone(e)
+    if (size(a) /= 7*ntotal*nsnap) call die_text(ck_file//': the snapshots are garbled', .true.)
+    snaps(:, :, 1:nsnap) = reshape(a, [7, ntotal, nsnap])
+    do k = 1, nsnap
+      call write_snapshot(k)
+    end do
+    nl_n = counts(4)
+    if (nl_n > 0) then
+      allocate (nl_its(nl_n + 1024), nl_plastic(nl_n + 1024), nl_bound(nl_n + 1024))
+      call ck%get('main/nl_step', ia, e)
+      if (allocated(e)) call die_alone(e)
+      if (size(ia) /= nl_n) call die_text(ck_file//': nonlocal records garbled', .true.)
+      nl_plastic(1:nl_n) = ia
+      call ck%get('main/nl_iterations', ia, e)
+      if (allocated(e)) call die_alone(e)
+      if (size(ia) /= nl_n) call die_text(ck_file//': nonlocal records garbled', .true.)
+      nl_its(1:nl_n) = ia
+      call ck%get('main/nl_bound', a, e)
+      if (allocated(e)) call die_alone(e)
+      if (size(a) /= nl_n) call die_text(ck_file//': nonlocal records garbled', .true.)
+      nl_bound(1:nl_n) = a
+    end if
+    write (output_unit, '(a)') '  restarted from '//ck_file//' (step '// &
+      int_text(scene%nstep)//', t = '//real_text(scene%t)//' s)'
+    flush (output_unit)
+  end subroutine resume
 
   subroutine write_summary()
     character(len=8) :: k
@@ -255,10 +521,13 @@ contains
     call sm%add('cfl', cfg%cfl)
     call sm%add('dt', scene%dt, 's')
     call sm%add('steps', scene%nstep)
-    call sm%add('particles', scene%parts%n)
+    call sm%add('particles', ntotal)
+    call sm%add('ranks', comm%size, 'MPI ranks (strips of cells)')
+    call sm%add('ghost_layers', ghost, 'node layers beyond a patch: shape support '// &
+                'or the nonlocal Gaussian''s, the wider')
     call sm%add('t_end', scene%t, 's')
     call sm%add('wall_time', wall, 's, time loop only')
-    call sm%add('ns_per_particle_step', 1.0e9_dp*wall/(real(scene%nstep, dp)*scene%parts%n))
+    call sm%add('ns_per_particle_step', 1.0e9_dp*wall/(real(scene%nstep, dp)*ntotal))
     call sm%add('bytes_per_particle', particle_bytes(1, scene%parts%nsup, cfg%nstatv))
     call sm%add('share_umat', share(timer_umat))
     call sm%add('share_transfers', share(timer_transfer))
@@ -267,6 +536,10 @@ contains
     call sm%add('nonlocal', scene%nl%active, 'Algorithm 1 iterates (h_zeta /= 0)')
     if (scene%nl%active) then
       call sm%add('nonlocal_scheme', trim(nl_scheme_names(cfg%nonlocal%scheme)))
+      call sm%add('nonlocal_support_radius', scene%nl%radius, 'm, where the Gaussian '// &
+                  'falls below weight_cutoff')
+      call sm%add('nonlocal_sweep_order', 'Gauss-Seidel in particle-id order, pipelined '// &
+                  'across ranks')
       call sm%add('nonlocal_steps_iterated', scene%nl%steps_iterated)
       call sm%add('nonlocal_iterations_mean', real(scene%nl%iterations_total, dp)/ &
                   max(scene%nl%steps_iterated, 1), 'sweeps per step with plastic particles')
@@ -305,7 +578,7 @@ contains
     call sm%add('energy_balance_error', ebal/max(escale, tiny(1.0_dp)), &
                 '(E_kin - E_kin0 + W_int - W_ext)/energy_scale at the end')
     call sm%add('momentum_error', &
-                (total_momentum(scene) - scene%momentum0 - scene%impulse)/ &
+                (p_end - scene%momentum0 - scene%impulse)/ &
                 max(abs(scene%impulse), maxval(abs(energy(5, 1:nenergy))), tiny(1.0_dp)), &
                 '(P - P0 - impulse)/max|impulse|')
   end subroutine write_summary
@@ -357,24 +630,58 @@ contains
   end subroutine write_h5
 
   subroutine usage()
-    write (output_unit, '(a)') 'usage: wellposed-mpm [--out ROOT] [--name NAME] [--no-plot] '// &
-      '[DECK] [group.key=value ...]'
+    if (.not. root) return
+    write (output_unit, '(a)') 'usage: [mpirun -np N] wellposed-mpm [--out ROOT] '// &
+      '[--name NAME] [--no-plot] [--checkpoint-every STEPS]'
+    write (output_unit, '(a)') '         [--restart | --restart-from FILE] [DECK] '// &
+      '[group.key=value ...]'
+    write (output_unit, '(a)') '       [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] '// &
+      '[--no-plot]'
     write (output_unit, '(a)') '  DECK defaults to '//default_deck_name// &
       '; results go to ROOT/NAME (ROOT = out, NAME = &scene name)'
     write (output_unit, '(a)') '  overrides, e.g. grid.dx=0.5 time.cfl=0.1 material.h=-5e8'
+    write (output_unit, '(a)') '  checkpoints: ROOT/NAME.checkpoints/, every STEPS steps '// &
+      '(default a tenth of the run, 0: none), the newest two kept'
+    write (output_unit, '(a)') '  --restart: continue from the newest (any number of ranks)'
+    write (output_unit, '(a)') '  --batch FILE: one deck per line, optionally with options; '// &
+      'jobs shared over the ranks'
   end subroutine usage
 
+  !> An error every rank has found alike: rank 0 says it, all stop.
   subroutine die(e)
     type(error_t), intent(in) :: e
     call die_text(e%message)
   end subroutine die
 
-  subroutine die_text(text)
+  !> Stop with `text`, said by rank 0, or by this rank when `mine`.
+  subroutine die_text(text, mine)
     character(len=*), intent(in) :: text
-    write (error_unit, '(a)') 'wellposed-mpm: error: '//text
-    if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did not '// &
-      'finish; its partial output is in '//rd%partial
+    logical, intent(in), optional :: mine
+    logical :: say
+    say = root
+    if (present(mine)) say = say .or. mine
+    if (say) then
+      write (error_unit, '(a)') 'wellposed-mpm: error: '//text
+      if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did '// &
+        'not finish; its partial output is in '//rd%partial
+    end if
     error stop 1
   end subroutine die_text
+
+  !> Stop without a word (another rank said why).
+  subroutine die_quietly()
+    error stop 1
+  end subroutine die_quietly
+
+  !> An error only this rank knows of (rank 0's files): say it and end
+  !> every rank of the job, which would otherwise wait for this one.
+  subroutine die_alone(e)
+    type(error_t), intent(in) :: e
+    write (error_unit, '(a)') 'wellposed-mpm: error: '//e%message
+    if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did not '// &
+      'finish; its partial output is in '//rd%partial
+    if (comm%size > 1) call comm_abort(comm, 1)
+    error stop 1
+  end subroutine die_alone
 
 end program wellposed_mpm

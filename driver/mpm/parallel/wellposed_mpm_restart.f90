@@ -2,8 +2,8 @@
 !> and back (issue 7: --restart). What the next step reads is saved bit
 !> for bit: time, step count, time step, the bookkeeping sums and every
 !> particle field but the connectivity (rebuilt from x at the start of a
-!> step); the grid is not, because every step rebuilds it from the
-!> particles. A scene restored into a fresh `new_scene` of the same deck
+!> step) and Algorithm 1's run totals; the grid is not, because every step
+!> rebuilds it from the particles. A scene restored into a fresh `new_scene` of the same deck
 !> therefore continues exactly as the uninterrupted run would.
 !>
 !> Entries are named `mpm/<field>`; particle fields are flattened in
@@ -27,7 +27,7 @@ module wellposed_mpm_restart
             restore_scene_ranks
 
   !> Version of the entries below; a restart refuses any other.
-  integer, parameter :: layout_version = 1
+  integer, parameter :: layout_version = 2   !< 2: with the nonlocal totals
 
 contains
 
@@ -141,18 +141,22 @@ contains
     call ckpt%put('mpm/scalars', [scene%t, scene%dt, scene%work_internal, &
                                   scene%work_external, scene%impulse, scene%kinetic0, &
                                   scene%momentum0, scene%cfg%dx, scene%modulus_dt])
+    call ckpt%put('mpm/nonlocal_totals', [scene%nl%steps_iterated, scene%nl%iterations_total, &
+                                          scene%nl%iterations_max])
     call put_particles(ckpt, 'mpm/', scene%parts)
   end subroutine save_scene
 
   !> Continue `scene`, freshly built by new_scene from the deck of the run
   !> that wrote `ckpt`, from the saved state. A checkpoint of another
-  !> layout, cell size or time step is refused with the reason.
+  !> layout, cell size or time step is refused with the reason. (The step
+  !> sizes its per-particle workspace to the restored particles itself.)
   subroutine restore_scene(scene, ckpt, err)
     type(mpm_scene_t), intent(inout) :: scene
     type(checkpoint_t), intent(in) :: ckpt
     type(error_t), allocatable, intent(out) :: err
     integer :: version
     real(dp), allocatable :: s(:)
+    integer, allocatable :: totals(:)
     call ckpt%get('mpm/layout_version', version, err)
     if (allocated(err)) return
     if (version /= layout_version) then
@@ -185,10 +189,16 @@ contains
     scene%impulse = s(5)
     scene%kinetic0 = s(6)
     scene%momentum0 = s(7)
-    if (size(scene%dstrain) < scene%parts%n) then
-      deallocate (scene%dstrain)
-      allocate (scene%dstrain(size(scene%parts%gid)))
+    ! Algorithm 1's run totals (the summary's iteration counts)
+    call ckpt%get('mpm/nonlocal_totals', totals, err)
+    if (allocated(err)) return
+    if (size(totals) /= 3) then
+      call new_error(err, status_invalid, 'checkpoint', 'the nonlocal totals are garbled')
+      return
     end if
+    scene%nl%steps_iterated = totals(1)
+    scene%nl%iterations_total = totals(2)
+    scene%nl%iterations_max = totals(3)
   end subroutine restore_scene
 
   !> save_scene for a scene spread over the ranks of `comm` (collective):
@@ -315,10 +325,6 @@ contains
       scene%work_internal = 0.0_dp
       scene%work_external = 0.0_dp
       scene%impulse = 0.0_dp
-    end if
-    if (size(scene%dstrain) < size(scene%parts%gid)) then
-      deallocate (scene%dstrain)
-      allocate (scene%dstrain(size(scene%parts%gid)))
     end if
   end subroutine restore_scene_ranks
 

@@ -1,46 +1,225 @@
-!> What a domain-decomposed run exchanges between ranks, behind two calls
-!> the solver makes every step (issue 7 fills them with Open MPI):
-!>  - sum_ghosts: add the ghost nodes' mass, momentum and forces into their
-!>    owners and copy the sums back (serial: one patch, nothing to do);
-!>  - hand_off: send particles whose support left this rank's patch to the
-!>    rank that owns it (serial: there is none, so a particle whose support
-!>    leaves the grid is an error naming it).
+!> What a domain-decomposed run exchanges between ranks, as calls the 1D
+!> solver makes every step without knowing whether there are other ranks
+!> (issue 7). The solver holds a class(mpm_exchange_t):
+!>  - mpm_serial_t (here): one process owning the whole grid. Nothing to
+!>    exchange; a particle whose support leaves the grid is an error naming
+!>    it. Used when the scene is built without an exchange (tests, benches);
+!>  - mpm_ranks_t (driver/mpm/parallel/wellposed_mpm_ranks): Open MPI
+!>    through wellposed_mpi, the grid cut into strips by
+!>    wellposed_mpm_decomposition. With one rank every call there is a
+!>    no-op or an identity, so one rank is the serial program bit for bit.
+!> The core library keeps no MPI: the parallel type extends this one in
+!> the parallel library. It also serves Algorithm 1 (nonlocal_ranks_t).
 module wellposed_mpm_exchange
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_mpm_grid, only: grid_t
   use wellposed_mpm_particles, only: particles_t
+  use wellposed_mpm_nonlocal, only: nonlocal_ranks_t
   implicit none
   private
-  public :: sum_ghosts, hand_off
+  public :: mpm_exchange_t, mpm_serial_t, left_grid_error
+
+  !> The exchanges of a decomposed 1D scene (collective where it says so).
+  type, abstract, extends(nonlocal_ranks_t) :: mpm_exchange_t
+  contains
+    !> share `ncells` cells (node 0 at `origin`, size `dx`, m) with `ghost`
+    !> node layers around every patch
+    procedure(ex_setup), deferred :: setup
+    !> cut a whole grid and every particle (as built for one process) down
+    !> to this rank's patch and particles
+    procedure(ex_restrict), deferred :: restrict
+    !> particles to the rank of their cell (collective)
+    procedure(ex_hand_off), deferred :: hand_off
+    !> every particle's support nodes (parts%node) inside the patch, else an
+    !> error on every rank (collective)
+    procedure(ex_check), deferred :: check_support
+    !> sum the patches' partial particle-to-grid sums at shared nodes:
+    !> mass, momentum and forces, or the momentum only (collective)
+    procedure(ex_sum_grid), deferred :: sum_grid
+    !> sum over the ranks, in place (collective)
+    procedure(ex_sum_reals), deferred :: sum_reals
+    !> 0-based rank of this process and the number of ranks
+    procedure(ex_int), deferred :: rank
+    procedure(ex_int), deferred :: nranks
+    !> ghost node layers of the patches
+    procedure(ex_int), deferred :: ghost_layers
+  end type mpm_exchange_t
+
+  abstract interface
+    subroutine ex_setup(self, ncells, ghost, origin, dx, err)
+      import :: mpm_exchange_t, dp, error_t
+      class(mpm_exchange_t), intent(inout) :: self
+      integer, intent(in) :: ncells, ghost
+      real(dp), intent(in) :: origin, dx
+      type(error_t), allocatable, intent(out) :: err
+    end subroutine ex_setup
+    subroutine ex_restrict(self, grid, parts, err)
+      import :: mpm_exchange_t, grid_t, particles_t, error_t
+      class(mpm_exchange_t), intent(inout) :: self
+      type(grid_t), intent(inout) :: grid
+      type(particles_t), intent(inout) :: parts
+      type(error_t), allocatable, intent(out) :: err
+    end subroutine ex_restrict
+    subroutine ex_hand_off(self, parts, err)
+      import :: mpm_exchange_t, particles_t, error_t
+      class(mpm_exchange_t), intent(inout) :: self
+      type(particles_t), intent(inout) :: parts
+      type(error_t), allocatable, intent(out) :: err
+    end subroutine ex_hand_off
+    subroutine ex_check(self, parts, grid, err)
+      import :: mpm_exchange_t, particles_t, grid_t, error_t
+      class(mpm_exchange_t), intent(inout) :: self
+      type(particles_t), intent(in) :: parts
+      type(grid_t), intent(in) :: grid
+      type(error_t), allocatable, intent(out) :: err
+    end subroutine ex_check
+    subroutine ex_sum_grid(self, grid, momentum_only)
+      import :: mpm_exchange_t, grid_t
+      class(mpm_exchange_t), intent(inout) :: self
+      type(grid_t), intent(inout) :: grid
+      logical, intent(in) :: momentum_only
+    end subroutine ex_sum_grid
+    subroutine ex_sum_reals(self, x)
+      import :: mpm_exchange_t, dp
+      class(mpm_exchange_t), intent(in) :: self
+      real(dp), intent(inout) :: x(:)
+    end subroutine ex_sum_reals
+    integer function ex_int(self)
+      import :: mpm_exchange_t
+      class(mpm_exchange_t), intent(in) :: self
+    end function ex_int
+  end interface
+
+  !> One process: the whole grid is its patch, nothing to exchange.
+  type, extends(mpm_exchange_t) :: mpm_serial_t
+  contains
+    procedure :: setup => serial_setup
+    procedure :: restrict => serial_restrict
+    procedure :: hand_off => serial_hand_off
+    procedure :: check_support => serial_check
+    procedure :: sum_grid => serial_sum_grid
+    procedure :: sum_reals => serial_sum_reals
+    procedure :: rank => serial_rank
+    procedure :: nranks => serial_nranks
+    procedure :: ghost_layers => serial_ghost
+    procedure :: nodes_from_lower => serial_nodes
+    procedure :: nodes_to_higher => serial_nodes
+    procedure :: nodes_from_highest => serial_nodes
+    procedure :: max_real => serial_max
+    procedure :: sum_int => serial_sum_int
+    procedure :: any_true => serial_any
+    procedure :: gather_all => serial_gather
+  end type mpm_serial_t
 
 contains
 
-  !> Sum ghost-node contributions across patches (serial: no-op).
-  subroutine sum_ghosts(grid)
-    type(grid_t), intent(inout) :: grid
-    ! Serial: the only patch owns every node, so there are no ghosts to sum.
-    ! (This file is compiled with -Wno-unused-dummy-argument for that reason.)
-  end subroutine sum_ghosts
+  !> The error of particle p (global id gid, at x m) whose support left the
+  !> grid [x_lo, x_hi] (m): the same words on one rank and on many.
+  subroutine left_grid_error(gid, x, x_lo, x_hi, err)
+    integer, intent(in) :: gid
+    real(dp), intent(in) :: x, x_lo, x_hi
+    type(error_t), allocatable, intent(out) :: err
+    character(len=160) :: buf
+    write (buf, '(a,i0,a,es12.5,a,es12.5,a,es12.5,a)') 'particle ', gid, ' at x = ', x, &
+      ' m left the grid [', x_lo, ', ', x_hi, '] m'
+    call new_error(err, status_invalid, 'grid', trim(buf)//'; enlarge the grid '// &
+      '(grid%pad_cells) or shorten the run')
+  end subroutine left_grid_error
 
-  !> Particles whose support nodes lie outside [glo, ghi] after the
-  !> connectivity was rebuilt. Serial: an error naming the first of them.
-  subroutine hand_off(parts, grid, err)
+  ! The serial stand-in: every argument it does not need is unused on
+  ! purpose (this file is compiled with -Wno-unused-dummy-argument).
+
+  subroutine serial_setup(self, ncells, ghost, origin, dx, err)
+    class(mpm_serial_t), intent(inout) :: self
+    integer, intent(in) :: ncells, ghost
+    real(dp), intent(in) :: origin, dx
+    type(error_t), allocatable, intent(out) :: err
+  end subroutine serial_setup
+
+  subroutine serial_restrict(self, grid, parts, err)
+    class(mpm_serial_t), intent(inout) :: self
+    type(grid_t), intent(inout) :: grid
     type(particles_t), intent(inout) :: parts
+    type(error_t), allocatable, intent(out) :: err
+  end subroutine serial_restrict
+
+  subroutine serial_hand_off(self, parts, err)
+    class(mpm_serial_t), intent(inout) :: self
+    type(particles_t), intent(inout) :: parts
+    type(error_t), allocatable, intent(out) :: err
+  end subroutine serial_hand_off
+
+  !> A particle whose support nodes lie outside [glo, ghi]: an error
+  !> naming the first of them.
+  subroutine serial_check(self, parts, grid, err)
+    class(mpm_serial_t), intent(inout) :: self
+    type(particles_t), intent(in) :: parts
     type(grid_t), intent(in) :: grid
     type(error_t), allocatable, intent(out) :: err
     integer :: p
-    character(len=160) :: buf
+    if (parts%n == 0) return
     if (minval(parts%node(:, 1:parts%n)) >= grid%glo .and. &
         maxval(parts%node(:, 1:parts%n)) <= grid%ghi) return
     do p = 1, parts%n
       if (minval(parts%node(:, p)) < grid%glo .or. maxval(parts%node(:, p)) > grid%ghi) exit
     end do
-    write (buf, '(a,i0,a,es12.5,a,es12.5,a,es12.5,a)') 'particle ', parts%gid(p), &
-      ' at x = ', parts%x(1, p), ' m left the grid [', &
-      grid%origin + grid%glo*grid%dx, ', ', grid%origin + grid%ghi*grid%dx, '] m'
-    call new_error(err, status_invalid, 'grid', trim(buf)//'; enlarge the grid '// &
-      '(grid%pad_cells) or shorten the run')
-  end subroutine hand_off
+    call left_grid_error(parts%gid(p), parts%x(1, p), grid%origin + grid%glo*grid%dx, &
+                         grid%origin + grid%ghi*grid%dx, err)
+  end subroutine serial_check
+
+  subroutine serial_sum_grid(self, grid, momentum_only)
+    class(mpm_serial_t), intent(inout) :: self
+    type(grid_t), intent(inout) :: grid
+    logical, intent(in) :: momentum_only
+  end subroutine serial_sum_grid
+
+  subroutine serial_sum_reals(self, x)
+    class(mpm_serial_t), intent(in) :: self
+    real(dp), intent(inout) :: x(:)
+  end subroutine serial_sum_reals
+
+  integer function serial_rank(self)
+    class(mpm_serial_t), intent(in) :: self
+    serial_rank = 0
+  end function serial_rank
+
+  integer function serial_nranks(self)
+    class(mpm_serial_t), intent(in) :: self
+    serial_nranks = 1
+  end function serial_nranks
+
+  integer function serial_ghost(self)
+    class(mpm_serial_t), intent(in) :: self
+    serial_ghost = 0
+  end function serial_ghost
+
+  subroutine serial_nodes(self, values)
+    class(mpm_serial_t), intent(inout) :: self
+    real(dp), intent(inout) :: values(:)
+  end subroutine serial_nodes
+
+  subroutine serial_max(self, x)
+    class(mpm_serial_t), intent(inout) :: self
+    real(dp), intent(inout) :: x
+  end subroutine serial_max
+
+  subroutine serial_sum_int(self, i)
+    class(mpm_serial_t), intent(inout) :: self
+    integer, intent(inout) :: i
+  end subroutine serial_sum_int
+
+  logical function serial_any(self, flag)
+    class(mpm_serial_t), intent(inout) :: self
+    logical, intent(in) :: flag
+    serial_any = flag
+  end function serial_any
+
+  subroutine serial_gather(self, mine, all)
+    class(mpm_serial_t), intent(inout) :: self
+    real(dp), intent(in) :: mine(:)
+    real(dp), allocatable, intent(out) :: all(:)
+    all = mine
+  end subroutine serial_gather
 
 end module wellposed_mpm_exchange

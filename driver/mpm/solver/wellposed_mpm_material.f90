@@ -11,6 +11,7 @@ module wellposed_mpm_material
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
+  use wellposed_text, only: int_text
   use wellposed_umat_interface, only: umat
   implicit none
   private
@@ -75,8 +76,8 @@ contains
     end do
     stress = s0; statev = sv0; stran = e0
     call new_error(err, status_cutback, '', 'the UMAT asked to cut back (PNEWDT < 1) '// &
-      'the increment of particle '//itoa(noel)//' and still did with '// &
-      itoa(2**max_halvings)//' sub-increments; a smaller CFL fraction may help')
+      'the increment of particle '//int_text(noel)//' and still did with '// &
+      int_text(2**max_halvings)//' sub-increments; a smaller CFL fraction may help')
 
   contains
 
@@ -102,23 +103,15 @@ contains
       character(len=32) :: buf
       write (buf, '(g0.4)') pnew
       call new_error(err, status_invalid, '', 'the UMAT refused the input of particle '// &
-        itoa(noel)//' (PNEWDT = '//trim(buf)//', contract status -1: invalid input; '// &
+        int_text(noel)//' (PNEWDT = '//trim(buf)//', contract status -1: invalid input; '// &
         'its own message is on standard error above)')
     end subroutine fatal
 
     subroutine nonfinite()
       call new_error(err, status_cutback, '', 'the UMAT returned a non-finite stress '// &
-        'for particle '//itoa(noel))
+        'for particle '//int_text(noel))
     end subroutine nonfinite
 
   end subroutine umat_point
-
-  pure function itoa(i) result(text)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=16) :: buffer
-    write (buffer, '(i0)') i
-    text = trim(buffer)
-  end function itoa
 
 end module wellposed_mpm_material

@@ -14,23 +14,36 @@
 !> cell, the free surface) cannot produce a spurious strain spike, and it
 !> conserves energy better in the comparisons of Wallstedt and Guilkey (2008).
 !>
-!> One step, in order: shape weights and hand-off -> P2G (mass, momentum,
-!> f_int, f_ext) -> ghost sum -> grid update and boundary conditions -> G2P
-!> (FLIP velocity, position) -> [MUSL: momentum P2G, ghost sum, velocity]
-!> -> strain increment, F and volume -> UMAT. Units SI, tension positive.
+!> One step, in order: hand-off of particles to the rank of their cell ->
+!> shape weights and the support check -> P2G (mass, momentum, f_int) ->
+!> ghost sum -> surface traction -> grid update and boundary conditions ->
+!> G2P (FLIP velocity, position) -> [MUSL: momentum P2G, ghost sum,
+!> velocity] -> strain increment, F and volume -> UMAT (Algorithm 1).
+!> Units SI, tension positive.
+!>
+!> Ranks (issue 7): the scene talks to other ranks only through its
+!> exchange (wellposed_mpm_exchange): every rank builds the whole scene,
+!> keeps its strip of cells with ghost layers as wide as the shape support
+!> or the nonlocal Gaussian's (whichever is wider), and the step above runs
+!> unchanged on the patch; the grid update covers ghost nodes too, which
+!> hold the same sums as their owners, so no second exchange is needed.
+!> Sums over particles (energies, momentum) are reduced over ranks; the
+!> bookkeeping sums (work, impulse) stay this rank's share.
 module wellposed_mpm_solver
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_text, only: int_text, real_text
   use wellposed_mpm_config
   use wellposed_mpm_grid, only: grid_t, new_grid_1d, grid_reset
   use wellposed_mpm_particles, only: particles_t, new_particles
   use wellposed_mpm_shape, only: support_size, shape_1d
   use wellposed_mpm_loads, only: surface_stress
   use wellposed_mpm_material, only: umat_point
-  use wellposed_mpm_exchange, only: sum_ghosts, hand_off
-  use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, new_nonlocal, nonlocal_solve
+  use wellposed_mpm_exchange, only: mpm_exchange_t, mpm_serial_t
+  use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, new_nonlocal, nonlocal_solve, &
+                                    nonlocal_ghost_nodes
   implicit none
   private
   public :: mpm_scene_t, new_scene, advance, kinetic_energy, total_momentum, &
@@ -62,6 +75,9 @@ module wellposed_mpm_solver
     integer :: max_substeps_step = 1      !< the same within the current step
     integer :: nl_log_unit = 6            !< where the nonlocal bound warnings go
     integer(int64) :: ticks(ntimers) = 0_int64
+    !> the other ranks (a serial stand-in when the scene was built without)
+    class(mpm_exchange_t), allocatable :: exchange
+    real(dp) :: mass_floor = 0.0_dp       !< grid nodes below it count as empty (kg/m^2)
     ! workspace
     real(dp), allocatable :: dstrain(:)   !< axial strain increment of the step, per particle
     ! nonlocal Algorithm 1 (seed chapter 4): solver state, start-of-step copies
@@ -76,11 +92,15 @@ contains
   !> Build the grid and particles of `cfg`, check that the scene can run,
   !> probe the UMAT at the initial state for the wave speeds and set the time
   !> step dt = cfl * dx / sqrt(M_max / rho). Errors name the deck key.
-  subroutine new_scene(self, cfg, err)
+  !> With `exchange` (collective then) the scene is this rank's share: its
+  !> strip of cells with ghost layers (the wider of the shape support and
+  !> nonlocal_ghost_nodes) and the particles in it.
+  subroutine new_scene(self, cfg, err, exchange)
     type(mpm_scene_t), intent(out) :: self
     type(mpm_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
-    integer :: ncell_body, ncells, p, c, k, np
+    class(mpm_exchange_t), intent(in), optional :: exchange
+    integer :: ncell_body, ncells, p, c, k, np, ghost
     real(dp) :: frac, lp
 
     call check_scene(cfg, err)
@@ -124,14 +144,32 @@ contains
     end do
     self%parts%stran = 0.0_dp
     self%parts%statev = 0.0_dp
-    allocate (self%dstrain(np))
-    allocate (self%s0(6, np), self%sv0(cfg%nstatv, np), self%e0(6, np))
+    ! particle masses never change: one floor for every step
+    self%mass_floor = 1.0e-9_dp*minval(self%parts%mass(1:np))
     call new_nonlocal(self%nl, cfg%nonlocal, cfg%props(1:cfg%nprops), 1, [self%grid%origin], &
                       cfg%dx, [self%grid%nnodes], self%grid%glo, self%grid%ghi, err)
     if (allocated(err)) then
       err%message = '&nonlocal / &material: '//err%message
       return
     end if
+    ! this rank's strip: ghost layers for GIMP's reach and the Gaussian's
+    if (present(exchange)) then
+      allocate (self%exchange, source=exchange)
+    else
+      allocate (mpm_serial_t :: self%exchange)
+    end if
+    ghost = max(merge(0, 1, cfg%shape == shape_linear), nonlocal_ghost_nodes(self%nl))
+    call self%exchange%setup(ncells, ghost, self%grid%origin, cfg%dx, err)
+    if (allocated(err)) return
+    call self%exchange%restrict(self%grid, self%parts, err)
+    if (allocated(err)) return
+    if (self%grid%glo /= 0 .or. self%grid%ghi /= ncells) then
+      call new_nonlocal(self%nl, cfg%nonlocal, cfg%props(1:cfg%nprops), 1, &
+                        [self%grid%origin], cfg%dx, [self%grid%nnodes], self%grid%glo, &
+                        self%grid%ghi, err)
+      if (allocated(err)) return
+    end if
+    call size_workspace(self)
 
     call probe_moduli(cfg, self%modulus_elastic, self%modulus_plastic, err)
     if (allocated(err)) return
@@ -140,6 +178,21 @@ contains
     self%kinetic0 = kinetic_energy(self)
     self%momentum0 = total_momentum(self)
   end subroutine new_scene
+
+  !> Per-particle workspace for as many particles as the set can hold
+  !> (a rank's count changes as particles cross; a restart refills it).
+  subroutine size_workspace(self)
+    class(mpm_scene_t), intent(inout) :: self
+    integer :: cap
+    cap = size(self%parts%gid)
+    if (allocated(self%dstrain)) then
+      if (min(size(self%dstrain), size(self%s0, 2), size(self%sv0, 2), size(self%e0, 2)) &
+          >= cap) return
+      deallocate (self%dstrain, self%s0, self%sv0, self%e0)
+    end if
+    allocate (self%dstrain(cap), self%s0(6, cap), self%sv0(self%cfg%nstatv, cap), &
+              self%e0(6, cap))
+  end subroutine size_workspace
 
   !> Checks a scene must pass before it runs (impossible scenes: error).
   pure subroutine check_scene(cfg, err)
@@ -239,24 +292,30 @@ contains
   end subroutine probe_moduli
 
   !> One explicit step of length dt (see the module comment for the order).
+  !> Collective over the scene's ranks; an error on any rank is an error on
+  !> every rank.
   subroutine advance(self, err)
     type(mpm_scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
     integer(int64) :: t0, t1
-    integer :: p, k, i, n
-    real(dp) :: dt, sig_b, xs, w, fs(2), vsurf, de, vs, ds, lg, mmin
+    integer :: p, k, i, n, psurf
+    real(dp) :: dt, sig_b, xs, w, fs(2), vsurf, de, vs, ds, lg, mmin, surf(4)
     integer :: is
 
-    associate (g => self%grid, pt => self%parts, cfg => self%cfg)
-      n = pt%n
+    associate (g => self%grid, pt => self%parts, cfg => self%cfg, ex => self%exchange)
       dt = self%dt
       call system_clock(t0)
-      ! --- shape weights at x^n, eq. 4.6-4.7, and the hand-off check
+      ! --- particles to the rank of their cell (one rank: nothing moves)
+      call ex%hand_off(pt, err)
+      if (allocated(err)) return
+      n = pt%n
+      call size_workspace(self)
+      ! --- shape weights at x^n, eq. 4.6-4.7, and the support check
       do p = 1, n
         call shape_1d(cfg%shape, pt%x(1, p), pt%lp(1, p), g%origin, g%dx, pt%node(:, p), &
                       pt%phi(:, p), pt%grad(1, :, p))
       end do
-      call hand_off(pt, g, err)
+      call ex%check_support(pt, g, err)
       if (allocated(err)) return
       ! --- particle to grid: eq. 4.4, momentum, eq. 4.5
       call grid_reset(g)
@@ -269,28 +328,46 @@ contains
           g%fint(1, i) = g%fint(1, i) - pt%vol(p)*pt%stress(1, p)*pt%grad(1, k, p)
         end do
       end do
+      call ex%sum_grid(g, .false.)
       ! surface traction t_x = -sigma_b on the outward normal -x, at the
-      ! surface x_s = x_1 - lp_1, spread with the linear hat
-      sig_b = surface_stress(cfg, self%t)
-      xs = pt%x(1, 1) - pt%lp(1, 1)
-      is = floor((xs - g%origin)/g%dx)
-      w = (xs - (g%origin + is*g%dx))/g%dx
-      ! once a tensile pulse moves the surface outside the first node with
-      ! mass (linear shapes: the Dirac particle 1 lies inside its cell), that
-      ! node's share would fall on a massless node and be dropped: give the
-      ! whole traction to the next node
-      if (g%mass(is) <= 0.0_dp) w = 1.0_dp
-      fs = -sig_b*[1.0_dp - w, w]
-      g%fext(1, is) = g%fext(1, is) + fs(1)
-      g%fext(1, is + 1) = g%fext(1, is + 1) + fs(2)
-      call sum_ghosts(g)
+      ! surface x_s = x_1 - lp_1, spread with the linear hat; worked out by
+      ! the rank holding the surface particle (global id 1) from the summed
+      ! node masses, then applied by every rank holding the two nodes
+      psurf = findloc(pt%gid(1:n), 1, 1)
+      surf = 0.0_dp
+      if (psurf > 0) then
+        sig_b = surface_stress(cfg, self%t)
+        xs = pt%x(1, psurf) - pt%lp(1, psurf)
+        is = floor((xs - g%origin)/g%dx)
+        w = (xs - (g%origin + is*g%dx))/g%dx
+        ! once a tensile pulse moves the surface outside the first node with
+        ! mass (linear shapes: the Dirac particle 1 lies inside its cell),
+        ! that node's share would fall on a massless node and be dropped:
+        ! give the whole traction to the next node (a node outside the
+        ! patch carries no mass: no particle lies left of particle 1)
+        if (is < g%glo) then
+          w = 1.0_dp
+        else if (g%mass(is) <= 0.0_dp) then
+          w = 1.0_dp
+        end if
+        fs = -sig_b*[1.0_dp - w, w]
+        surf = [real(is, dp), w, fs(1), fs(2)]
+      end if
+      call ex%sum_reals(surf)
+      is = nint(surf(1))
+      w = surf(2)
+      fs = surf(3:4)
+      if (is >= g%glo .and. is <= g%ghi) g%fext(1, is) = g%fext(1, is) + fs(1)
+      if (is + 1 >= g%glo .and. is + 1 <= g%ghi) g%fext(1, is + 1) = g%fext(1, is + 1) + fs(2)
       call system_clock(t1)
       self%ticks(timer_transfer) = self%ticks(timer_transfer) + (t1 - t0)
       t0 = t1
-      ! --- grid update, eq. 4.9-4.10, and the reaction at fixed nodes
-      mmin = 1.0e-9_dp*minval(pt%mass(1:n))
+      ! --- grid update, eq. 4.9-4.10, and the reaction at fixed nodes, over
+      ! the whole patch: ghost nodes hold the same sums as their owners and
+      ! give this rank's particles the same velocities
+      mmin = self%mass_floor
       lg = 0.0_dp
-      do i = g%ilo, g%ihi
+      do i = g%glo, g%ghi
         if (g%mass(i) > mmin) then
           g%accel(1, i) = (g%fint(1, i) + g%fext(1, i))/g%mass(i)
           g%velocity(1, i) = g%momentum(1, i)/g%mass(i) + g%accel(1, i)*dt
@@ -300,12 +377,18 @@ contains
         end if
         if (g%fixed(1, i)) then
           ! the reaction cancels the nodal force: it enters the impulse
-          lg = lg - (g%fint(1, i) + g%fext(1, i))
+          ! (counted by the node's owner only)
+          if (i >= g%ilo .and. i <= g%ihi) lg = lg - (g%fint(1, i) + g%fext(1, i))
           g%accel(1, i) = 0.0_dp
           g%velocity(1, i) = 0.0_dp
         end if
       end do
-      self%impulse = self%impulse + dt*(fs(1) + fs(2) + lg)
+      ! the surface force enters the impulse of the surface particle's rank
+      if (psurf > 0) then
+        self%impulse = self%impulse + dt*(fs(1) + fs(2) + lg)
+      else
+        self%impulse = self%impulse + dt*lg
+      end if
       call system_clock(t1)
       self%ticks(timer_grid) = self%ticks(timer_grid) + (t1 - t0)
       t0 = t1
@@ -330,8 +413,8 @@ contains
             g%momentum(1, i) = g%momentum(1, i) + pt%phi(k, p)*pt%mass(p)*pt%v(1, p)
           end do
         end do
-        call sum_ghosts(g)
-        do i = g%ilo, g%ihi
+        call ex%sum_grid(g, .true.)
+        do i = g%glo, g%ghi
           if (g%mass(i) > mmin .and. .not. g%fixed(1, i)) then
             g%velocity(1, i) = g%momentum(1, i)/g%mass(i)
           else
@@ -348,8 +431,12 @@ contains
         self%dstrain(p) = de*dt
       end do
       ! external work: surface force times the surface velocity of the strain
-      vsurf = (1.0_dp - w)*g%velocity(1, is) + w*g%velocity(1, is + 1)
-      self%work_external = self%work_external + dt*(fs(1) + fs(2))*vsurf
+      ! (by the surface particle's rank, which holds both nodes when w < 1)
+      if (psurf > 0) then
+        vsurf = w*g%velocity(1, is + 1)
+        if (w < 1.0_dp) vsurf = (1.0_dp - w)*g%velocity(1, is) + vsurf
+        self%work_external = self%work_external + dt*(fs(1) + fs(2))*vsurf
+      end if
       call system_clock(t1)
       self%ticks(timer_transfer) = self%ticks(timer_transfer) + (t1 - t0)
       t0 = t1
@@ -362,11 +449,18 @@ contains
         self%e0(:, p) = pt%stran(:, p)
       end do
       self%max_substeps_step = 1
-      call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
-                          pt%phi(:, 1:n), err, self%nl_log_unit)
+      ! (collective: the sweeps in the serial order across ranks; the
+      ! bound warnings from rank 0 only)
+      if (ex%rank() == 0) then
+        call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
+                            pt%phi(:, 1:n), err, self%nl_log_unit, ex, pt%gid(1:n))
+      else
+        call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
+                            pt%phi(:, 1:n), err, ranks=ex, key=pt%gid(1:n))
+      end if
       if (allocated(err)) then
-        err%message = 'step '//itoa(self%nstep + 1)//', t = '//rtoa(self%t + dt)//' s: '// &
-                      err%message
+        err%message = 'step '//int_text(self%nstep + 1)//', t = '//real_text(self%t + dt)// &
+                      ' s: '//err%message
         return
       end if
       if (self%max_substeps_step > self%max_substeps) self%max_substeps = self%max_substeps_step
@@ -412,36 +506,28 @@ contains
     end associate
   end subroutine scene_update
 
-  !> Kinetic energy of the particles (J per m^2 of section).
-  pure real(dp) function kinetic_energy(self)
+  !> Kinetic energy of the particles on all ranks (J per m^2 of section;
+  !> collective).
+  real(dp) function kinetic_energy(self)
     type(mpm_scene_t), intent(in) :: self
     integer :: n
+    real(dp) :: e(1)
     n = self%parts%n
-    kinetic_energy = 0.5_dp*sum(self%parts%mass(1:n)*self%parts%v(1, 1:n)**2)
+    e(1) = 0.5_dp*sum(self%parts%mass(1:n)*self%parts%v(1, 1:n)**2)
+    call self%exchange%sum_reals(e)
+    kinetic_energy = e(1)
   end function kinetic_energy
 
-  !> Momentum of the particles (kg m/s per m^2 of section).
-  pure real(dp) function total_momentum(self)
+  !> Momentum of the particles on all ranks (kg m/s per m^2 of section;
+  !> collective).
+  real(dp) function total_momentum(self)
     type(mpm_scene_t), intent(in) :: self
     integer :: n
+    real(dp) :: m(1)
     n = self%parts%n
-    total_momentum = sum(self%parts%mass(1:n)*self%parts%v(1, 1:n))
+    m(1) = sum(self%parts%mass(1:n)*self%parts%v(1, 1:n))
+    call self%exchange%sum_reals(m)
+    total_momentum = m(1)
   end function total_momentum
-
-  pure function itoa(i) result(text)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=16) :: buffer
-    write (buffer, '(i0)') i
-    text = trim(buffer)
-  end function itoa
-
-  pure function rtoa(x) result(text)
-    real(dp), intent(in) :: x
-    character(len=:), allocatable :: text
-    character(len=32) :: buffer
-    write (buffer, '(es12.5)') x
-    text = trim(adjustl(buffer))
-  end function rtoa
 
 end module wellposed_mpm_solver

@@ -1,0 +1,249 @@
+!> The exchanges of a 1D MPM scene spread over the ranks of an MPI
+!> communicator (issue 7): the mpm_exchange_t the solver calls, filled with
+!> wellposed_mpm_decomposition (strips of cells, ghost sums, particle
+!> hand-off) and wellposed_mpi. On one rank every call is a no-op or an
+!> identity, so `mpirun -np 1` and a plain run are the serial program bit
+!> for bit. Also the nonlocal_ranks_t of Algorithm 1: the pipeline that
+!> keeps its Gauss-Seidel sweep in the serial order across ranks (see
+!> wellposed_mpm_nonlocal), built from pairwise exchanges with the two
+!> neighbouring ranks only: the patches are intervals of node layers in
+!> rank order, so whatever rank r-2 changed in rank r's patch lies in rank
+!> r-1's patch too and reaches r through it.
+module wellposed_mpm_ranks
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_text, only: int_text
+  use wellposed_mpi, only: comm_t, allreduce_sum, allreduce_max, allreduce_any, gatherv_real, &
+                           broadcast, sendrecv_real
+  use wellposed_mpm_grid, only: grid_t
+  use wellposed_mpm_particles, only: particles_t
+  use wellposed_mpm_exchange, only: mpm_exchange_t, left_grid_error
+  use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, restrict_grid, &
+                                         restrict_particles, hand_off_particles, &
+                                         sum_ghost_grid
+  implicit none
+  private
+  public :: mpm_ranks_t, new_mpm_ranks
+
+  !> Tag of the nonlocal pipeline's messages.
+  integer, parameter :: tag_pipeline = 81, tag_highest = 82
+
+  !> A scene's ranks: the communicator and, after `setup`, the strips.
+  type, extends(mpm_exchange_t) :: mpm_ranks_t
+    type(comm_t) :: comm
+    type(decomposition_t) :: dec
+    integer :: glo = 0         !< first global node of this rank's patch
+  contains
+    procedure :: setup => ranks_setup
+    procedure :: restrict => ranks_restrict
+    procedure :: hand_off => ranks_hand_off
+    procedure :: check_support => ranks_check
+    procedure :: sum_grid => ranks_sum_grid
+    procedure :: sum_reals => ranks_sum_reals
+    procedure :: rank => ranks_rank
+    procedure :: nranks => ranks_nranks
+    procedure :: ghost_layers => ranks_ghost
+    procedure :: nodes_from_lower => ranks_from_lower
+    procedure :: nodes_to_higher => ranks_to_higher
+    procedure :: nodes_from_highest => ranks_from_highest
+    procedure :: max_real => ranks_max
+    procedure :: sum_int => ranks_sum_int
+    procedure :: any_true => ranks_any
+    procedure :: gather_all => ranks_gather
+  end type mpm_ranks_t
+
+contains
+
+  !> The exchange of a scene over the ranks of `comm` (strips set by the
+  !> scene through `setup`).
+  subroutine new_mpm_ranks(self, comm)
+    type(mpm_ranks_t), intent(out) :: self
+    type(comm_t), intent(in) :: comm
+    self%comm = comm
+  end subroutine new_mpm_ranks
+
+  subroutine ranks_setup(self, ncells, ghost, origin, dx, err)
+    class(mpm_ranks_t), intent(inout) :: self
+    integer, intent(in) :: ncells, ghost
+    real(dp), intent(in) :: origin, dx
+    type(error_t), allocatable, intent(out) :: err
+    call new_decomposition(self%dec, self%comm, ncells, 1, ghost, 1, origin, dx, err)
+    if (allocated(err)) then
+      err%message = 'cannot run on '//int_text(self%comm%size)//' ranks: '//err%message
+      return
+    end if
+    self%glo = max(0, self%dec%cell_lo(self%comm%rank) - ghost)
+  end subroutine ranks_setup
+
+  subroutine ranks_restrict(self, grid, parts, err)
+    class(mpm_ranks_t), intent(inout) :: self
+    type(grid_t), intent(inout) :: grid
+    type(particles_t), intent(inout) :: parts
+    type(error_t), allocatable, intent(out) :: err
+    call restrict_grid(self%dec, grid)
+    call restrict_particles(self%dec, parts, err)
+  end subroutine ranks_restrict
+
+  subroutine ranks_hand_off(self, parts, err)
+    class(mpm_ranks_t), intent(inout) :: self
+    type(particles_t), intent(inout) :: parts
+    type(error_t), allocatable, intent(out) :: err
+    if (self%comm%size == 1) return
+    call hand_off_particles(self%dec, self%comm, parts, err)
+  end subroutine ranks_hand_off
+
+  !> Support nodes outside the grid: the serial message (the particle left
+  !> the grid); inside the grid but outside the patch: the ghost layers are
+  !> too narrow (a defect, named as such). Collective.
+  subroutine ranks_check(self, parts, grid, err)
+    class(mpm_ranks_t), intent(inout) :: self
+    type(particles_t), intent(in) :: parts
+    type(grid_t), intent(in) :: grid
+    type(error_t), allocatable, intent(out) :: err
+    integer :: p, lo, hi
+    do p = 1, parts%n
+      lo = minval(parts%node(:, p))
+      hi = maxval(parts%node(:, p))
+      if (lo >= grid%glo .and. hi <= grid%ghi) cycle
+      if (lo < 0 .or. hi > grid%nnodes - 1) then
+        call left_grid_error(parts%gid(p), parts%x(1, p), grid%origin, &
+                             grid%origin + (grid%nnodes - 1)*grid%dx, err)
+      else
+        call new_error(err, status_invalid, 'ghost', 'particle '//int_text(parts%gid(p))// &
+          ' reaches nodes outside the patch ['//int_text(grid%glo)//', '// &
+          int_text(grid%ghi)//'] of rank '//int_text(self%comm%rank)//': ghost width '// &
+          int_text(self%dec%ghost)//' is below the shape support')
+      end if
+      exit
+    end do
+    if (self%comm%size == 1) return
+    if (allreduce_any(self%comm, allocated(err)) .and. .not. allocated(err)) &
+      call new_error(err, status_invalid, 'grid', 'a particle on another rank left its '// &
+        'patch (its message is above)')
+  end subroutine ranks_check
+
+  subroutine ranks_sum_grid(self, grid, momentum_only)
+    class(mpm_ranks_t), intent(inout) :: self
+    type(grid_t), intent(inout) :: grid
+    logical, intent(in) :: momentum_only
+    call sum_ghost_grid(self%dec, self%comm, grid, momentum_only)
+  end subroutine ranks_sum_grid
+
+  subroutine ranks_sum_reals(self, x)
+    class(mpm_ranks_t), intent(in) :: self
+    real(dp), intent(inout) :: x(:)
+    if (self%comm%size == 1) return
+    call allreduce_sum(self%comm, x)
+  end subroutine ranks_sum_reals
+
+  integer function ranks_rank(self)
+    class(mpm_ranks_t), intent(in) :: self
+    ranks_rank = self%comm%rank
+  end function ranks_rank
+
+  integer function ranks_nranks(self)
+    class(mpm_ranks_t), intent(in) :: self
+    ranks_nranks = self%comm%size
+  end function ranks_nranks
+
+  integer function ranks_ghost(self)
+    class(mpm_ranks_t), intent(in) :: self
+    ranks_ghost = self%dec%ghost
+  end function ranks_ghost
+
+  !> Neighbour slot of rank `r` (0 when its patch shares no node with ours).
+  pure integer function slot_of(self, r) result(k)
+    class(mpm_ranks_t), intent(in) :: self
+    integer, intent(in) :: r
+    do k = 1, self%dec%nnb
+      if (self%dec%nb_rank(k) == r) return
+    end do
+    k = 0
+  end function slot_of
+
+  !> values(:) over the patch: the nodes shared with rank r-1 take r-1's
+  !> values (after its pass). Rank 0: nothing.
+  subroutine ranks_from_lower(self, values)
+    class(mpm_ranks_t), intent(inout) :: self
+    real(dp), intent(inout) :: values(:)
+    real(dp) :: none(0)
+    integer :: k, lo, hi
+    k = slot_of(self, self%comm%rank - 1)
+    if (self%comm%rank == 0 .or. k == 0) return
+    lo = self%dec%nb_lo(k) - self%glo + 1
+    hi = self%dec%nb_hi(k) - self%glo + 1
+    call sendrecv_real(self%comm, none, self%comm%rank - 1, values(lo:hi), &
+                       self%comm%rank - 1, tag_pipeline)
+  end subroutine ranks_from_lower
+
+  !> This rank's values of the nodes shared with rank r+1, to it.
+  subroutine ranks_to_higher(self, values)
+    class(mpm_ranks_t), intent(inout) :: self
+    real(dp), intent(inout) :: values(:)
+    real(dp) :: none(0)
+    integer :: k, lo, hi
+    k = slot_of(self, self%comm%rank + 1)
+    if (self%comm%rank == self%comm%size - 1 .or. k == 0) return
+    lo = self%dec%nb_lo(k) - self%glo + 1
+    hi = self%dec%nb_hi(k) - self%glo + 1
+    call sendrecv_real(self%comm, values(lo:hi), self%comm%rank + 1, none, &
+                       self%comm%rank + 1, tag_pipeline)
+  end subroutine ranks_to_higher
+
+  !> Every node the value of the highest rank holding it: the neighbours in
+  !> ascending order, each higher one overwriting what it shares.
+  subroutine ranks_from_highest(self, values)
+    class(mpm_ranks_t), intent(inout) :: self
+    real(dp), intent(inout) :: values(:)
+    real(dp), allocatable :: recv(:)
+    integer :: k, lo, hi
+    do k = 1, self%dec%nnb
+      lo = self%dec%nb_lo(k) - self%glo + 1
+      hi = self%dec%nb_hi(k) - self%glo + 1
+      allocate (recv(hi - lo + 1))
+      call sendrecv_real(self%comm, values(lo:hi), self%dec%nb_rank(k), recv, &
+                         self%dec%nb_rank(k), tag_highest)
+      if (self%dec%nb_rank(k) > self%comm%rank) values(lo:hi) = recv
+      deallocate (recv)
+    end do
+  end subroutine ranks_from_highest
+
+  subroutine ranks_max(self, x)
+    class(mpm_ranks_t), intent(inout) :: self
+    real(dp), intent(inout) :: x
+    if (self%comm%size > 1) call allreduce_max(self%comm, x)
+  end subroutine ranks_max
+
+  subroutine ranks_sum_int(self, i)
+    class(mpm_ranks_t), intent(inout) :: self
+    integer, intent(inout) :: i
+    if (self%comm%size > 1) call allreduce_sum(self%comm, i)
+  end subroutine ranks_sum_int
+
+  logical function ranks_any(self, flag)
+    class(mpm_ranks_t), intent(inout) :: self
+    logical, intent(in) :: flag
+    ranks_any = flag
+    if (self%comm%size > 1) ranks_any = allreduce_any(self%comm, flag)
+  end function ranks_any
+
+  subroutine ranks_gather(self, mine, all)
+    class(mpm_ranks_t), intent(inout) :: self
+    real(dp), intent(in) :: mine(:)
+    real(dp), allocatable, intent(out) :: all(:)
+    integer :: n
+    if (self%comm%size == 1) then
+      all = mine
+      return
+    end if
+    call gatherv_real(self%comm, mine, all, 0)
+    n = size(all)
+    call broadcast(self%comm, n, 0)
+    if (self%comm%rank /= 0) then
+      deallocate (all)
+      allocate (all(n))
+    end if
+    call broadcast(self%comm, all, 0)
+  end subroutine ranks_gather
+
+end module wellposed_mpm_ranks
