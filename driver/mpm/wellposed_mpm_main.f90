@@ -336,7 +336,7 @@ contains
                    nfailed, err)
     call comm_stop(comm)
     if (allocated(err)) call die(err)
-    if (nfailed > 0) error stop 1
+    if (nfailed > 0) stop 1
     stop
   end subroutine run_mpm_batch
 

@@ -1,0 +1,85 @@
+#!/usr/bin/env python3
+"""A damaged checkpoint is refused by wellposed-mpm, never half-read (issue 7).
+
+check_bad_checkpoint.py --program wellposed-mpm --deck DECK --out DIR [--launcher L]
+                        [--name NAME] -- [ARGS]
+
+Runs DECK with a checkpoint every 20 steps in its own process group and
+kills the group with SIGKILL once the first checkpoint exists. Then, from
+copies of that checkpoint:
+  - truncated to half its length, given with --restart-from;
+  - one byte of its data flipped (the checkpoint's checksum must catch it),
+    given with --restart-from;
+  - the flipped file as the newest of the run's checkpoint folder, found
+    by --restart;
+each restart must exit non-zero with one message naming the file and
+saying it is refused (the last one also naming --restart-from), and leave
+no finished run folder. Exit status 0 when all holds.
+"""
+import argparse, glob, os, re, shlex, shutil, signal, subprocess, sys, time
+
+ap = argparse.ArgumentParser()
+ap.add_argument('--launcher', default='')
+ap.add_argument('--program', required=True)
+ap.add_argument('--deck', required=True)
+ap.add_argument('--out', required=True)
+ap.add_argument('--name', default='short_wave')
+ap.add_argument('args', nargs='*')
+a = ap.parse_args()
+launch = shlex.split(a.launcher)
+common = ['--no-plot', '--checkpoint-every', '20', a.deck] + a.args
+
+shutil.rmtree(a.out, ignore_errors=True)
+os.makedirs(a.out)
+proc = subprocess.Popen(launch + [a.program, '--out', a.out] + common, stdout=subprocess.DEVNULL,
+                        stderr=subprocess.DEVNULL, start_new_session=True)
+ckdir = os.path.join(a.out, a.name + '.checkpoints')
+deadline = time.time() + 120
+while not glob.glob(os.path.join(ckdir, 'checkpoint_*.h5')):
+    if proc.poll() is not None:
+        sys.exit('FAIL: the run ended before its first checkpoint')
+    if time.time() > deadline:
+        sys.exit('FAIL: no checkpoint within 120 s')
+    time.sleep(0.01)
+os.killpg(proc.pid, signal.SIGKILL)
+proc.wait()
+time.sleep(0.5)
+good = sorted(glob.glob(os.path.join(ckdir, 'checkpoint_*.h5')))[-1]
+data = open(good, 'rb').read()
+truncated = os.path.join(a.out, 'truncated.h5')
+with open(truncated, 'wb') as f:
+    f.write(data[:len(data) // 2])
+flipped = os.path.join(a.out, 'flipped.h5')
+# flip one bit two thirds into the file: in the particle data there, so the
+# file still opens as HDF5 and only the checkpoint's checksum can tell
+raw = bytearray(data)
+k = len(raw) - len(raw) // 3
+raw[k] ^= 0x10
+with open(flipped, 'wb') as f:
+    f.write(raw)
+
+failures = []
+
+
+def refused(label, extra, pattern):
+    r = subprocess.run(launch + [a.program, '--out', a.out] + extra + common,
+                       stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    msg = [l for l in r.stderr.splitlines() if 'wellposed-mpm: error:' in l]
+    ok = r.returncode != 0 and msg and re.search(pattern, msg[0])
+    if os.path.exists(os.path.join(a.out, a.name)):
+        ok = False
+        msg.append('(and it left a finished-looking folder)')
+    print('%s: %s: %s' % ('ok  ' if ok else 'FAIL', label, msg[0] if msg else
+                         'exit %d, no error message' % r.returncode))
+    if not ok:
+        failures.append(label)
+
+
+refused('truncated checkpoint', ['--restart-from', truncated],
+        r'checkpoint ".*truncated\.h5" is refused')
+refused('checkpoint with a flipped byte', ['--restart-from', flipped],
+        r'checkpoint ".*flipped\.h5" is refused.*checksum')
+shutil.copy(flipped, os.path.join(ckdir, 'checkpoint_9999999999.h5'))
+refused('damaged newest checkpoint found by --restart', ['--restart'],
+        r'checkpoint_9999999999\.h5" is refused.*--restart-from')
+sys.exit(1 if failures else 0)
