@@ -18,7 +18,8 @@
 !>   parallel_h5_main bench DIR N [REPS]  wall times of a snapshot of N rows
 !>                                    per rank (a 2-column and six 1-column
 !>                                    fields) in each way, against rank 0
-!>                                    gathering and writing alone
+!>                                    gathering and writing alone (points and
+!>                                    hyperslabs up to N = 20000; -1: skipped)
 !>
 !> check_parallel_h5.py compares the files with the reference (bitwise).
 program parallel_h5_main
@@ -220,10 +221,8 @@ contains
   subroutine scattered_ids(gids)
     integer, allocatable, intent(out) :: gids(:)
     integer :: g
-    allocate (gids(0))
-    do g = n, 1, -1
-      if (mod((g - 1)/5 + (g - 1)/17, comm%size) == comm%rank) gids = [gids, g]
-    end do
+    gids = pack([(g, g=n, 1, -1)], &
+                mod(([(g, g=n, 1, -1)] - 1)/5 + ([(g, g=n, 1, -1)] - 1)/17, comm%size) == comm%rank)
   end subroutine scattered_ids
 
   !> Every dataset and attribute of the reference, in the same order.
@@ -393,15 +392,17 @@ contains
     if (command_argument_count() >= 4) reps = int_arg(4)
     allocate (t(reps, 5))
     ! ids dealt in runs of 5 over the ranks (each rank's rows reversed)
-    allocate (gids(0))
-    do g = n*comm%size, 1, -1
-      if (mod((g - 1)/5, comm%size) == comm%rank) gids = [gids, g]
-    end do
+    gids = pack([(g, g=n*comm%size, 1, -1)], &
+                mod(([(g, g=n*comm%size, 1, -1)] - 1)/5, comm%size) == comm%rank)
     allocate (xy(size(gids), 2))
     xy(:, 1) = field_x(gids)
     xy(:, 2) = -field_x(gids)
     do r = 1, reps
       do k = 1, 5
+        t(r, k) = -1.0e-3_dp
+        ! in place by points or hyperslab unions grows faster than the rows:
+        ! measured up to 20 000 rows per rank
+        if ((k == 3 .or. k == 4) .and. n > 20000) cycle
         t(r, k) = timed(k, gids, xy)
       end do
     end do
