@@ -192,7 +192,7 @@ program wellposed_mpm
   ! ---- time loop
   if (root) then
     allocate (energy(5, size(st%time)))
-    allocate (snaps(7, ntotal, int(cfg%t_end/max(cfg%snapshot_dt, tiny(1.0_dp))) + 3))
+    allocate (snaps(7, ntotal, 0))   ! grows with the snapshots taken
   else
     allocate (energy(5, 1), snaps(7, 0, 0))
   end if
@@ -387,10 +387,21 @@ contains
     call gather_by_gid(comm, scene%parts%gid(1:n), fields, 0, gathered)
     next_snap = nsnap*cfg%snapshot_dt
     if (.not. root) return
+    call room_for_snapshots(nsnap)
     snaps(1, :, nsnap) = scene%t
     snaps(2:7, :, nsnap) = gathered
     call write_snapshot(nsnap)
   end subroutine snapshot
+
+  !> `snaps` (rank 0) with room for at least n snapshots (doubling).
+  subroutine room_for_snapshots(n)
+    integer, intent(in) :: n
+    real(dp), allocatable :: grown(:, :, :)
+    if (size(snaps, 3) >= n) return
+    allocate (grown(7, ntotal, max(n, 2*size(snaps, 3), 4)))
+    grown(:, :, 1:size(snaps, 3)) = snaps
+    call move_alloc(grown, snaps)
+  end subroutine room_for_snapshots
 
   !> Snapshot k of `snaps` into run.h5 (rank 0).
   subroutine write_snapshot(k)
@@ -478,12 +489,13 @@ contains
     nenergy = counts(1)
     call ck%get('main/energy', a, e)
     if (allocated(e)) call die_alone(e)
-    if (nenergy > size(energy, 2) .or. size(a) /= 5*nenergy .or. nsnap > size(snaps, 3)) &
-      call die_text(ck_file//': the energy rows or snapshots do not fit this deck', .true.)
+    if (nenergy > size(energy, 2) .or. size(a) /= 5*nenergy) &
+      call die_text(ck_file//': the energy rows do not fit this deck', .true.)
     energy(:, 1:nenergy) = reshape(a, [5, nenergy])
     call ck%get('main/snapshots', a, e)
     if (allocated(e)) call die_alone(e)
     if (size(a) /= 7*ntotal*nsnap) call die_text(ck_file//': the snapshots are garbled', .true.)
+    call room_for_snapshots(nsnap)
     snaps(:, :, 1:nsnap) = reshape(a, [7, ntotal, nsnap])
     do k = 1, nsnap
       call write_snapshot(k)
