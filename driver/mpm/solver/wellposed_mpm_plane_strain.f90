@@ -32,7 +32,12 @@
 !> velocities without a second exchange. An error on one rank stops every
 !> rank with its message. With one rank every exchange is skipped and the
 !> step is the serial one bit for bit; with more, results differ from it by
-!> the order of the nodal additions only.
+!> the order of the nodal additions only. Nonlocal averaging (h_zeta /= 0)
+!> widens the ghost rows to the Gaussian's support (nonlocal_ghost_nodes)
+!> and runs Algorithm 1's passes over the nodal field as the pipeline of
+!> wellposed_mpm_nonlocal, in global-id order, through the neighbour
+!> exchanges of wellposed_mpm_ranks on these strips (the same as the 1D
+!> driver's): the sweeps and their counts are the serial ones.
 module wellposed_mpm_plane_strain
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -45,7 +50,8 @@ module wellposed_mpm_plane_strain
   use wellposed_mpm_shape_2d, only: shape_2d, support_size_2d, shape2d_cpdi, shape2d_gimp, &
                                     shape2d_linear, shape2d_reach, shape2d_names
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nonlocal_t, nonlocal_host_t, &
-                                    new_nonlocal, nonlocal_solve
+                                    new_nonlocal, nonlocal_solve, nonlocal_ghost_nodes
+  use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpi, only: comm_t, allreduce_any, allreduce_min, allreduce_max, &
                            allreduce_sum, broadcast, gatherv_real
   use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, patch_nodes, &
@@ -124,6 +130,7 @@ module wellposed_mpm_plane_strain
     integer :: ntotal = 0                     !< particles of the whole scene
     integer :: moved = 0                      !< particles this rank handed to others, so far
     real(dp) :: mass_floor = 0.0_dp           !< nodes lighter than this have no velocity (kg/m)
+    type(mpm_ranks_t) :: nl_ranks             !< Algorithm 1's pipeline over the strips
   contains
     procedure :: update => ps_update
   end type ps_scene_t
@@ -152,8 +159,13 @@ contains
     self%ny = ncy + 2*cfg%pad_cells + 1
     self%nnodes = self%nx*self%ny
     self%origin = -cfg%pad_cells*cfg%dx
-    call new_decomposition(self%dec, self%comm, self%ny - 1, self%nx, shape2d_reach(cfg%shape), &
-                           2, self%origin(2), cfg%dx, err)
+    ! ghost rows: the shape's reach, or the nonlocal Gaussian's support
+    call new_nonlocal(self%nl, cfg%nonlocal, cfg%props(1:cfg%nprops), 2, self%origin, cfg%dx, &
+                      [self%nx, self%ny], 0, -1, err)
+    if (allocated(err)) return
+    call new_decomposition(self%dec, self%comm, self%ny - 1, self%nx, &
+                           max(shape2d_reach(cfg%shape), nonlocal_ghost_nodes(self%nl)), 2, &
+                           self%origin(2), cfg%dx, err)
     if (allocated(err)) return
     call patch_nodes(self%dec, self%glo, self%ghi)
     allocate (self%gmass(self%glo:self%ghi), self%gmom(2, self%glo:self%ghi), &
@@ -257,12 +269,10 @@ contains
     call new_nonlocal(self%nl, cfg%nonlocal, cfg%props(1:cfg%nprops), 2, self%origin, cfg%dx, &
                       [self%nx, self%ny], self%glo, self%ghi, err)
     if (allocated(err)) return
-    if (self%nl%active .and. self%dec%nranks > 1) then
-      call new_error(err, status_invalid, 'material%h_zeta', 'nonlocal averaging (h_zeta /= 0)'// &
-        ' runs on one rank only: its nodal dlambda field and Gauss-Seidel sweep are not yet '// &
-        'shared across ranks; run this deck without mpirun or with -np 1 (the local decks, '// &
-        'h_zeta = 0, run on any number of ranks)')
-      return
+    if (self%dec%nranks > 1) then
+      call new_mpm_ranks(self%nl_ranks, self%comm)
+      self%nl_ranks%dec = self%dec
+      self%nl_ranks%glo = self%glo
     end if
 
   contains
@@ -478,20 +488,28 @@ contains
         pt%stress(2, p) = s4(2) - 2.0_dp*dt*wspin*s4(4)
         pt%stress(4, p) = s4(4) + dt*wspin*(s4(2) - s4(1))
       end do
-      if (.not. allocated(err)) then
-        ! --- stress update: Algorithm 1 (one local pass when h_zeta = 0)
-        do p = 1, n
-          self%s0(:, p) = pt%stress(1:4, p)
-          self%sv0(:, p) = pt%statev(:, p)
-        end do
-        call system_clock(t1)
+      call sync_error(self, err)
+      if (allocated(err)) return
+      ! --- stress update: Algorithm 1 (one local pass when h_zeta = 0)
+      do p = 1, n
+        self%s0(:, p) = pt%stress(1:4, p)
+        self%sv0(:, p) = pt%statev(:, p)
+      end do
+      call system_clock(t1)
+      if (self%dec%nranks == 1) then
         call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
                             pt%phi(:, 1:n), err, log_unit)
-        call system_clock(t2)
-        self%ticks_umat = self%ticks_umat + (t2 - t1)
-        if (allocated(err)) err%message = 'step '//int_text(self%nstep + 1)//', t = '// &
-                                          real_text(self%t + dt)//' s: '//err%message
+      else if (self%dec%rank == 0) then
+        call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
+                            pt%phi(:, 1:n), err, log_unit, self%nl_ranks, pt%gid(1:n))
+      else
+        call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
+                            pt%phi(:, 1:n), err, ranks=self%nl_ranks, key=pt%gid(1:n))
       end if
+      call system_clock(t2)
+      self%ticks_umat = self%ticks_umat + (t2 - t1)
+      if (allocated(err)) err%message = 'step '//int_text(self%nstep + 1)//', t = '// &
+                                        real_text(self%t + dt)//' s: '//err%message
       call sync_error(self, err)
       if (allocated(err)) return
       do p = 1, n
@@ -557,7 +575,8 @@ contains
   end subroutine hand_off
 
   !> Make an error on any rank an error on every rank (collective; nothing
-  !> on one rank): the lowest failing rank's status and message.
+  !> on one rank): the status and message of the lowest rank where it arose
+  !> (Algorithm 1 tells the other ranks with key 'ranks' that it stopped).
   subroutine sync_error(self, err)
     type(ps_scene_t), intent(in) :: self
     type(error_t), allocatable, intent(inout) :: err
@@ -566,8 +585,14 @@ contains
     if (self%dec%nranks == 1) return
     if (.not. allreduce_any(self%comm, allocated(err))) return
     first = self%comm%size
-    if (allocated(err)) first = self%comm%rank
+    if (allocated(err)) then
+      if (err%key /= 'ranks') first = self%comm%rank
+    end if
     call allreduce_min(self%comm, first)
+    if (first == self%comm%size) then
+      if (allocated(err)) first = self%comm%rank
+      call allreduce_min(self%comm, first)
+    end if
     head = 0
     if (self%comm%rank == first) head = [err%status, len(err%message)]
     call broadcast(self%comm, head, first)
@@ -689,11 +714,10 @@ contains
   end function ps_applied_stress
 
   !> Plastic particles of the last step's Algorithm 1, over every rank
-  !> (collective).
-  integer function ps_plastic_count(self) result(count_all)
+  !> (Algorithm 1 sums them when the scene is spread over ranks).
+  pure integer function ps_plastic_count(self) result(count_all)
     type(ps_scene_t), intent(in) :: self
     count_all = self%nl%last%n_plastic
-    if (self%dec%nranks > 1) call allreduce_sum(self%comm, count_all)
   end function ps_plastic_count
 
   !> The largest UMAT cut-back split used so far on any rank (collective).

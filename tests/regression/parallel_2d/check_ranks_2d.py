@@ -81,7 +81,7 @@ for np_ in a.ranks:
             bad.append('%s (%.2e)' % (n, r))
     sb = summary(d)
     for key, value in sa.items():
-        if key.endswith(('wall_time', 'ns_per_particle_step')):
+        if key.endswith(('wall_time', 'ns_per_particle_step', 'sweep_cost_over_local_update')):
             continue
         other = sb.get(key)
         try:

@@ -12,7 +12,8 @@ written (counted by their step numbers, since only the newest two are kept),
 runs it again with --restart (under --restart-launcher when given, e.g. on
 another number of ranks), and compares every run.h5 dataset (bitwise unless
 a tolerance is given; then relative to the dataset's largest magnitude),
-the CSV and XDMF files, and summary.txt but for its wall-time lines.
+the CSV and XDMF files, and summary.txt but for its timing lines (wall
+times and the measured cost of a nonlocal sweep).
 Exit status 0 when equal. (The 1D program's test is
 tests/regression/parallel/check_restart.py; this one also counts
 checkpoints across the cases of a deck.)
@@ -96,7 +97,8 @@ bad += [n + ' (extra)' for n in others if n not in names]
 def summary(d):
     with open(os.path.join(d, name, 'summary.txt')) as f:
         return [l for l in f if not re.match(r'(\S+\.)?(wall_time|ns_per_particle_step|'
-                                             r'total_wall_time) ', l)]
+                                             r'total_wall_time|sweep_cost_over_local_update) ',
+                                             l)]
 
 
 if a.tolerance == 0.0:
