@@ -4,8 +4,9 @@
 check_bad_checkpoint.py --program wellposed-mpm --deck DECK --out DIR [--launcher L]
                         [--name NAME] -- [ARGS]
 
-Runs DECK with a checkpoint every 20 steps in its own process group and
-kills the group with SIGKILL once the first checkpoint exists. Then, from
+Runs DECK with a checkpoint every 20 steps in its own session and
+kills all of it (launcher and ranks) with SIGKILL once the first
+checkpoint exists. Then, from
 copies of that checkpoint:
   - truncated to half its length, given with --restart-from;
   - one byte of its data flipped (the checkpoint's checksum must catch it),
@@ -17,6 +18,32 @@ saying it is refused (the last one also naming --restart-from), and leave
 no finished run folder. Exit status 0 when all holds.
 """
 import argparse, glob, os, re, shlex, shutil, signal, subprocess, sys, time
+
+
+def kill_session(sid):
+    """SIGKILL every process of session `sid` (the launcher started it):
+    mpirun puts each rank in its own process group, so killing the
+    launcher's group alone would leave the ranks running to the end."""
+    for _ in range(100):
+        pids = []
+        for d in os.listdir('/proc'):
+            if not d.isdigit():
+                continue
+            try:
+                with open('/proc/%s/stat' % d) as f:
+                    fields = f.read().rsplit(')', 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[3]) == sid and fields[0] != 'Z':
+                pids.append(int(d))
+        if not pids:
+            return
+        for pid in pids:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except OSError:
+                pass
+        time.sleep(0.01)
 
 ap = argparse.ArgumentParser()
 ap.add_argument('--launcher', default='')
@@ -41,9 +68,8 @@ while not glob.glob(os.path.join(ckdir, 'checkpoint_*.h5')):
     if time.time() > deadline:
         sys.exit('FAIL: no checkpoint within 120 s')
     time.sleep(0.01)
-os.killpg(proc.pid, signal.SIGKILL)
+kill_session(proc.pid)
 proc.wait()
-time.sleep(0.5)
 good = sorted(glob.glob(os.path.join(ckdir, 'checkpoint_*.h5')))[-1]
 data = open(good, 'rb').read()
 truncated = os.path.join(a.out, 'truncated.h5')

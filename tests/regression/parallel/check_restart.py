@@ -5,13 +5,40 @@ check_restart.py --launcher "mpirun -np 2 --oversubscribe" --restart-launcher ".
                  --program wellposed-mpm --deck DECK --out DIR [--tolerance T] -- [ARGS]
 
 Runs DECK uninterrupted into DIR/ref, then again into DIR/run in its own
-process group, kills the group with SIGKILL once two checkpoints exist, runs
+session, kills every process of it (launcher and ranks) with SIGKILL once two
+checkpoints exist, runs
 it again with --restart, and compares every run.h5 dataset (bitwise unless a
 tolerance is given; then relative to the dataset's largest value, with the
 conservation residual energy/momentum_minus_impulse exempt) and summary.txt
 (wall-clock lines excepted). Exit status 0 when equal.
 """
 import argparse, glob, os, shlex, signal, subprocess, sys, time
+
+
+def kill_session(sid):
+    """SIGKILL every process of session `sid` (the launcher started it):
+    mpirun puts each rank in its own process group, so killing the
+    launcher's group alone would leave the ranks running to the end."""
+    for _ in range(100):
+        pids = []
+        for d in os.listdir('/proc'):
+            if not d.isdigit():
+                continue
+            try:
+                with open('/proc/%s/stat' % d) as f:
+                    fields = f.read().rsplit(')', 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[3]) == sid and fields[0] != 'Z':
+                pids.append(int(d))
+        if not pids:
+            return
+        for pid in pids:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except OSError:
+                pass
+        time.sleep(0.01)
 import h5py, numpy as np
 
 ap = argparse.ArgumentParser()
@@ -48,9 +75,8 @@ while len(glob.glob(os.path.join(ckdir, 'checkpoint_*.h5'))) < 2:
     if time.time() > deadline:
         sys.exit('FAIL: no second checkpoint within 120 s')
     time.sleep(0.02)
-os.killpg(proc.pid, signal.SIGKILL)
+kill_session(proc.pid)
 proc.wait()
-time.sleep(1.0)   # let ranks that lost their launcher go
 if os.path.exists(os.path.join(out, a.name)):
     sys.exit('FAIL: the killed run left a finished-looking folder')
 print(run(relaunch + [a.program, '--out', out, '--restart'] + common).strip().splitlines()[-1])
