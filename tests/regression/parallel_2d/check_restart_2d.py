@@ -3,14 +3,16 @@
 
 check_restart_2d.py --program wellposed-mpm2d --deck DECK --out DIR
                     [--launcher "mpirun --oversubscribe -np 2"]
-                    [--restart-launcher "..."] [--every STEPS] [--kill-after K]
+                    [--restart-launcher "..."] [--every STEPS] [--kill-at STEP]
                     [--tolerance T] -- [ARGS]
 
 Runs DECK uninterrupted into DIR/ref, then again into DIR/run in its own
-process group, kills the group with SIGKILL once K checkpoints have been
-written (counted by their step numbers, since only the newest two are kept),
-runs it again with --restart (under --restart-launcher when given, e.g. on
-another number of ranks), and compares every run.h5 dataset (bitwise unless
+session, kills every process of the session (launcher and ranks) with
+SIGKILL as soon as a checkpoint of step STEP or later exists (steps count
+over the cases of a deck; the newest checkpoint is always kept, so no poll
+can miss it), runs it again with --restart (under --restart-launcher when
+given, e.g. on another number of ranks), checks that it continued from a
+checkpoint, and compares every run.h5 dataset (bitwise unless
 a tolerance is given; then relative to the dataset's largest magnitude),
 the CSV and XDMF files, and summary.txt but for its timing lines (wall
 times and the measured cost of a nonlocal sweep).
@@ -28,7 +30,7 @@ ap.add_argument('--program', required=True)
 ap.add_argument('--deck', required=True)
 ap.add_argument('--out', required=True)
 ap.add_argument('--every', default='100')
-ap.add_argument('--kill-after', type=int, default=3)
+ap.add_argument('--kill-at', type=int, required=True)
 ap.add_argument('--tolerance', type=float, default=0.0)
 ap.add_argument('args', nargs='*')
 a = ap.parse_args()
@@ -51,20 +53,45 @@ run(launch + [a.program, '--out', ref] + common)
 proc = subprocess.Popen(launch + [a.program, '--out', out] + common, stdout=subprocess.DEVNULL,
                         stderr=subprocess.DEVNULL, start_new_session=True)
 ckdir = os.path.join(out, name + '.checkpoints')
-seen = set()
 deadline = time.time() + 120
-while len(seen) < a.kill_after:
-    seen.update(os.path.basename(p) for p in glob.glob(os.path.join(ckdir, 'checkpoint_*.h5')))
-    if len(seen) >= a.kill_after:
+while True:
+    steps = [int(os.path.basename(p)[11:21])
+             for p in glob.glob(os.path.join(ckdir, 'checkpoint_??????????.h5'))]
+    if steps and max(steps) >= a.kill_at:
         break
     if proc.poll() is not None:
-        sys.exit('FAIL: the run ended before its checkpoint %d: use a longer run' % a.kill_after)
+        sys.exit('FAIL: the run ended before a checkpoint of step %d: use a longer run'
+                 % a.kill_at)
     if time.time() > deadline:
-        sys.exit('FAIL: no checkpoint %d within 120 s' % a.kill_after)
+        sys.exit('FAIL: no checkpoint of step %d within 120 s' % a.kill_at)
     time.sleep(0.005)
-os.killpg(proc.pid, signal.SIGKILL)
+def session_members(sid):
+    """Processes of session `sid`: the launcher and every rank it started
+    (Open MPI puts each rank in a process group of its own, so killing the
+    launcher's group would leave the ranks running)."""
+    pids = []
+    for d in os.listdir('/proc'):
+        if not d.isdigit():
+            continue
+        try:
+            with open('/proc/%s/stat' % d) as f:
+                fields = f.read().rsplit(')', 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[3]) == sid:
+            pids.append(int(d))
+    return pids
+
+
+for pid in session_members(proc.pid):
+    try:
+        os.kill(pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
 proc.wait()
-time.sleep(0.5)   # let ranks that lost their launcher go
+deadline = time.time() + 10
+while session_members(proc.pid) and time.time() < deadline:
+    time.sleep(0.05)
 if os.path.exists(os.path.join(out, name)):
     sys.exit('FAIL: the killed run left a finished-looking folder')
 text = run(relaunch + [a.program, '--out', out, '--restart'] + common)
@@ -73,7 +100,7 @@ fa = h5py.File(os.path.join(ref, name, 'run.h5'))
 fb = h5py.File(os.path.join(out, name, 'run.h5'))
 names = []
 fa.visit(lambda n: names.append(n) if isinstance(fa[n], h5py.Dataset) else None)
-bad = []
+bad = [] if any('continuing at' in l for l in resumed) else ['(the restart did not resume)']
 for n in names:
     if n not in fb:
         bad.append(n + ' (missing)')
