@@ -26,7 +26,8 @@ program bench_scaling
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
-  use wellposed_mpi, only: comm_t, comm_start, comm_stop, comm_self, barrier, allreduce_max
+  use wellposed_mpi, only: comm_t, comm_start, comm_stop, comm_self, barrier, allreduce_max, &
+                           allreduce_sum
   use wellposed_mpm_plane_strain, only: ps_config_t, ps_scene_t, new_ps_scene, ps_advance, &
                                         ps_save, bc_free2, ps_plastic_count
   use wellposed_mpm_shape_2d, only: shape2d_cpdi
@@ -40,7 +41,7 @@ program bench_scaling
   character(len=:), allocatable :: ckdir
   character(len=512) :: arg
   real(dp) :: ts1(nrounds), tw1(nrounds), tp(nrounds), t_s1, t_w1, t_p, ck_p, ck_s1, mb_p, mb_s1
-  integer :: r
+  integer :: r, nplastic
 
   call comm_start(world, err)
   if (allocated(err)) error stop 'bench_scaling: MPI did not start'
@@ -83,10 +84,12 @@ program bench_scaling
   end if
   if (world%size > 1) then
     call checkpoints(p, world, ck_p, mb_p)
+    nplastic = ps_plastic_count(p)
+    call allreduce_sum(world, nplastic)
     if (world%rank == 0) then
       write (output_unit, '(a,i0,a,i0,a,2f9.4,a,i0,a)') '  P   ', world%size, ' ranks: ', &
         p%ntotal, ' particles, ', t_p, median(tp), ' s/step (fastest, median; ', &
-        ps_plastic_count(p), ' plastic)'
+        nplastic, ' plastic)'
       write (output_unit, '(a,f6.1,a,f6.2,a,f6.1,a)') '  strong scaling 1 -> '// &
         itoa(world%size)//' ranks: efficiency ', 100.0_dp*t_s1/(world%size*t_p), &
         ' % (speed-up ', t_s1/t_p, '; from the medians ', &

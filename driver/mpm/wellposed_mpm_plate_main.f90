@@ -268,7 +268,7 @@ program wellposed_mpm2d
       if (study%band_time > 0.0_dp .and. .not. measured .and. sc%t >= study%band_time) &
         call measure_band()
       its(nit) = sc%nl%last%iterations
-      nplast(nit) = ps_plastic_count(sc)
+      nplast(nit) = ps_plastic_count(sc)     ! this rank's share, summed at the end
       bounds(:, nit) = [sc%nl%last%n_alpha, sc%nl%last%bound_seed, sc%nl%last%error]
       if (sc%t >= next_sample - 1.0e-12_dp) then
         ncurve = ncurve + 1
@@ -286,7 +286,8 @@ program wellposed_mpm2d
         write (output_unit, '(a)') '    '//tag//': step '//int_text(sc%nstep)//'/'// &
           int_text(nsteps_est)//', t = '//real_text(sc%t)//' s, stress = '// &
           real_text(curve(3, max(ncurve, 1))*1.0e-6_dp)//' MPa, plastic '// &
-          int_text(nplast(nit))//', iterations '//int_text(sc%nl%last%iterations)// &
+          int_text(nplast(nit))//merge(' (rank 0)', '         ', comm%size > 1)// &
+          ', iterations '//int_text(sc%nl%last%iterations)// &
           ', ~'//int_text(nint(real(c1 - c0, dp)/crate*(nsteps_est - sc%nstep)/ &
           max(sc%nstep, 1)))//' s left'
         flush (output_unit)
@@ -301,6 +302,7 @@ program wellposed_mpm2d
     epmax = maxval(ps_plastic_strain(sc))
     if (comm%size > 1) call allreduce_max(comm, epmax)
     i = ps_max_substeps(sc)
+    if (comm%size > 1) call allreduce_sum(comm, nplast(1:nit))
     moved_sum = sc%moved
     if (comm%size > 1) call allreduce_sum(comm, moved_sum)
     steps_before = steps_before + sc%nstep
@@ -617,7 +619,10 @@ contains
     type(error_t), allocatable :: e
     character(len=:), allocatable :: path, pre, lines
     integer :: k
+    integer, allocatable :: nplast_all(:)
     call ps_save(sc, ckw)
+    nplast_all = nplast(1:nit)
+    if (comm%size > 1) call allreduce_sum(comm, nplast_all)
     if (.not. root) return
     call system_clock(c1)
     call ckw%put('main/deck', [0, codes(deck_text)])
@@ -626,7 +631,7 @@ contains
                                 wall_before + real(c1 - c0, dp)/crate])
     call ckw%put('main/curve', [0.0_dp, reshape(curve(:, 1:ncurve), [3*ncurve])])
     call ckw%put('main/its', [0, its(1:nit)])
-    call ckw%put('main/nplast', [0, nplast(1:nit)])
+    call ckw%put('main/nplast', [0, nplast_all])
     call ckw%put('main/bounds', [0.0_dp, reshape(bounds(:, 1:nit), [3*nit])])
     do k = 1, ic - 1
       pre = 'main/done_'//int_text(k)//'/'
@@ -761,6 +766,7 @@ contains
     its(1:nit) = iv(2:)
     call ck%get('main/nplast', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
     nplast(1:nit) = iv(2:)
+    if (.not. root) nplast(1:nit) = 0      ! rank 0 holds the counts so far
     if (root) write (output_unit, '(a)') '    '//tag//': continuing at step '// &
       int_text(sc%nstep)//', t = '//real_text(sc%t)//' s'
   end subroutine resume_case

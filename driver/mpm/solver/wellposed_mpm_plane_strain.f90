@@ -488,7 +488,8 @@ contains
         pt%stress(2, p) = s4(2) - 2.0_dp*dt*wspin*s4(4)
         pt%stress(4, p) = s4(4) + dt*wspin*(s4(2) - s4(1))
       end do
-      call sync_error(self, err)
+      ! Algorithm 1 across ranks is collective: stop every rank before it
+      if (self%nl%active) call sync_error(self, err)
       if (allocated(err)) return
       ! --- stress update: Algorithm 1 (one local pass when h_zeta = 0)
       do p = 1, n
@@ -496,7 +497,8 @@ contains
         self%sv0(:, p) = pt%statev(:, p)
       end do
       call system_clock(t1)
-      if (self%dec%nranks == 1) then
+      if (self%dec%nranks == 1 .or. .not. self%nl%active) then
+        ! one pass per particle on its own: nothing to exchange
         call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
                             pt%phi(:, 1:n), err, log_unit)
       else if (self%dec%rank == 0) then
@@ -713,11 +715,14 @@ contains
     s = -s/(self%cfg%width*(self%cfg%height + self%top_disp))
   end function ps_applied_stress
 
-  !> Plastic particles of the last step's Algorithm 1, over every rank
-  !> (Algorithm 1 sums them when the scene is spread over ranks).
-  pure integer function ps_plastic_count(self) result(count_all)
+  !> This rank's share of the plastic particles of the last step: their sum
+  !> over the ranks is the scene's count (Algorithm 1 across ranks counts
+  !> them all, and rank 0 reports them). A host adds the shares when it
+  !> needs the count, e.g. once for a whole history.
+  pure integer function ps_plastic_count(self) result(count_mine)
     type(ps_scene_t), intent(in) :: self
-    count_all = self%nl%last%n_plastic
+    count_mine = self%nl%last%n_plastic
+    if (self%dec%nranks > 1 .and. self%nl%active .and. self%dec%rank /= 0) count_mine = 0
   end function ps_plastic_count
 
   !> The largest UMAT cut-back split used so far on any rank (collective).
