@@ -20,30 +20,8 @@ no finished run folder. Exit status 0 when all holds.
 import argparse, glob, os, re, shlex, shutil, signal, subprocess, sys, time
 
 
-def kill_session(sid):
-    """SIGKILL every process of session `sid` (the launcher started it):
-    mpirun puts each rank in its own process group, so killing the
-    launcher's group alone would leave the ranks running to the end."""
-    for _ in range(100):
-        pids = []
-        for d in os.listdir('/proc'):
-            if not d.isdigit():
-                continue
-            try:
-                with open('/proc/%s/stat' % d) as f:
-                    fields = f.read().rsplit(')', 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[3]) == sid and fields[0] != 'Z':
-                pids.append(int(d))
-        if not pids:
-            return
-        for pid in pids:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except OSError:
-                pass
-        time.sleep(0.01)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
+from rank_launch import kill_session  # noqa: E402
 
 ap = argparse.ArgumentParser()
 ap.add_argument('--launcher', default='')

@@ -15,30 +15,8 @@ conservation residual energy/momentum_minus_impulse exempt) and summary.txt
 import argparse, glob, os, shlex, signal, subprocess, sys, time
 
 
-def kill_session(sid):
-    """SIGKILL every process of session `sid` (the launcher started it):
-    mpirun puts each rank in its own process group, so killing the
-    launcher's group alone would leave the ranks running to the end."""
-    for _ in range(100):
-        pids = []
-        for d in os.listdir('/proc'):
-            if not d.isdigit():
-                continue
-            try:
-                with open('/proc/%s/stat' % d) as f:
-                    fields = f.read().rsplit(')', 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[3]) == sid and fields[0] != 'Z':
-                pids.append(int(d))
-        if not pids:
-            return
-        for pid in pids:
-            try:
-                os.kill(pid, signal.SIGKILL)
-            except OSError:
-                pass
-        time.sleep(0.01)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
+from rank_launch import kill_session, run  # noqa: E402
 import h5py, numpy as np
 
 ap = argparse.ArgumentParser()
@@ -56,11 +34,6 @@ launch = shlex.split(a.launcher)
 relaunch = shlex.split(a.restart_launcher) if a.restart_launcher is not None else launch
 common = ['--no-plot', '--checkpoint-every', a.every, a.deck] + a.args
 
-def run(cmd):
-    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if r.returncode != 0:
-        sys.exit('FAIL: %s exited %d\n%s' % (' '.join(cmd), r.returncode, r.stdout[-3000:]))
-    return r.stdout
 
 subprocess.run(['rm', '-rf', a.out])
 ref, out = os.path.join(a.out, 'ref'), os.path.join(a.out, 'run')
