@@ -16,6 +16,8 @@ ranks, as the program reports, so the run did cross rank boundaries.
 Exit status 0 when all hold.
 """
 import argparse, os, re, shlex, subprocess, sys
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
+from rank_launch import run  # noqa: E402
 import h5py, numpy as np
 
 ap = argparse.ArgumentParser()
@@ -31,13 +33,6 @@ ap.add_argument('args', nargs='*')
 a = ap.parse_args()
 common = ['--no-plot', '--checkpoint-every', '0', a.deck] + a.args
 name = re.search(r"name\s*=\s*'([^']+)'", open(a.deck).read()).group(1)
-
-
-def run(cmd):
-    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if r.returncode != 0:
-        sys.exit('FAIL: %s exited %d\n%s' % (' '.join(cmd), r.returncode, r.stdout[-3000:]))
-    return r.stdout
 
 
 def summary(d):

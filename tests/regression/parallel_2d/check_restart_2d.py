@@ -21,6 +21,8 @@ tests/regression/parallel/check_restart.py; this one also counts
 checkpoints across the cases of a deck.)
 """
 import argparse, glob, os, re, shlex, signal, subprocess, sys, time
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
+from rank_launch import kill_session, run  # noqa: E402
 import h5py, numpy as np
 
 ap = argparse.ArgumentParser()
@@ -38,13 +40,6 @@ name = re.search(r"name\s*=\s*'([^']+)'", open(a.deck).read()).group(1)
 launch = shlex.split(a.launcher)
 relaunch = shlex.split(a.restart_launcher) if a.restart_launcher is not None else launch
 common = ['--no-plot', '--checkpoint-every', a.every, a.deck] + a.args
-
-
-def run(cmd):
-    r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if r.returncode != 0:
-        sys.exit('FAIL: %s exited %d\n%s' % (' '.join(cmd), r.returncode, r.stdout[-3000:]))
-    return r.stdout
 
 
 subprocess.run(['rm', '-rf', a.out])
@@ -65,33 +60,8 @@ while True:
     if time.time() > deadline:
         sys.exit('FAIL: no checkpoint of step %d within 120 s' % a.kill_at)
     time.sleep(0.005)
-def session_members(sid):
-    """Processes of session `sid`: the launcher and every rank it started
-    (Open MPI puts each rank in a process group of its own, so killing the
-    launcher's group would leave the ranks running)."""
-    pids = []
-    for d in os.listdir('/proc'):
-        if not d.isdigit():
-            continue
-        try:
-            with open('/proc/%s/stat' % d) as f:
-                fields = f.read().rsplit(')', 1)[1].split()
-        except OSError:
-            continue
-        if int(fields[3]) == sid:
-            pids.append(int(d))
-    return pids
-
-
-for pid in session_members(proc.pid):
-    try:
-        os.kill(pid, signal.SIGKILL)
-    except ProcessLookupError:
-        pass
+kill_session(proc.pid)
 proc.wait()
-deadline = time.time() + 10
-while session_members(proc.pid) and time.time() < deadline:
-    time.sleep(0.05)
 if os.path.exists(os.path.join(out, name)):
     sys.exit('FAIL: the killed run left a finished-looking folder')
 text = run(relaunch + [a.program, '--out', out, '--restart'] + common)
