@@ -424,60 +424,10 @@ contains
     type(particles_t), intent(inout) :: parts
     type(error_t), allocatable, intent(out) :: err
     integer, intent(out), optional :: moved
-    integer :: owner(parts%n), scount(0:comm%size - 1), rcount(0:comm%size - 1)
-    integer :: sdispl(0:comm%size - 1), rdispl(0:comm%size - 1), fill(0:comm%size - 1)
-    integer :: p, q, m, reclen, nin, bad
-    real(dp), allocatable :: sbuf(:), rbuf(:)
-    reclen = particle_record_length(parts)
-    bad = 0
-    scount = 0
-    do p = 1, parts%n
-      owner(p) = owner_of_position(self, parts%x(self%axis, p))
-      if (owner(p) < 0) then
-        if (bad == 0) bad = p
-        owner(p) = self%rank
-      end if
-      if (owner(p) /= self%rank) scount(owner(p)) = scount(owner(p)) + 1
-    end do
-    if (allreduce_any(comm, bad > 0)) then
-      if (bad > 0) then
-        call outside(self, parts, bad, err)
-      else
-        call new_error(err, status_invalid, 'grid', 'a particle on another rank left the grid')
-      end if
-      return
-    end if
-    if (present(moved)) moved = sum(scount)
-    call alltoall_counts(comm, scount, rcount)
-    scount = scount*reclen
-    rcount = rcount*reclen
-    sdispl(0) = 0
-    rdispl(0) = 0
-    do q = 1, comm%size - 1
-      sdispl(q) = sdispl(q - 1) + scount(q - 1)
-      rdispl(q) = rdispl(q - 1) + rcount(q - 1)
-    end do
-    allocate (sbuf(max(1, sum(scount))), rbuf(max(1, sum(rcount))))
-    fill = sdispl
-    m = 0
-    do p = 1, parts%n
-      q = owner(p)
-      if (q /= self%rank) then
-        call pack_particle(parts, p, sbuf(fill(q) + 1:fill(q) + reclen))
-        fill(q) = fill(q) + reclen
-      else
-        m = m + 1
-        if (m /= p) call copy_particle(parts, p, m)
-      end if
-    end do
-    call alltoallv_real(comm, sbuf, scount, sdispl, rbuf, rcount, rdispl)
-    nin = sum(rcount)/reclen
-    parts%n = m
-    call ensure_capacity(parts, m + nin)
-    do p = 1, nin
-      call unpack_particle(parts, m + p, rbuf((p - 1)*reclen + 1:p*reclen))
-    end do
-    parts%n = m + nin
+    real(dp), allocatable :: none(:, :)
+    ! the same hand-off with no data beside particles_t (zero rows travel)
+    allocate (none(0, size(parts%gid)))
+    call hand_off_particles_with(self, comm, parts, none, err, moved)
   end subroutine hand_off_particles
 
   !> True when every particle's support nodes (parts%node) lie in the
