@@ -33,6 +33,7 @@ program bench_scaling
   use wellposed_mpm_shape_2d, only: shape2d_cpdi
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint
   use wellposed_fs, only: remove_tree
+  use wellposed_text, only: int_text
   implicit none
   integer, parameter :: nwarm = 25, nrounds = 6, nsteps = 4, nwrites = 2
   type(comm_t) :: world
@@ -52,8 +53,8 @@ program bench_scaling
   end if
   if (world%rank == 0) then
     write (output_unit, '(a)') 'bench_scaling: plane-strain plate, CPDI, h = 0.02 m, 2 x 2 '// &
-      'particles per cell, plastic von Mises, '//itoa(world%size)//' rank(s); '// &
-      itoa(nrounds)//' rounds of '//itoa(nsteps)//' steps per scene after '//itoa(nwarm)
+      'particles per cell, plastic von Mises, '//int_text(world%size)//' rank(s); '// &
+      int_text(nrounds)//' rounds of '//int_text(nsteps)//' steps per scene after '//int_text(nwarm)
     flush (output_unit)
     call build(s1, comm_self(), 5.0_dp)
     call build(w1, comm_self(), 2.5_dp)
@@ -91,14 +92,14 @@ program bench_scaling
         p%ntotal, ' particles, ', t_p, median(tp), ' s/step (fastest, median; ', &
         nplastic, ' plastic)'
       write (output_unit, '(a,f6.1,a,f6.2,a,f6.1,a)') '  strong scaling 1 -> '// &
-        itoa(world%size)//' ranks: efficiency ', 100.0_dp*t_s1/(world%size*t_p), &
+        int_text(world%size)//' ranks: efficiency ', 100.0_dp*t_s1/(world%size*t_p), &
         ' % (speed-up ', t_s1/t_p, '; from the medians ', &
         100.0_dp*median(ts1)/(world%size*median(tp)), ' %; target >= 85 %)'
-      write (output_unit, '(a,f6.1,a,f6.1,a)') '  weak scaling ('//itoa(w1%ntotal)// &
+      write (output_unit, '(a,f6.1,a,f6.1,a)') '  weak scaling ('//int_text(w1%ntotal)// &
         ' particles per rank): efficiency ', 100.0_dp*t_w1/t_p, ' % (from the medians ', &
         100.0_dp*median(tw1)/median(tp), ' %)'
       write (output_unit, '(a,f8.4,a,f6.2,a,f7.1,a,f6.3,a)') '  checkpoint on '// &
-        itoa(world%size)//' ranks: ', ck_p, ' s = ', ck_p/t_p, ' steps (', mb_p, &
+        int_text(world%size)//' ranks: ', ck_p, ' s = ', ck_p/t_p, ' steps (', mb_p, &
         ' MB); every 1000 steps: ', 100.0_dp*ck_p/(1000.0_dp*t_p), ' % of the run'
     end if
   end if
@@ -218,13 +219,5 @@ contains
     c%velocity_gradient0 = reshape([-100.0_dp, 0.0_dp, 0.0_dp, 100.0_dp], [2, 2])
     c%t_end = 1.0_dp
   end function plate
-
-  function itoa(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: b
-    write (b, '(i0)') i
-    s = trim(b)
-  end function itoa
 
 end program bench_scaling
