@@ -5,6 +5,8 @@
 module wellposed_fs
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
   use wellposed_error, only: error_t, new_error, status_invalid
+  ! int_text stays public here for the drivers that took it from this module
+  use wellposed_text, only: int_text
   implicit none
   private
   public :: rename_path, make_dir, make_dirs, remove_file, remove_tree, path_exists, &
@@ -119,14 +121,5 @@ contains
     end do
     quoted = quoted//"'"
   end function shell_quote
-
-  !> An integer as text without blanks.
-  pure function int_text(i) result(text)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: text
-    character(len=24) :: buffer
-    write (buffer, '(i0)') i
-    text = trim(buffer)
-  end function int_text
 
 end module wellposed_fs
