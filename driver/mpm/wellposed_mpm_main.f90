@@ -133,6 +133,8 @@ program wellposed_mpm
     case default
       if (index(arg, '=') > 0) then
         overrides = [character(len=512) :: overrides, arg]
+      else if (arg(1:min(1, len(arg))) == '-') then
+        call die_text('unknown option "'//arg//'" (see --help)')
       else if (len(deck_path) == 0) then
         deck_path = arg
       else
@@ -676,6 +678,12 @@ contains
       write (error_unit, '(a)') 'wellposed-mpm: error: '//text
       if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did '// &
         'not finish; its partial output is in '//rd%partial
+    end if
+    if (comm%size == 1) then
+      ! one process: end as a program does, without a backtrace under the
+      ! message (error stop prints one); on many ranks error stop ends the job
+      call comm_stop(comm)
+      stop 1, quiet=.true.
     end if
     error stop 1
   end subroutine die_text

@@ -145,6 +145,8 @@ program wellposed_mpm2d
     case default
       if (index(arg, '=') > 0) then
         overrides = [character(len=512) :: overrides, arg]
+      else if (arg(1:min(1, len(arg))) == '-') then
+        call die('unknown option "'//arg//'" (see --help)')
       else if (len(deck_path) == 0) then
         deck_path = arg
       else
@@ -982,7 +984,8 @@ contains
         'not finish; its partial output is in '//rd%partial
     end if
     call comm_stop(comm)
-    error stop 1
+    ! every rank has finalised: a plain stop, without error stop's backtrace
+    stop 1, quiet=.true.
   end subroutine die
 
   !> Stop the run for an error rank 0 alone met (its files): the other
