@@ -309,7 +309,7 @@ program wellposed_mpm
     if (allocated(err)) write (error_unit, '(a)') 'wellposed-mpm: warning: '//err%message
   end if
   write (output_unit, '(a,f8.2,a,i0,a,f7.1,a)') '  done in ', wall, ' s (', scene%nstep, &
-    ' steps, ', 1.0e9_dp*wall/(real(scene%nstep, dp)*ntotal), ' ns per particle-step)'
+    ' steps, ', 1.0e9_dp*wall/max(1.0_dp, real(scene%nstep, dp)*ntotal), ' ns per particle-step)'
   do i = 1, st%n
     write (output_unit, '(a,f7.1,a,f8.3,a,f8.2,a,f8.2,a)') '  station ', st%x(i), &
       ' m: peak ', meas%peak(i)/1e6_dp, ' MPa, head ', meas%t_head(i)*1e3_dp, ' ms, tail ', &
@@ -541,7 +541,8 @@ contains
                 'or the nonlocal Gaussian''s, the wider')
     call sm%add('t_end', scene%t, 's')
     call sm%add('wall_time', wall, 's, time loop only')
-    call sm%add('ns_per_particle_step', 1.0e9_dp*wall/(real(scene%nstep, dp)*ntotal))
+    ! a scene of zero steps (t_end = 0: a probe of the initial state) has no rate
+    call sm%add('ns_per_particle_step', 1.0e9_dp*wall/max(1.0_dp, real(scene%nstep, dp)*ntotal))
     call sm%add('bytes_per_particle', particle_bytes(1, scene%parts%nsup, cfg%nstatv))
     call sm%add('share_umat', share(timer_umat))
     call sm%add('share_transfers', share(timer_transfer))

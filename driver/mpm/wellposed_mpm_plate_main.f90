@@ -383,7 +383,7 @@ contains
       call sm%add(tag//'.steps', sc%nstep)
       call sm%add(tag//'.dt', sc%dt, 's')
       call sm%add(tag//'.wall_time', wall, 's')
-      call sm%add(tag//'.ns_per_particle_step', wall*1.0e9_dp/(real(ntotal, dp)*sc%nstep))
+      call sm%add(tag//'.ns_per_particle_step', wall*1.0e9_dp/max(1.0_dp, real(ntotal, dp)*sc%nstep))
       call sm%add(tag//'.peak_stress', o%scal(6)*1.0e-6_dp, 'MPa, compression +')
       call sm%add(tag//'.strain_at_peak', o%scal(5), 'apparent axial strain')
       call sm%add(tag//'.final_stress', o%curve(3, size(o%curve, 2))*1.0e-6_dp, 'MPa')
