@@ -16,7 +16,7 @@ module wellposed_deck
   implicit none
   private
   public :: read_text_file, namelist_error, check_required, check_finite, check_range, &
-            unset, is_set, real_str, has_group, lower
+            unset, is_set, real_str, has_group, lower, check_word
 
   !> Sentinel for "not given in the deck": a required real key is set to
   !> `unset` before the READ and tested with `is_set` after it.
@@ -298,6 +298,27 @@ contains
       text = trim(adjustl(buffer))
     end if
   end function real_str
+
+  !> `id` is the index of the word `value` (case-insensitive, trailing
+  !> blanks ignored) in `names` (lower case); when it is none of them, id = 0
+  !> and `err` names the file, the group, the key and the valid words.
+  subroutine check_word(path, group, key, value, names, id, err)
+    character(len=*), intent(in) :: path, group, key, value, names(:)
+    integer, intent(out) :: id
+    type(error_t), allocatable, intent(out) :: err
+    integer :: j
+    character(len=:), allocatable :: valid
+    do id = 1, size(names)
+      if (lower(trim(value)) == trim(names(id))) return
+    end do
+    id = 0
+    valid = ''
+    do j = 1, size(names)
+      valid = valid//merge(', ', '  ', j > 1)//"'"//trim(names(j))//"'"
+    end do
+    call new_error(err, status_invalid, key, path//': &'//group//': '//key//" = '"// &
+      trim(value)//"' is not one of"//valid(2:))
+  end subroutine check_word
 
   !> `text` with ASCII capitals in lower case (namelist names are
   !> case-insensitive; decks compare keys and words through this).

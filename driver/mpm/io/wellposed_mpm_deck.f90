@@ -27,7 +27,7 @@ module wellposed_mpm_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: read_text_file, namelist_error, check_range, check_finite, &
-                            unset, is_set, has_group, real_str
+                            unset, is_set, has_group, real_str, lower, check_word
   use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
                                    prop_h, prop_k_lim, prop_z_ref, prop_p_v, prop_p_d, &
                                    prop_tau, prop_h_zeta, prop_length, prop_explicit
@@ -295,18 +295,7 @@ contains
 
     integer function word(value, names, grp, key) result(id)
       character(len=*), intent(in) :: value, names(:), grp, key
-      integer :: j
-      character(len=:), allocatable :: valid
-      do id = 1, size(names)
-        if (lower(trim(value)) == trim(names(id))) return
-      end do
-      id = 0
-      valid = ''
-      do j = 1, size(names)
-        valid = valid//merge(', ', '  ', j > 1)//"'"//trim(names(j))//"'"
-      end do
-      call new_error(err, status_invalid, key, path//': &'//grp//': '//key//" = '"// &
-        trim(value)//"' is not one of"//valid(2:))
+      call check_word(path, grp, key, value, names, id, err)
     end function word
 
   end subroutine read_mpm_deck
@@ -340,16 +329,5 @@ contains
     s%max_rounds = max_rounds; s%anderson_depth = anderson_depth
     s%anderson_mixing = anderson_mixing; s%weight_cutoff = weight_cutoff
   end subroutine nonlocal_group
-
-  pure function lower(text) result(low)
-    character(len=*), intent(in) :: text
-    character(len=len(text)) :: low
-    integer :: i, c
-    low = text
-    do i = 1, len(text)
-      c = iachar(text(i:i))
-      if (c >= iachar('A') .and. c <= iachar('Z')) low(i:i) = achar(c + 32)
-    end do
-  end function lower
 
 end module wellposed_mpm_deck

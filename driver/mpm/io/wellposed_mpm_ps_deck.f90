@@ -31,7 +31,7 @@ module wellposed_mpm_ps_deck
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
   use wellposed_deck, only: read_text_file, namelist_error, check_finite, has_group, unset, &
-                            is_set
+                            is_set, lower, check_word
   use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
                                    prop_h, prop_h_zeta, prop_length, prop_explicit
   use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
@@ -318,31 +318,9 @@ contains
 
     integer function word(value, names, grp, key) result(id)
       character(len=*), intent(in) :: value, names(:), grp, key
-      integer :: j
-      character(len=:), allocatable :: valid
-      do id = 1, size(names)
-        if (lower(trim(value)) == trim(names(id))) return
-      end do
-      id = 0
-      valid = ''
-      do j = 1, size(names)
-        valid = valid//merge(', ', '  ', j > 1)//"'"//trim(names(j))//"'"
-      end do
-      call new_error(err, status_invalid, key, path//': &'//grp//': '//key//" = '"// &
-        trim(value)//"' is not one of"//valid(2:))
+      call check_word(path, grp, key, value, names, id, err)
     end function word
 
   end subroutine read_ps_deck
-
-  pure function lower(text) result(low)
-    character(len=*), intent(in) :: text
-    character(len=len(text)) :: low
-    integer :: i, c
-    low = text
-    do i = 1, len(text)
-      c = iachar(text(i:i))
-      if (c >= iachar('A') .and. c <= iachar('Z')) low(i:i) = achar(c + 32)
-    end do
-  end function lower
 
 end module wellposed_mpm_ps_deck
