@@ -9,9 +9,9 @@ usage:
       runs in the current folder, reads out/RUN_NAME/summary.txt. The run
       folder must hold summary.txt, the deck, every --expect FILE and a file
       ending in every --expect-suffix (e.g. the XDMF beside the HDF5).
-  driver_check.py --fail REGEX EXE DECK RUN_NAME
-      the run must exit non-zero, print REGEX (Python re) on stderr and leave
-      no finished folder out/RUN_NAME.
+  driver_check.py --fail REGEX EXE DECK RUN_NAME [ARG ...]
+      the run (with the extra command-line ARGs) must exit non-zero, print
+      REGEX (Python re) on stderr and leave no finished folder out/RUN_NAME.
 """
 import os
 import re
@@ -44,7 +44,7 @@ def main(argv):
     if argv and argv[0] == "--fail":
         regex, exe, deck, name = argv[1:5]
         shutil.rmtree(os.path.join("out", name), ignore_errors=True)
-        rc, out, err = run(exe, deck, ["--no-plot"])
+        rc, out, err = run(exe, deck, ["--no-plot"] + argv[5:])
         ok = True
         if rc == 0:
             print(f"FAIL: exit status 0 for a bad deck {deck}")
