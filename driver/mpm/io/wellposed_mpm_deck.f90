@@ -28,9 +28,7 @@ module wellposed_mpm_deck
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: read_text_file, namelist_error, check_range, check_finite, &
                             unset, is_set, has_group, real_str, lower, check_word
-  use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
-                                   prop_h, prop_k_lim, prop_z_ref, prop_p_v, prop_p_d, &
-                                   prop_tau, prop_h_zeta, prop_length, prop_explicit
+  use wellposed_mpm_material_deck, only: material_props
   use wellposed_mpm_config
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nl_scheme_id
   implicit none
@@ -197,29 +195,9 @@ contains
     call check_finite(path, 'material', 'density', density, err); if (allocated(err)) return
     cfg%density = density
     cfg%nstatv = nstatv
-    if (any(is_set(props))) then
-      cfg%nprops = findloc(is_set(props), .true., back=.true., dim=1)
-      if (.not. all(is_set(props(1:cfg%nprops)))) then
-        call new_error(err, status_invalid, 'props', path//': &material: props has gaps; '// &
-          'give every entry up to the last'); return
-      end if
-      call check_finite(path, 'material', 'props', props(1:cfg%nprops), err)
-      if (allocated(err)) return
-      cfg%props = 0.0_dp
-      cfg%props(1:cfg%nprops) = props(1:cfg%nprops)
-    else
-      cfg%props = 0.0_dp
-      cfg%props(prop_bulk) = k; cfg%props(prop_shear) = g
-      cfg%props(prop_beta) = beta; cfg%props(prop_beta_p) = beta_p
-      cfg%props(prop_k0) = k0; cfg%props(prop_h) = h
-      cfg%props(prop_k_lim) = k_lim; cfg%props(prop_z_ref) = z_ref
-      cfg%props(prop_p_v) = p_v; cfg%props(prop_p_d) = p_d
-      cfg%props(prop_tau) = tau; cfg%props(prop_h_zeta) = h_zeta
-      cfg%props(prop_length) = l
-      ! appended slot: an explicit host never reads DDSDDE
-      cfg%props(prop_explicit) = 1.0_dp
-      cfg%nprops = prop_explicit
-    end if
+    call material_props(path, props, [k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, &
+                                      h_zeta, l], cfg%props, cfg%nprops, err)
+    if (allocated(err)) return
     cfg%stress0 = stress; cfg%velocity0 = velocity
     call check_finite(path, 'initial', 'stress', stress, err); if (allocated(err)) return
     cfg%load_base = base; cfg%load_peak = peak; cfg%load_duration = duration

@@ -32,8 +32,7 @@ module wellposed_mpm_ps_deck
   use wellposed_text, only: int_text
   use wellposed_deck, only: read_text_file, namelist_error, check_finite, has_group, unset, &
                             is_set, lower, check_word
-  use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
-                                   prop_h, prop_h_zeta, prop_length, prop_explicit
+  use wellposed_mpm_material_deck, only: material_props
   use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
                                         bc_velocity
   use wellposed_mpm_shape_2d, only: shape2d_names
@@ -190,27 +189,9 @@ contains
     cfg%t_end = t_end; cfg%cfl = cfl
     call check_finite(path, 'time', 'cfl', [t_end, cfl], err); if (allocated(err)) return
     cfg%density = density; cfg%nstatv = nstatv
-    if (any(is_set(props))) then
-      cfg%nprops = findloc(is_set(props), .true., back=.true., dim=1)
-      if (.not. all(is_set(props(1:cfg%nprops)))) then
-        call new_error(err, status_invalid, 'props', path//': &material: props has gaps; '// &
-          'give every entry up to the last'); return
-      end if
-      call check_finite(path, 'material', 'props', props(1:cfg%nprops), err)
-      if (allocated(err)) return
-      cfg%props = 0.0_dp
-      cfg%props(1:cfg%nprops) = props(1:cfg%nprops)
-    else
-      call check_finite(path, 'material', 'K', [k, g, beta, beta_p, k0, h, h_zeta, l], err)
-      if (allocated(err)) return
-      cfg%props = 0.0_dp
-      cfg%props(prop_bulk) = k; cfg%props(prop_shear) = g
-      cfg%props(prop_beta) = beta; cfg%props(prop_beta_p) = beta_p
-      cfg%props(prop_k0) = k0; cfg%props(prop_h) = h
-      cfg%props(prop_h_zeta) = h_zeta; cfg%props(prop_length) = l
-      cfg%props(prop_explicit) = 1.0_dp
-      cfg%nprops = prop_explicit
-    end if
+    call material_props(path, props, [k, g, beta, beta_p, k0, h, 0.0_dp, 0.0_dp, 0.0_dp, &
+                                      0.0_dp, 0.0_dp, h_zeta, l], cfg%props, cfg%nprops, err)
+    if (allocated(err)) return
     cfg%bottom = word(bottom, bc2_names, 'boundary', 'bottom'); if (allocated(err)) return
     cfg%top = word(top, bc2_names, 'boundary', 'top'); if (allocated(err)) return
     cfg%sides = word(sides, bc2_names, 'boundary', 'sides'); if (allocated(err)) return
