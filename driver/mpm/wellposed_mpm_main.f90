@@ -511,7 +511,8 @@ contains
       nl_bound(1:nl_n) = a
     end if
     write (output_unit, '(a)') '  restarted from '//ck_file//' (step '// &
-      int_text(scene%nstep)//', t = '//real_text(scene%t)//' s)'
+      int_text(scene%nstep)//', t = '//real_text(scene%t)//' s; '//int_text(nsnap)// &
+      ' snapshots written again)'
     flush (output_unit)
   end subroutine resume
 
