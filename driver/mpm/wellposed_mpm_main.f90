@@ -419,7 +419,6 @@ contains
     type(checkpoint_t) :: ck
     type(error_t), allocatable :: e
     character(len=:), allocatable :: path
-    integer :: k
     call save_scene_ranks(scene, comm, ck)
     call snaps%put(ck, comm, 'snapshots/')
     if (.not. root) return
@@ -432,7 +431,7 @@ contains
       call ck%put('main/nl_iterations', nl_its(1:nl_n))
       call ck%put('main/nl_bound', nl_bound(1:nl_n))
     end if
-    call ck%put('main/deck', [(iachar(deck_text(k:k)), k=1, len(deck_text))])
+    call ck%put_text('main/deck', deck_text)
     call write_checkpoint(ck, ck_dir, scene%nstep, 2, path, e)
     if (allocated(e)) call die_alone(e)
   end subroutine checkpoint
@@ -445,10 +444,10 @@ contains
   subroutine resume()
     type(checkpoint_t) :: ck
     type(error_t), allocatable :: e
-    integer, allocatable :: counts(:), deck_codes(:), ia(:)
+    integer, allocatable :: counts(:), ia(:)
+    character(len=:), allocatable :: deck_saved
     real(dp), allocatable :: a(:)
     type(decomposition_t) :: dec
-    integer :: k
     if (len(ck_file) == 0) then
       call latest_checkpoint(ck_dir, ck_file, e)
       if (allocated(e)) call die(e)
@@ -458,14 +457,10 @@ contains
       ' may be given with --restart-from FILE')
     call check_snapshots_format(ck, 'snapshots/', e)
     if (allocated(e)) call die_text(ck_file//': '//e%message)
-    call ck%get('main/deck', deck_codes, e)
+    call ck%get_text('main/deck', deck_saved, e)
     if (allocated(e)) call die(e)
-    if (size(deck_codes) /= len(deck_text)) call die_text(ck_file// &
-      ' was written for another deck')
-    do k = 1, len(deck_text)
-      if (deck_codes(k) /= iachar(deck_text(k:k))) call die_text(ck_file// &
-        ' was written for another deck')
-    end do
+    if (deck_saved /= deck_text .or. len(deck_saved) /= len(deck_text)) &
+      call die_text(ck_file//' was written for another deck')
     call ck%get('main/counts', counts, e)
     if (allocated(e)) call die(e)
     if (size(counts) /= 4) call die_text(ck_file//': the run counts are garbled')

@@ -513,23 +513,6 @@ contains
     if (allocated(e)) call die('case '//tag//': '//e%message)
   end subroutine snapshot
 
-  !> Character codes of a text (checkpoints hold numbers only).
-  pure function codes(text) result(c)
-    character(len=*), intent(in) :: text
-    integer :: c(len(text)), k
-    c = [(iachar(text(k:k)), k=1, len(text))]
-  end function codes
-
-  !> The text of character codes.
-  pure function decoded(c) result(text)
-    integer, intent(in) :: c(:)
-    character(len=size(c)) :: text
-    integer :: k
-    do k = 1, size(c)
-      text(k:k) = achar(c(k))
-    end do
-  end function decoded
-
   !> The run's state after this step into ROOT/NAME.checkpoints (collective;
   !> rank 0 writes): the scene, the snapshots so far, this case's curves
   !> and counters, the finished cases and the summary lines.
@@ -545,7 +528,7 @@ contains
     if (comm%size > 1) call allreduce_sum(comm, nplast_all)
     if (.not. root) return
     call system_clock(c1)
-    call ckw%put('main/deck', [0, codes(deck_text)])
+    call ckw%put_text('main/deck', deck_text)
     call ckw%put('main/case', [ic, ncurve, nit, nsnap, merge(1, 0, measured), steps_before])
     call ckw%put('main/reals', [next_snap, next_sample, fwhm, peak_x, peak_v, yline, band_t, &
                                 wall_before + real(c1 - c0, dp)/crate])
@@ -556,7 +539,7 @@ contains
     do k = 1, ic - 1
       pre = 'main/done_'//int_text(k)//'/'
       associate (o => outs(k))
-        call ckw%put(pre//'tag', [0, codes(o%tag)])
+        call ckw%put_text(pre//'tag', o%tag)
         call ckw%put(pre//'curve', [0.0_dp, reshape(o%curve, [size(o%curve)])])
         call ckw%put(pre//'its', [0, o%its])
         call ckw%put(pre//'nplast', [0, o%nplast])
@@ -569,7 +552,7 @@ contains
     do k = 1, sm%n
       lines = lines//sm%lines(k)%text//new_line('a')
     end do
-    call ckw%put('main/summary', [0, codes(lines)])
+    call ckw%put_text('main/summary', lines)
     call write_checkpoint(ckw, ck_dir, steps_before + sc%nstep, 2, path, e)
     if (allocated(e)) call die_root(e%message)
   end subroutine checkpoint
@@ -578,7 +561,8 @@ contains
   !> rank and check that it belongs to this deck; ic0 is its case.
   subroutine read_restart()
     type(error_t), allocatable :: e
-    integer, allocatable :: dk(:), cs(:)
+    integer, allocatable :: cs(:)
+    character(len=:), allocatable :: dk
     if (len(ck_file) == 0) then
       call latest_checkpoint(ck_dir, ck_file, e)
       if (allocated(e)) call die(e%message//' (run with --checkpoint-every STEPS first)')
@@ -588,9 +572,9 @@ contains
       ' may be given with --restart-from FILE')
     call check_snapshots_format(ck, 'snapshots/', e)
     if (allocated(e)) call die(ck_file//': '//e%message)
-    call ck%get('main/deck', dk, e)
+    call ck%get_text('main/deck', dk, e)
     if (allocated(e)) call die(ck_file//': '//e%message)
-    if (decoded(dk(2:)) /= deck_text .or. size(dk) - 1 /= len(deck_text)) &
+    if (dk /= deck_text .or. len(dk) /= len(deck_text)) &
       call die(ck_file//' was written for another deck than '//deck_path)
     call ck%get('main/case', cs, e)
     if (allocated(e)) call die(ck_file//': '//e%message)
@@ -614,8 +598,8 @@ contains
     do k = 1, ic0 - 1
       pre = 'main/done_'//int_text(k)//'/'
       associate (o => outs(k))
-        call ck%get(pre//'tag', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
-        o%tag = decoded(iv(2:))
+        call ck%get_text(pre//'tag', o%tag, e)
+        if (allocated(e)) call die(ck_file//': '//e%message)
         call ck%get(pre//'ints', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
         o%nsnap = iv(1)
         o%nparticles = iv(2)
@@ -643,8 +627,7 @@ contains
     call store%write_stored(h5, comm, e, prefix='cases/'//case_tag(ic0)//'/')
     if (allocated(e)) call die(e%message)
     if (.not. root) return
-    call ck%get('main/summary', iv, e); if (allocated(e)) call die_root(e%message)
-    lines = decoded(iv(2:))
+    call ck%get_text('main/summary', lines, e); if (allocated(e)) call die_root(e%message)
     at = 1
     do while (at <= len(lines))
       n = index(lines(at:), new_line('a'))

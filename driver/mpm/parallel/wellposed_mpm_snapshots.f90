@@ -20,9 +20,9 @@
 !>
 !> Checkpoint entries, under a prefix (e.g. `snapshots/`): `layout`
 !> (version, snapshots, values per row, fields), `rows` (per snapshot, its
-!> N), `times`, `groups` (character codes, one group per line) and `values`
-!> (the rows of every snapshot in id order, row after row). Every integer
-!> and real array starts with one padding value, so none is empty.
+!> N), `times`, `groups` (a text, one group per line) and `values` (the
+!> rows of every snapshot in id order, row after row). Every integer and
+!> real array starts with one padding value, so none is empty.
 module wellposed_mpm_snapshots
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -126,8 +126,8 @@ contains
     end do
   end subroutine store_write_stored
 
-  !> Snapshot k into `h5` (collective): its time, then every field in
-  !> global-id order (or the fields first).
+  !> Snapshot k into `h5` (collective): every field in global-id order,
+  !> and its time before or after them (`time_first`).
   subroutine write_one(self, k, h5, comm, err)
     class(snapshot_store_t), intent(in) :: self
     integer, intent(in) :: k
@@ -236,7 +236,7 @@ contains
     call ckpt%put(prefix//'layout', [snapshots_version, self%n, nc, size(self%names)])
     call ckpt%put(prefix//'rows', [0, n_rows])
     call ckpt%put(prefix//'times', [0.0_dp, (self%snaps(k)%time, k=1, self%n)])
-    call ckpt%put(prefix//'groups', [0, (iachar(groups(k:k)), k=1, len(groups))])
+    call ckpt%put_text(prefix//'groups', groups)
     call ckpt%put(prefix//'values', values)
   end subroutine store_put
 
@@ -278,8 +278,9 @@ contains
     type(comm_t), intent(in) :: comm
     character(len=*), intent(in) :: prefix
     type(error_t), allocatable, intent(out) :: err
-    integer, allocatable :: layout(:), n_rows(:), codes(:)
+    integer, allocatable :: layout(:), n_rows(:)
     real(dp), allocatable :: times(:), values(:)
+    character(len=:), allocatable :: groups
     integer :: nsnap, nc, k, b, r, first, nb, j, at, nl, a
     call check_snapshots_format(ckpt, prefix, err)
     if (allocated(err)) return
@@ -294,28 +295,25 @@ contains
     end if
     call ckpt%get(prefix//'rows', n_rows, err); if (allocated(err)) return
     call ckpt%get(prefix//'times', times, err); if (allocated(err)) return
-    call ckpt%get(prefix//'groups', codes, err); if (allocated(err)) return
+    call ckpt%get_text(prefix//'groups', groups, err); if (allocated(err)) return
     call ckpt%get(prefix//'values', values, err); if (allocated(err)) return
     if (size(n_rows) /= nsnap + 1 .or. size(times) /= nsnap + 1) then
       call bad('its snapshot counts are garbled'); return
     end if
     n_rows = n_rows(2:)
     if (any(n_rows < 0) .or. size(values) /= 1 + nc*sum(n_rows) .or. &
-        count(codes(2:) == iachar(new_line('a'))) /= nsnap) then
+        count([(groups(j:j) == new_line('a'), j=1, len(groups))]) /= nsnap) then
       call bad('its snapshots are garbled'); return
     end if
     deallocate (self%snaps)
     allocate (self%snaps(max(nsnap, 8)))
     self%n = nsnap
     a = 1
-    at = 2
+    at = 1
     do k = 1, nsnap
       associate (s => self%snaps(k))
-        nl = findloc(codes(at:), iachar(new_line('a')), dim=1)
-        allocate (character(len=nl - 1) :: s%group)
-        do j = 1, nl - 1
-          s%group(j:j) = achar(codes(at + j - 1))
-        end do
+        nl = index(groups(at:), new_line('a'))
+        s%group = groups(at:at + nl - 2)
         at = at + nl
         s%time = times(k + 1)
         b = n_rows(k)/comm%size
