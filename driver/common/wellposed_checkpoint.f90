@@ -1,6 +1,8 @@
 !> Checkpoints of a run (issue 7): a set of named 1-D arrays (real(dp) or
 !> integer) that a driver fills with whatever it needs to continue, written
-!> as one HDF5 file and read back whole or not at all.
+!> as one HDF5 file and read back whole or not at all. A text (a deck, a
+!> summary) is kept as an integer array: a leading 0, then its character
+!> codes (`put_text`, `get_text`).
 !>
 !> Writing: `write_checkpoint` stores every array as dataset `data/<name>`
 !> with the root attributes `format` ("wellposed-checkpoint 1"),
@@ -51,6 +53,10 @@ module wellposed_checkpoint
     !> get(name, values, err): the array (allocated to its length) or scalar.
     generic :: get => get_r1, get_i1, get_r0, get_i0
     procedure :: has => ckpt_has
+    !> put_text(name, text): a text as [0, its character codes].
+    procedure :: put_text => ckpt_put_text
+    !> get_text(name, text, err): the text put by put_text.
+    procedure :: get_text => ckpt_get_text
   end type checkpoint_t
 
 contains
@@ -109,6 +115,34 @@ contains
     integer, intent(in) :: value
     call put_i1(self, name, [value])
   end subroutine put_i0
+
+  subroutine ckpt_put_text(self, name, text)
+    class(checkpoint_t), intent(inout) :: self
+    character(len=*), intent(in) :: name, text
+    integer :: k
+    call put_i1(self, name, [0, (iachar(text(k:k)), k=1, len(text))])
+  end subroutine ckpt_put_text
+
+  subroutine ckpt_get_text(self, name, text, err)
+    class(checkpoint_t), intent(in) :: self
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable, intent(out) :: text
+    type(error_t), allocatable, intent(out) :: err
+    integer, allocatable :: c(:)
+    integer :: k
+    call get_i1(self, name, c, err)
+    if (allocated(err)) return
+    if (size(c) >= 1) then
+      if (c(1) == 0 .and. all(c(2:) >= 0 .and. c(2:) <= 255)) then
+        allocate (character(len=size(c) - 1) :: text)
+        do k = 2, size(c)
+          text(k - 1:k - 1) = achar(c(k))
+        end do
+        return
+      end if
+    end if
+    call new_error(err, status_invalid, name, 'checkpoint entry "'//name//'" is not a text')
+  end subroutine ckpt_get_text
 
   integer function find(self, name) result(k)
     class(checkpoint_t), intent(in) :: self

@@ -50,7 +50,7 @@ module wellposed_h5_parallel
                            alltoall_counts, alltoallv_real, alltoallv_int, legacy_handles
   implicit none
   private
-  public :: h5_parallel_file_t, h5_row_order_t, new_row_order, h5_uses_mpio
+  public :: h5_parallel_file_t, h5_row_order_t, new_row_order, h5_uses_mpio, h5_writer_name
   public :: order_redistribute, order_points, order_hyperslabs
 
   !> How rows in global-id order reach the file under MPI-IO.
@@ -117,6 +117,20 @@ contains
     type(comm_t), intent(in) :: comm
     uses = h5_mpio_available .and. comm%size > 1
   end function h5_uses_mpio
+
+  !> How files on `comm` are written, in a word for a run's summary:
+  !> 'mpio-collective' (every rank writes its rows through MPI-IO) or
+  !> 'rank0-gather' (rank 0 gathers the rows and writes alone: one rank,
+  !> or serial HDF5).
+  function h5_writer_name(comm) result(name)
+    type(comm_t), intent(in) :: comm
+    character(len=:), allocatable :: name
+    if (h5_uses_mpio(comm)) then
+      name = 'mpio-collective'
+    else
+      name = 'rank0-gather'
+    end if
+  end function h5_writer_name
 
   ! -------------------------------------------------------------------------
   ! Opening and closing

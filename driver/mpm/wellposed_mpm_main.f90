@@ -14,8 +14,12 @@
 !> to standard error and the exit status is 1.
 !>
 !> On N ranks (issue 7) the scene is cut into strips of cells
-!> (wellposed_mpm_ranks); rank 0 gathers what the outputs need and writes
-!> every file, with the serial layout. Checkpoints go to
+!> (wellposed_mpm_ranks). run.h5 is written by all ranks collectively
+!> (wellposed_h5_parallel: MPI-IO with parallel HDF5, else gathered to
+!> rank 0), particle snapshots by rows from the ranks that hold the
+!> particles (wellposed_mpm_snapshots); station histories, energies and
+!> metadata are rank 0's, and rank 0 writes the other files, all with the
+!> serial layout. Checkpoints go to
 !> ROOT/NAME.checkpoints/ every STEPS steps (default: a tenth of the run;
 !> 0: none; the newest two are kept, the folder is removed when the run
 !> finishes); --restart continues from the newest, on any number of ranks.
@@ -31,7 +35,7 @@ program wellposed_mpm
                                   total_momentum, timer_umat, timer_transfer, timer_grid
   use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations, &
                                     station_measures_t, measure_stations, field_sxx, &
-                                    field_syy, field_v, field_z
+                                    field_syy, field_v, field_z, nfields
   use wellposed_mpm_paths, only: source_dir, install_data_dir, default_deck_name, &
                                  stations_plot_name
   use wellposed_mpm_particles, only: particle_bytes, particles_t
@@ -39,16 +43,18 @@ program wellposed_mpm
   use wellposed_mpi, only: comm_t, comm_start, comm_stop, comm_abort, allreduce_sum, &
                            allreduce_max, broadcast
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
-  use wellposed_mpm_decomposition, only: decomposition_t, gather_by_gid
+  use wellposed_mpm_decomposition, only: decomposition_t
   use wellposed_mpm_parallel_io, only: station_proxy_t, gather_particles, make_station_proxy, &
                                        fill_station_proxy, put_stations, get_stations
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint, read_checkpoint, &
                                   latest_checkpoint
   use wellposed_mpm_restart, only: save_scene_ranks, restore_scene_ranks
+  use wellposed_mpm_snapshots, only: snapshot_store_t, new_snapshot_store, &
+                                     check_snapshots_format
   use wellposed_batch_run, only: run_batch, default_figures
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
-  use wellposed_h5, only: h5_file_t
+  use wellposed_h5_parallel, only: h5_parallel_file_t, h5_writer_name
   use wellposed_plot, only: run_plot
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
   use wellposed_fs, only: path_exists, shell_quote, remove_tree
@@ -63,7 +69,7 @@ program wellposed_mpm
   type(stations_t) :: st
   type(station_measures_t) :: meas
   type(run_dir_t) :: rd
-  type(h5_file_t) :: h5
+  type(h5_parallel_file_t) :: h5
   type(summary_t) :: sm
   type(error_t), allocatable :: err, err2
   ! ranks: the communicator, the scene's exchange, the stations' proxy
@@ -78,8 +84,9 @@ program wellposed_mpm
   integer :: ck_every
   logical :: restart
   character(len=:), allocatable :: ck_dir, ck_file, batch_file
-  real(dp), allocatable :: snaps(:, :, :)   !< (7, particles, snapshot): t, x, x0, v, sxx, syy, z
-  character(len=:), allocatable :: deck_path, out_root, run_name, deck_text, arg, script
+  !> particle snapshots: each rank keeps the rows of its own particles
+  type(snapshot_store_t) :: snaps
+  character(len=:), allocatable :: deck_path, out_root, run_name, deck_text, arg, script, h5_path
   character(len=512), allocatable :: overrides(:)
   logical :: no_plot
   integer :: i, nargs, nsnap, nenergy, s, nsteps_est
@@ -159,17 +166,26 @@ program wellposed_mpm
   ghost = scene%exchange%ghost_layers()
   c_e = sqrt(scene%modulus_elastic/cfg%density)
   c_p = sqrt(scene%modulus_plastic/cfg%density)
+  ! rank 0 makes the run folder; run.h5 in it is written by every rank
+  h5_path = ''
   if (root) then
     call rd%create(out_root, cfg%name, deck_path, err)
     if (allocated(err)) call die_alone(err)
-    call h5%create(rd%path('run.h5'), err)
-    if (allocated(err)) call die_alone(err)
+    h5_path = rd%path('run.h5')
   end if
-  ! stations on rank 0 over every particle in id order, read through a proxy
+  call broadcast(comm, h5_path, 0)
+  call h5%create(comm, h5_path, err)
+  if (allocated(err)) call die(err)
+  ! stations on rank 0 over every particle in id order, read through a
+  ! proxy (a gather for setting them up; the other ranks hold none)
   ntotal = scene%parts%n
   call allreduce_sum(comm, ntotal)
   call gather_particles(comm, scene%parts, 0, everyone)
-  if (root) call new_stations(st, cfg, everyone, cfg%t_end)
+  if (root) then
+    call new_stations(st, cfg, everyone, cfg%t_end)
+  else
+    allocate (st%x(0), st%time(0), st%hist(nfields, 0, 0))
+  end if
   call make_station_proxy(st, comm, ntotal, scene%parts, proxy)
 
   nsteps_est = ceiling(cfg%t_end/scene%dt)
@@ -185,19 +201,17 @@ program wellposed_mpm
       real_text(scene%nl%length)//' m, Gaussian support radius '// &
       real_text(scene%nl%radius)//' m = '//real_text(scene%nl%radius/cfg%dx)//' cells'
     if (comm%size > 1) write (output_unit, '(a)') '  on '//int_text(comm%size)// &
-      ' ranks, strips of cells with '//int_text(ghost)//' ghost node layers'
+      ' ranks, strips of cells with '//int_text(ghost)//' ghost node layers; run.h5: '// &
+      h5_writer_name(comm)
     write (output_unit, '(a)') '  writing '//rd%partial//' (renamed to '//rd%final// &
       ' when done)'
     flush (output_unit)
   end if
 
   ! ---- time loop
-  if (root) then
-    allocate (energy(5, size(st%time)))
-    allocate (snaps(7, ntotal, 0))   ! grows with the snapshots taken
-  else
-    allocate (energy(5, 1), snaps(7, 0, 0))
-  end if
+  allocate (energy(5, max(size(st%time), 1)))
+  call new_snapshot_store(snaps, [character(len=8) :: 'x', 'x0', 'velocity', 'sigma_xx', &
+                                  'sigma_yy', 'z'], [1, 1, 1, 1, 1, 1], time_first=.true.)
   nenergy = 1
   energy(:, 1) = [0.0_dp, scene%kinetic0, 0.0_dp, 0.0_dp, scene%momentum0]
   nsnap = 0
@@ -228,7 +242,7 @@ program wellposed_mpm
     if (allocated(err)) then
       ! (every rank has an error: the step's errors are collective) close
       ! what was written (under its temporary name) and report the error
-      if (root) call h5%close(err2)
+      call h5%close(err2)
       if (err%key /= 'ranks') call die_text(deck_path//': '//err%message, .true.)
       call die_quietly()
     end if
@@ -275,26 +289,28 @@ program wellposed_mpm
   call allreduce_sum(comm, sums)
   substeps = scene%max_substeps
   call allreduce_max(comm, substeps)
-  if (.not. root) then
-    call comm_stop(comm)
-    stop
-  end if
   scene%work_internal = sums(1)
   scene%work_external = sums(2)
   scene%impulse = sums(3)
   scene%max_substeps = substeps
 
-  ! ---- measures and outputs (rank 0)
+  ! ---- measures (rank 0's stations; empty elsewhere) and outputs
   call measure_stations(st%time(1:st%ns), st%hist(field_sxx, :, 1:st%ns), st%x, &
                         0.5_dp*abs(cfg%load_peak), meas)
   escale = maxval(energy(2, 1:nenergy)) - scene%kinetic0
   ebal = ke_end - scene%kinetic0 + scene%work_internal - scene%work_external
-  call write_summary()
-  call sm%write(rd%path('summary.txt'), err)
-  if (allocated(err)) call die_alone(err)
+  if (root) then
+    call write_summary()
+    call sm%write(rd%path('summary.txt'), err)
+    if (allocated(err)) call die_alone(err)
+  end if
   call write_h5()
   call h5%close(err)
-  if (allocated(err)) call die_alone(err)
+  if (allocated(err)) call die(err)
+  if (.not. root) then
+    call comm_stop(comm)
+    stop
+  end if
   if (opts%plot .and. .not. no_plot) then
     script = find_data(stations_plot_name)
     call run_plot(script, shell_quote(rd%path('run.h5'))//' '// &
@@ -372,90 +388,66 @@ contains
     path = rel
   end function find_data
 
-  !> Particle fields now, every particle in id order (the serial layout),
-  !> into run.h5 and, for checkpoints, into `snaps` (rank 0). Collective.
+  !> Particle fields now into run.h5 (collective): every rank its own
+  !> particles' rows, which `snaps` keeps for checkpoints.
   subroutine snapshot()
     integer :: n
-    real(dp), allocatable :: fields(:, :), gathered(:, :)
+    real(dp), allocatable :: rows(:, :)
+    type(error_t), allocatable :: e
     nsnap = nsnap + 1
     n = scene%parts%n
-    allocate (fields(6, n))
-    fields(1, :) = scene%parts%x(1, 1:n)
-    fields(2, :) = scene%parts%x0(1, 1:n)
-    fields(3, :) = scene%parts%v(1, 1:n)
-    fields(4, :) = scene%parts%stress(1, 1:n)
-    fields(5, :) = scene%parts%stress(2, 1:n)
-    fields(6, :) = scene%parts%statev(1, 1:n)
-    call gather_by_gid(comm, scene%parts%gid(1:n), fields, 0, gathered)
+    allocate (rows(6, n))
+    rows(1, :) = scene%parts%x(1, 1:n)
+    rows(2, :) = scene%parts%x0(1, 1:n)
+    rows(3, :) = scene%parts%v(1, 1:n)
+    rows(4, :) = scene%parts%stress(1, 1:n)
+    rows(5, :) = scene%parts%stress(2, 1:n)
+    rows(6, :) = scene%parts%statev(1, 1:n)
+    write (tag, '(i4.4)') nsnap
+    call snaps%take(h5, comm, 'snapshots/'//trim(tag)//'/', scene%t, scene%parts%gid(1:n), &
+                    rows, e)
+    if (allocated(e)) call die(e)
     next_snap = nsnap*cfg%snapshot_dt
-    if (.not. root) return
-    call room_for_snapshots(nsnap)
-    snaps(1, :, nsnap) = scene%t
-    snaps(2:7, :, nsnap) = gathered
-    call write_snapshot(nsnap)
   end subroutine snapshot
 
-  !> `snaps` (rank 0) with room for at least n snapshots (doubling).
-  subroutine room_for_snapshots(n)
-    integer, intent(in) :: n
-    real(dp), allocatable :: grown(:, :, :)
-    if (size(snaps, 3) >= n) return
-    allocate (grown(7, ntotal, max(n, 2*size(snaps, 3), 4)))
-    grown(:, :, 1:size(snaps, 3)) = snaps
-    call move_alloc(grown, snaps)
-  end subroutine room_for_snapshots
-
-  !> Snapshot k of `snaps` into run.h5 (rank 0).
-  subroutine write_snapshot(k)
-    integer, intent(in) :: k
-    character(len=:), allocatable :: grp
-    write (tag, '(i4.4)') k
-    grp = 'snapshots/'//trim(tag)//'/'
-    call h5%write(grp//'time', [snaps(1, 1, k)])
-    call h5%write(grp//'x', snaps(2, :, k))
-    call h5%write(grp//'x0', snaps(3, :, k))
-    call h5%write(grp//'velocity', snaps(4, :, k))
-    call h5%write(grp//'sigma_xx', snaps(5, :, k))
-    call h5%write(grp//'sigma_yy', snaps(6, :, k))
-    call h5%write(grp//'z', snaps(7, :, k))
-  end subroutine write_snapshot
-
   !> The run's state at the end of a step (collective): the scene (every
-  !> rank's particles and partial sums), and from rank 0 the stations, the
-  !> energy rows, the snapshots and nonlocal records so far, the deck text;
-  !> rank 0 writes it atomically and keeps the newest two.
+  !> rank's particles and partial sums) and the snapshots so far (every
+  !> rank's rows), and from rank 0 the stations, the energy rows, the
+  !> nonlocal records so far, the deck text; rank 0 writes it atomically and
+  !> keeps the newest two.
   subroutine checkpoint()
     type(checkpoint_t) :: ck
     type(error_t), allocatable :: e
     character(len=:), allocatable :: path
-    integer :: k
     call save_scene_ranks(scene, comm, ck)
+    call snaps%put(ck, comm, 'snapshots/')
     if (.not. root) return
     call put_stations(ck, 'stations/', st)
     call ck%put('main/counts', [nenergy, nsnap, ntotal, nl_n])
     call ck%put('main/next_snap', next_snap)
     call ck%put('main/energy', reshape(energy(:, 1:nenergy), [5*nenergy]))
-    call ck%put('main/snapshots', reshape(snaps(:, :, 1:nsnap), [7*ntotal*nsnap]))
     if (nl_n > 0) then
       call ck%put('main/nl_step', nl_plastic(1:nl_n))
       call ck%put('main/nl_iterations', nl_its(1:nl_n))
       call ck%put('main/nl_bound', nl_bound(1:nl_n))
     end if
-    call ck%put('main/deck', [(iachar(deck_text(k:k)), k=1, len(deck_text))])
+    call ck%put_text('main/deck', deck_text)
     call write_checkpoint(ck, ck_dir, scene%nstep, 2, path, e)
     if (allocated(e)) call die_alone(e)
   end subroutine checkpoint
 
   !> --restart: continue from the newest checkpoint of ck_dir, or from
   !> --restart-from FILE, on this run's ranks (collective; every rank reads
-  !> the file). A damaged file or one of another deck is refused.
+  !> the file), and write the snapshots taken before it into run.h5 again.
+  !> A damaged file, one of another deck or one of an earlier version of
+  !> this program is refused.
   subroutine resume()
     type(checkpoint_t) :: ck
     type(error_t), allocatable :: e
-    integer, allocatable :: counts(:), deck_codes(:), ia(:)
+    integer, allocatable :: counts(:), ia(:)
+    character(len=:), allocatable :: deck_saved
     real(dp), allocatable :: a(:)
     type(decomposition_t) :: dec
-    integer :: k
     if (len(ck_file) == 0) then
       call latest_checkpoint(ck_dir, ck_file, e)
       if (allocated(e)) call die(e)
@@ -463,14 +455,12 @@ contains
     call read_checkpoint(ck_file, ck, e)
     if (allocated(e)) call die_text(e%message//'; an older checkpoint of '//ck_dir// &
       ' may be given with --restart-from FILE')
-    call ck%get('main/deck', deck_codes, e)
+    call check_snapshots_format(ck, 'snapshots/', e)
+    if (allocated(e)) call die_text(ck_file//': '//e%message)
+    call ck%get_text('main/deck', deck_saved, e)
     if (allocated(e)) call die(e)
-    if (size(deck_codes) /= len(deck_text)) call die_text(ck_file// &
-      ' was written for another deck')
-    do k = 1, len(deck_text)
-      if (deck_codes(k) /= iachar(deck_text(k:k))) call die_text(ck_file// &
-        ' was written for another deck')
-    end do
+    if (deck_saved /= deck_text .or. len(deck_saved) /= len(deck_text)) &
+      call die_text(ck_file//' was written for another deck')
     call ck%get('main/counts', counts, e)
     if (allocated(e)) call die(e)
     if (size(counts) /= 4) call die_text(ck_file//': the run counts are garbled')
@@ -485,6 +475,11 @@ contains
     call ck%get('main/next_snap', next_snap, e)
     if (allocated(e)) call die(e)
     nsnap = counts(2)
+    call snaps%get(ck, comm, 'snapshots/', e)
+    if (allocated(e)) call die_text(ck_file//': '//e%message)
+    if (snaps%n /= nsnap) call die_text(ck_file//': the snapshot count is garbled')
+    call snaps%write_stored(h5, comm, e)
+    if (allocated(e)) call die(e)
     if (.not. root) return
     call get_stations(ck, 'stations/', st, e)
     if (allocated(e)) call die_alone(e)
@@ -494,14 +489,6 @@ contains
     if (nenergy > size(energy, 2) .or. size(a) /= 5*nenergy) &
       call die_text(ck_file//': the energy rows do not fit this deck', .true.)
     energy(:, 1:nenergy) = reshape(a, [5, nenergy])
-    call ck%get('main/snapshots', a, e)
-    if (allocated(e)) call die_alone(e)
-    if (size(a) /= 7*ntotal*nsnap) call die_text(ck_file//': the snapshots are garbled', .true.)
-    call room_for_snapshots(nsnap)
-    snaps(:, :, 1:nsnap) = reshape(a, [7, ntotal, nsnap])
-    do k = 1, nsnap
-      call write_snapshot(k)
-    end do
     nl_n = counts(4)
     if (nl_n > 0) then
       allocate (nl_its(nl_n + 1024), nl_plastic(nl_n + 1024), nl_bound(nl_n + 1024))
@@ -519,7 +506,8 @@ contains
       nl_bound(1:nl_n) = a
     end if
     write (output_unit, '(a)') '  restarted from '//ck_file//' (step '// &
-      int_text(scene%nstep)//', t = '//real_text(scene%t)//' s)'
+      int_text(scene%nstep)//', t = '//real_text(scene%t)//' s; '//int_text(nsnap)// &
+      ' snapshots written again)'
     flush (output_unit)
   end subroutine resume
 
@@ -537,6 +525,8 @@ contains
     call sm%add('steps', scene%nstep)
     call sm%add('particles', ntotal)
     call sm%add('ranks', comm%size, 'MPI ranks (strips of cells)')
+    call sm%add('h5_writer', h5_writer_name(comm), 'how run.h5 was written: every rank '// &
+                'its rows through MPI-IO (mpio-collective), or rank 0 alone (rank0-gather)')
     call sm%add('ghost_layers', ghost, 'node layers beyond a patch: shape support '// &
                 'or the nonlocal Gaussian''s, the wider')
     call sm%add('t_end', scene%t, 's')
@@ -603,6 +593,8 @@ contains
     share = real(scene%ticks(id), dp)/max(1.0_dp, real(sum(scene%ticks), dp))
   end function share
 
+  !> The datasets and attributes beside the snapshots (collective: the
+  !> values are rank 0's; the others pass their own, which are ignored).
   subroutine write_h5()
     integer :: k
     call h5%write_attr('scene', cfg%name)

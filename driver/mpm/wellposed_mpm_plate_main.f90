@@ -15,16 +15,19 @@
 !> finished. Errors go to standard error and the exit status is 1.
 !>
 !> Ranks (issue 7): under mpirun every rank reads the deck and advances its
-!> strip of the plate (wellposed_mpm_plane_strain); rank 0 gathers the
-!> particles in global-id order for snapshots and band widths and writes
-!> every file, so the outputs have the serial layout. One rank is the
-!> serial program.
+!> strip of the plate (wellposed_mpm_plane_strain). run.h5 is written by
+!> all ranks collectively (wellposed_h5_parallel: MPI-IO with parallel
+!> HDF5, else gathered to rank 0), particle snapshots by rows from the
+!> ranks that hold the particles (wellposed_mpm_snapshots); curves and
+!> counts are rank 0's. Rank 0 gathers the particles for band widths and
+!> writes the other files; every output has the serial layout. One rank is
+!> the serial program.
 !>
 !> Checkpoints: every STEPS steps (default a tenth of a case's steps; 0:
 !> none) the run's state goes to ROOT/NAME.checkpoints/checkpoint_<n>.h5
 !> (n counts the steps of all cases so far; written atomically, the newest
 !> two kept): the scene on every rank, the case being run with its curves,
-!> the finished cases, the summary lines and everything written to run.h5
+!> the finished cases, the summary lines and the particle snapshots taken
 !> so far. `--restart` continues from the newest one (`--restart-from FILE`
 !> from FILE) with the same deck and overrides: a fresh run folder gets the
 !> same files the uninterrupted run would have written, bit for bit on the
@@ -42,13 +45,15 @@ program wellposed_mpm2d
   use wellposed_mpm_ps_deck, only: read_ps_deck, ps_study_t
   use wellposed_mpm_paths, only: source_dir, install_data_dir
   use wellposed_mpm_decomposition, only: gather_by_gid
+  use wellposed_mpm_snapshots, only: snapshot_store_t, new_snapshot_store, &
+                                     check_snapshots_format
   use wellposed_mpi, only: comm_t, comm_start, comm_stop, comm_abort, allreduce_max, &
-                           allreduce_sum
+                           allreduce_sum, broadcast
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint, read_checkpoint, &
                                   latest_checkpoint
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
-  use wellposed_h5, only: h5_file_t
+  use wellposed_h5_parallel, only: h5_parallel_file_t, h5_writer_name
   use wellposed_plot, only: run_plot
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
   use wellposed_fs, only: path_exists, shell_quote
@@ -65,32 +70,23 @@ program wellposed_mpm2d
     integer :: nsnap = 0, nparticles = 0, nsteps = 0
   end type case_out_t
 
-  !> Everything written to run.h5 so far (rank 0), so a restart can write
-  !> it again: names, kind and shape, values.
-  type :: journal_t
-    character(len=:), allocatable :: names   !< each name ends with a new line
-    integer, allocatable :: meta(:, :)       !< (kind: 1 real 1D, 2 real 2D, 3 integer; n1; n2)
-    real(dp), allocatable :: r(:)
-    integer, allocatable :: iv(:)
-    integer :: n = 0, nr = 0, ni = 0
-  end type journal_t
-
   type(ps_config_t) :: cfg0, cfg
   type(ps_study_t) :: study
   type(ps_scene_t) :: sc, prev
   type(case_out_t), allocatable :: outs(:)
-  type(journal_t) :: jn
+  !> particle snapshots of every case: each rank keeps its particles' rows
+  type(snapshot_store_t) :: store
   type(comm_t) :: comm
   logical :: ended_early, measured, root, restart, resuming
   real(dp) :: band_t
   character(len=512) :: end_message
   type(run_dir_t) :: rd
-  type(h5_file_t) :: h5
+  type(h5_parallel_file_t) :: h5
   type(summary_t) :: sm
   type(error_t), allocatable :: err
   type(checkpoint_t) :: ck
   character(len=:), allocatable :: deck_path, out_root, run_name, deck_text, arg, tag, script
-  character(len=:), allocatable :: ck_dir, ck_file
+  character(len=:), allocatable :: ck_dir, ck_file, h5_path
   character(len=512), allocatable :: overrides(:)
   logical :: no_plot
   integer :: i, nargs, ic, ic0, nsteps_est, nsnap, ncurve, nit, u, ck_every, ck_every_deck
@@ -172,20 +168,29 @@ program wellposed_mpm2d
   end do
   ck_dir = out_root//'/'//cfg0%name//'.checkpoints'
   ic0 = 1
+  call new_snapshot_store(store, [character(len=14) :: 'xy', 'plastic_strain', 'sigma_xx', &
+                                  'sigma_yy', 'sigma_xy', 'dlambda', 'zeta'], &
+                          [2, 1, 1, 1, 1, 1, 1], time_first=.false.)
   if (restart) call read_restart()
+  ! rank 0 makes the run folder; run.h5 in it is written by every rank
+  h5_path = ''
   if (root) then
     call rd%create(out_root, cfg0%name, deck_path, err)
     if (allocated(err)) call die_root(err%message)
-    call h5%create(rd%path('run.h5'), err)
-    if (allocated(err)) call die_root(err%message)
-    call h5%write_attr('wellposed_version', wellposed_version)
-    call h5%write_attr('git_revision', wellposed_git_revision)
-    call h5%write_attr('deck', deck_text)
-    call h5%write_attr('props', cfg0%props(1:cfg0%nprops))
+    h5_path = rd%path('run.h5')
+  end if
+  call broadcast(comm, h5_path, 0)
+  call h5%create(comm, h5_path, err)
+  if (allocated(err)) call die(err%message)
+  call h5%write_attr('wellposed_version', wellposed_version)
+  call h5%write_attr('git_revision', wellposed_git_revision)
+  call h5%write_attr('deck', deck_text)
+  call h5%write_attr('props', cfg0%props(1:cfg0%nprops))
+  if (root) then
     write (output_unit, '(a)') 'wellposed-mpm2d '//wellposed_version//': '//cfg0%name// &
       ' ('//trim(cfg0%title)//'), '//int_text(study%ncases)//' case(s)'
     if (comm%size > 1) write (output_unit, '(a)') '  on '//int_text(comm%size)// &
-      ' ranks (strips of cell rows; rank 0 writes)'
+      ' ranks (strips of cell rows; run.h5: '//h5_writer_name(comm)//')'
     write (output_unit, '(a)') '  writing '//rd%partial//' (renamed to '//rd%final// &
       ' when done)'
     flush (output_unit)
@@ -308,22 +313,24 @@ program wellposed_mpm2d
     moved_sum = sc%moved
     if (comm%size > 1) call allreduce_sum(comm, moved_sum)
     steps_before = steps_before + sc%nstep
-    if (root) then
-      outs(ic)%tag = tag
-      outs(ic)%curve = curve(:, 1:ncurve)
-      outs(ic)%its = its(1:nit)
-      outs(ic)%nplast = nplast(1:nit)
-      outs(ic)%bounds = bounds(:, 1:nit)
-      outs(ic)%nsnap = nsnap
-      outs(ic)%nparticles = ntotal
-      outs(ic)%nsteps = sc%nstep
-      outs(ic)%scal(1:4) = [sc%dt, sc%t, sc%nl%bound_43, wall]
-      outs(ic)%scal(7) = fwhm
-      call finish_case(i)
-    end if
+    ! (on every rank: the curves and counts are alike on all)
+    outs(ic)%tag = tag
+    outs(ic)%curve = curve(:, 1:ncurve)
+    outs(ic)%its = its(1:nit)
+    outs(ic)%nplast = nplast(1:nit)
+    outs(ic)%bounds = bounds(:, 1:nit)
+    outs(ic)%nsnap = nsnap
+    outs(ic)%nparticles = ntotal
+    outs(ic)%nsteps = sc%nstep
+    outs(ic)%scal(1:4) = [sc%dt, sc%t, sc%nl%bound_43, wall]
+    outs(ic)%scal(7) = fwhm
+    if (root) call finish_case(i)
+    call write_case(ic)
     deallocate (curve, its, nplast, bounds)
   end do
 
+  call h5%close(err)
+  if (allocated(err)) call die(err%message)
   if (.not. root) then
     call comm_stop(comm)
     stop
@@ -336,9 +343,9 @@ program wellposed_mpm2d
     call sm%add(outs(ic)%tag//'.band_fwhm_ratio_to_'//outs(ic - 1)%tag, &
                 outs(ic)%scal(7)/outs(ic - 1)%scal(7))
   end do
+  call sm%add('h5_writer', h5_writer_name(comm), 'how run.h5 was written: every rank its '// &
+              'rows through MPI-IO (mpio-collective), or rank 0 alone (rank0-gather)')
   call sm%add('total_wall_time', sum([(outs(ic)%scal(4), ic=1, study%ncases)]), 's')
-  call h5%close(err)
-  if (allocated(err)) call die_root(err%message)
   call sm%write(rd%path('summary.txt'), err)
   if (allocated(err)) call die_root(err%message)
   do ic = 1, study%ncases
@@ -369,8 +376,8 @@ program wellposed_mpm2d
 
 contains
 
-  !> The summary lines and run.h5 datasets of the case just finished (rank
-  !> 0); `nsub` the largest UMAT cut-back split over the ranks.
+  !> The summary lines of the case just finished (rank 0); `nsub` the
+  !> largest UMAT cut-back split over the ranks.
   subroutine finish_case(nsub)
     integer, intent(in) :: nsub
     integer :: j
@@ -411,9 +418,6 @@ contains
                       'time per particle of one sweep (average + UMAT + eq. 4.49-4.50) '// &
                       'over one local UMAT update')
       end if
-      call put_r2('cases/'//tag//'/curve', transpose(o%curve))
-      call put_i1('cases/'//tag//'/iterations', o%its)
-      call put_i1('cases/'//tag//'/n_plastic', o%nplast)
       write (output_unit, '(a)') '    done in '//real_text(wall)//' s: peak '// &
         real_text(o%scal(6)*1.0e-6_dp)//' MPa at strain '//real_text(o%scal(5))// &
         ', band FWHM '//real_text(fwhm)//' m along the line at '//real_text(yline)//' m'
@@ -426,6 +430,17 @@ contains
       flush (output_unit)
     end associate
   end subroutine finish_case
+
+  !> The run.h5 datasets of finished case k beside its snapshots
+  !> (collective; rank 0's values).
+  subroutine write_case(k)
+    integer, intent(in) :: k
+    associate (o => outs(k))
+      call h5%write('cases/'//o%tag//'/curve', transpose(o%curve))
+      call h5%write('cases/'//o%tag//'/iterations', o%its)
+      call h5%write('cases/'//o%tag//'/n_plastic', o%nplast)
+    end associate
+  end subroutine write_case
 
 
   !> The case's name: its label, else h<dx>[_s<scale>].
@@ -476,10 +491,11 @@ contains
   end subroutine measure_band
 
   !> Particle fields of the current state into run.h5: cases/<tag>/snap_<n>/
-  !> (collective: rank 0 gathers them in global-id order and writes).
+  !> (collective: every rank its own particles' rows, in global-id order in
+  !> the file; `store` keeps them for checkpoints).
   subroutine snapshot()
-    character(len=:), allocatable :: g
-    real(dp), allocatable :: f(:, :), all(:, :)
+    real(dp), allocatable :: f(:, :)
+    type(error_t), allocatable :: e
     integer :: n
     nsnap = nsnap + 1
     next_snap = next_snap + study%snapshot_dt
@@ -492,130 +508,14 @@ contains
     f(6, :) = sc%parts%stress(4, 1:n)
     f(7, :) = sc%parts%statev(2, 1:n)
     f(8, :) = sc%parts%statev(4, 1:n)
-    call gather_by_gid(comm, sc%parts%gid(1:n), f, 0, all)
-    if (.not. root) return
-    g = 'cases/'//tag//'/snap_'//int_text(nsnap)//'/'
-    call put_r2(g//'xy', transpose(all(1:2, :)))
-    call put_r1(g//'plastic_strain', all(3, :))
-    call put_r1(g//'sigma_xx', all(4, :))
-    call put_r1(g//'sigma_yy', all(5, :))
-    call put_r1(g//'sigma_xy', all(6, :))
-    call put_r1(g//'dlambda', all(7, :))
-    call put_r1(g//'zeta', all(8, :))
-    call put_r1(g//'time', [sc%t])
+    call store%take(h5, comm, 'cases/'//tag//'/snap_'//int_text(nsnap)//'/', sc%t, &
+                    sc%parts%gid(1:n), f, e)
+    if (allocated(e)) call die('case '//tag//': '//e%message)
   end subroutine snapshot
 
-  !> A real array into run.h5 and the journal (rank 0).
-  subroutine put_r1(name, a)
-    character(len=*), intent(in) :: name
-    real(dp), intent(in) :: a(:)
-    call h5%write(name, a)
-    call journal_add(name, 1, size(a), 1)
-    call journal_reals(a)
-  end subroutine put_r1
-
-  !> A real matrix into run.h5 and the journal (rank 0).
-  subroutine put_r2(name, a)
-    character(len=*), intent(in) :: name
-    real(dp), intent(in) :: a(:, :)
-    call h5%write(name, a)
-    call journal_add(name, 2, size(a, 1), size(a, 2))
-    call journal_reals(reshape(a, [size(a)]))
-  end subroutine put_r2
-
-  !> An integer array into run.h5 and the journal (rank 0).
-  subroutine put_i1(name, a)
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: a(:)
-    integer, allocatable :: grown(:)
-    call h5%write(name, a)
-    call journal_add(name, 3, size(a), 1)
-    if (.not. allocated(jn%iv)) allocate (jn%iv(1024))
-    if (jn%ni + size(a) > size(jn%iv)) then
-      allocate (grown(2*(jn%ni + size(a))))
-      grown(1:jn%ni) = jn%iv(1:jn%ni)
-      call move_alloc(grown, jn%iv)
-    end if
-    jn%iv(jn%ni + 1:jn%ni + size(a)) = a
-    jn%ni = jn%ni + size(a)
-  end subroutine put_i1
-
-  subroutine journal_add(name, kind, n1, n2)
-    character(len=*), intent(in) :: name
-    integer, intent(in) :: kind, n1, n2
-    integer, allocatable :: grown(:, :)
-    if (.not. allocated(jn%names)) jn%names = ''
-    if (.not. allocated(jn%meta)) allocate (jn%meta(3, 64))
-    if (jn%n == size(jn%meta, 2)) then
-      allocate (grown(3, 2*jn%n))
-      grown(:, 1:jn%n) = jn%meta(:, 1:jn%n)
-      call move_alloc(grown, jn%meta)
-    end if
-    jn%n = jn%n + 1
-    jn%meta(:, jn%n) = [kind, n1, n2]
-    jn%names = jn%names//name//new_line('a')
-  end subroutine journal_add
-
-  subroutine journal_reals(a)
-    real(dp), intent(in) :: a(:)
-    real(dp), allocatable :: grown(:)
-    if (.not. allocated(jn%r)) allocate (jn%r(4096))
-    if (jn%nr + size(a) > size(jn%r)) then
-      allocate (grown(2*(jn%nr + size(a))))
-      grown(1:jn%nr) = jn%r(1:jn%nr)
-      call move_alloc(grown, jn%r)
-    end if
-    jn%r(jn%nr + 1:jn%nr + size(a)) = a
-    jn%nr = jn%nr + size(a)
-  end subroutine journal_reals
-
-  !> Write every journal entry into run.h5 again (rank 0, on restart).
-  subroutine journal_replay()
-    integer :: k, at, ir, ii, n
-    character(len=:), allocatable :: name
-    at = 1
-    ir = 0
-    ii = 0
-    do k = 1, jn%n
-      n = index(jn%names(at:), new_line('a'))
-      name = jn%names(at:at + n - 2)
-      at = at + n
-      associate (m => jn%meta(:, k))
-        select case (m(1))
-        case (1)
-          call h5%write(name, jn%r(ir + 1:ir + m(2)))
-          ir = ir + m(2)
-        case (2)
-          call h5%write(name, reshape(jn%r(ir + 1:ir + m(2)*m(3)), [m(2), m(3)]))
-          ir = ir + m(2)*m(3)
-        case default
-          call h5%write(name, jn%iv(ii + 1:ii + m(2)))
-          ii = ii + m(2)
-        end select
-      end associate
-    end do
-  end subroutine journal_replay
-
-  !> Character codes of a text (checkpoints hold numbers only).
-  pure function codes(text) result(c)
-    character(len=*), intent(in) :: text
-    integer :: c(len(text)), k
-    c = [(iachar(text(k:k)), k=1, len(text))]
-  end function codes
-
-  !> The text of character codes.
-  pure function decoded(c) result(text)
-    integer, intent(in) :: c(:)
-    character(len=size(c)) :: text
-    integer :: k
-    do k = 1, size(c)
-      text(k:k) = achar(c(k))
-    end do
-  end function decoded
-
   !> The run's state after this step into ROOT/NAME.checkpoints (collective;
-  !> rank 0 writes): the scene, this case's curves and counters, the
-  !> finished cases, the summary lines and the run.h5 journal.
+  !> rank 0 writes): the scene, the snapshots so far, this case's curves
+  !> and counters, the finished cases and the summary lines.
   subroutine checkpoint()
     type(checkpoint_t) :: ckw
     type(error_t), allocatable :: e
@@ -623,11 +523,12 @@ contains
     integer :: k
     integer, allocatable :: nplast_all(:)
     call ps_save(sc, ckw)
+    call store%put(ckw, comm, 'snapshots/')
     nplast_all = nplast(1:nit)
     if (comm%size > 1) call allreduce_sum(comm, nplast_all)
     if (.not. root) return
     call system_clock(c1)
-    call ckw%put('main/deck', [0, codes(deck_text)])
+    call ckw%put_text('main/deck', deck_text)
     call ckw%put('main/case', [ic, ncurve, nit, nsnap, merge(1, 0, measured), steps_before])
     call ckw%put('main/reals', [next_snap, next_sample, fwhm, peak_x, peak_v, yline, band_t, &
                                 wall_before + real(c1 - c0, dp)/crate])
@@ -638,7 +539,7 @@ contains
     do k = 1, ic - 1
       pre = 'main/done_'//int_text(k)//'/'
       associate (o => outs(k))
-        call ckw%put(pre//'tag', [0, codes(o%tag)])
+        call ckw%put_text(pre//'tag', o%tag)
         call ckw%put(pre//'curve', [0.0_dp, reshape(o%curve, [size(o%curve)])])
         call ckw%put(pre//'its', [0, o%its])
         call ckw%put(pre//'nplast', [0, o%nplast])
@@ -651,11 +552,7 @@ contains
     do k = 1, sm%n
       lines = lines//sm%lines(k)%text//new_line('a')
     end do
-    call ckw%put('main/summary', [0, codes(lines)])
-    call ckw%put('main/journal_names', [0, codes(jn%names)])
-    call ckw%put('main/journal_meta', [0, reshape(jn%meta(:, 1:jn%n), [3*jn%n])])
-    call ckw%put('main/journal_r', [0.0_dp, jn%r(1:jn%nr)])
-    call ckw%put('main/journal_i', [0, jn%iv(1:jn%ni)])
+    call ckw%put_text('main/summary', lines)
     call write_checkpoint(ckw, ck_dir, steps_before + sc%nstep, 2, path, e)
     if (allocated(e)) call die_root(e%message)
   end subroutine checkpoint
@@ -664,7 +561,8 @@ contains
   !> rank and check that it belongs to this deck; ic0 is its case.
   subroutine read_restart()
     type(error_t), allocatable :: e
-    integer, allocatable :: dk(:), cs(:)
+    integer, allocatable :: cs(:)
+    character(len=:), allocatable :: dk
     if (len(ck_file) == 0) then
       call latest_checkpoint(ck_dir, ck_file, e)
       if (allocated(e)) call die(e%message//' (run with --checkpoint-every STEPS first)')
@@ -672,9 +570,11 @@ contains
     call read_checkpoint(ck_file, ck, e)
     if (allocated(e)) call die(e%message//'; an older checkpoint of '//ck_dir// &
       ' may be given with --restart-from FILE')
-    call ck%get('main/deck', dk, e)
+    call check_snapshots_format(ck, 'snapshots/', e)
     if (allocated(e)) call die(ck_file//': '//e%message)
-    if (decoded(dk(2:)) /= deck_text .or. size(dk) - 1 /= len(deck_text)) &
+    call ck%get_text('main/deck', dk, e)
+    if (allocated(e)) call die(ck_file//': '//e%message)
+    if (dk /= deck_text .or. len(dk) /= len(deck_text)) &
       call die(ck_file//' was written for another deck than '//deck_path)
     call ck%get('main/case', cs, e)
     if (allocated(e)) call die(ck_file//': '//e%message)
@@ -684,11 +584,12 @@ contains
     ic0 = cs(1)
   end subroutine read_restart
 
-  !> --restart, before the cases: the finished cases, steps so far, and on
-  !> rank 0 the summary lines and run.h5 as they were at the checkpoint.
+  !> --restart, before the cases: the finished cases, steps so far, the
+  !> snapshots, on rank 0 the summary lines, and run.h5 as it was at the
+  !> checkpoint (collective).
   subroutine resume_run()
     type(error_t), allocatable :: e
-    integer, allocatable :: cs(:), iv(:), meta(:)
+    integer, allocatable :: cs(:), iv(:)
     real(dp), allocatable :: a(:)
     character(len=:), allocatable :: pre, lines, line
     integer :: k, at, n, eq
@@ -697,8 +598,8 @@ contains
     do k = 1, ic0 - 1
       pre = 'main/done_'//int_text(k)//'/'
       associate (o => outs(k))
-        call ck%get(pre//'tag', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
-        o%tag = decoded(iv(2:))
+        call ck%get_text(pre//'tag', o%tag, e)
+        if (allocated(e)) call die(ck_file//': '//e%message)
         call ck%get(pre//'ints', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
         o%nsnap = iv(1)
         o%nparticles = iv(2)
@@ -715,9 +616,18 @@ contains
         o%bounds = reshape(a(2:), [3, (size(a) - 1)/3])
       end associate
     end do
+    call store%get(ck, comm, 'snapshots/', e)
+    if (allocated(e)) call die(ck_file//': '//e%message)
+    ! run.h5 in the order the interrupted run wrote it
+    do k = 1, ic0 - 1
+      call store%write_stored(h5, comm, e, prefix='cases/'//outs(k)%tag//'/')
+      if (allocated(e)) call die(e%message)
+      call write_case(k)
+    end do
+    call store%write_stored(h5, comm, e, prefix='cases/'//case_tag(ic0)//'/')
+    if (allocated(e)) call die(e%message)
     if (.not. root) return
-    call ck%get('main/summary', iv, e); if (allocated(e)) call die_root(e%message)
-    lines = decoded(iv(2:))
+    call ck%get_text('main/summary', lines, e); if (allocated(e)) call die_root(e%message)
     at = 1
     do while (at <= len(lines))
       n = index(lines(at:), new_line('a'))
@@ -726,18 +636,6 @@ contains
       eq = index(line, ' = ')
       call sm%add(line(1:eq - 1), line(eq + 3:))
     end do
-    call ck%get('main/journal_names', iv, e); if (allocated(e)) call die_root(e%message)
-    jn%names = decoded(iv(2:))
-    call ck%get('main/journal_meta', meta, e); if (allocated(e)) call die_root(e%message)
-    jn%n = (size(meta) - 1)/3
-    jn%meta = reshape(meta(2:), [3, jn%n])
-    call ck%get('main/journal_r', a, e); if (allocated(e)) call die_root(e%message)
-    jn%nr = size(a) - 1
-    jn%r = a(2:)
-    call ck%get('main/journal_i', iv, e); if (allocated(e)) call die_root(e%message)
-    jn%ni = size(iv) - 1
-    jn%iv = iv(2:)
-    call journal_replay()
     write (output_unit, '(a)') '  restarted from '//ck_file//' (case '// &
       int_text(ic0)//', '//int_text(steps_before)//' steps of earlier cases)'
     flush (output_unit)

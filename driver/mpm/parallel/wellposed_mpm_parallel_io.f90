@@ -1,9 +1,9 @@
-!> What the MPM program's outputs need from a scene spread over ranks
-!> (issue 7), so that its HDF5 file, summary and station histories keep the
-!> serial layout and values: rank 0 writes everything, with the same
-!> datasets as a serial run ("parallel HDF5" by gathering: see the README).
+!> What the MPM program's station histories need from a scene spread over
+!> ranks (issue 7), so that they keep the serial values; they are rank 0's
+!> datasets of run.h5 (particle snapshots go from every rank:
+!> wellposed_mpm_snapshots).
 !>  - gather_particles: every particle on rank 0, in global-id order (the
-!>    order of a serial run), e.g. for snapshots and for setting up stations;
+!>    order of a serial run), for setting up stations;
 !>  - station proxies: stations read a few particles by index; the proxy is
 !>    a small particle set holding just those particles, refreshed every
 !>    sample by one reduction (each particle's values come from the one rank

@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
-"""A damaged checkpoint is refused by wellposed-mpm, never half-read (issue 7).
+"""A damaged checkpoint is refused by wellposed-mpm or wellposed-mpm2d, never
+half-read (issue 7).
 
 check_bad_checkpoint.py --program wellposed-mpm --deck DECK --out DIR [--launcher L]
-                        [--name NAME] -- [ARGS]
+                        [--name NAME] [--every STEPS] [--downgrade HELPER] -- [ARGS]
 
-Runs DECK with a checkpoint every 20 steps in its own session and
+Runs DECK with a checkpoint every STEPS steps (20) in its own session and
 kills all of it (launcher and ranks) with SIGKILL once the first
 checkpoint exists. Then, from
 copies of that checkpoint:
@@ -13,9 +14,13 @@ copies of that checkpoint:
     given with --restart-from;
   - the flipped file as the newest of the run's checkpoint folder, found
     by --restart;
+  - with --downgrade HELPER (parallel_snapshots_main): the checkpoint
+    without its particle snapshot entries, as the programs before the
+    snapshot store wrote their checkpoints, given with --restart-from;
 each restart must exit non-zero with one message naming the file and
-saying it is refused (the last one also naming --restart-from), and leave
-no finished run folder. Exit status 0 when all holds.
+saying it is refused (the third also naming --restart-from, the fourth that
+an earlier version wrote it), and leave no finished run folder. Exit status
+0 when all holds.
 """
 import argparse, glob, os, re, shlex, shutil, signal, subprocess, sys, time
 
@@ -29,10 +34,13 @@ ap.add_argument('--program', required=True)
 ap.add_argument('--deck', required=True)
 ap.add_argument('--out', required=True)
 ap.add_argument('--name', default='short_wave')
+ap.add_argument('--every', default='20')
+ap.add_argument('--downgrade', default=None)
 ap.add_argument('args', nargs='*')
 a = ap.parse_args()
 launch = shlex.split(a.launcher)
-common = ['--no-plot', '--checkpoint-every', '20', a.deck] + a.args
+common = ['--no-plot', '--checkpoint-every', a.every, a.deck] + a.args
+said = os.path.basename(a.program) + ': error:'
 
 shutil.rmtree(a.out, ignore_errors=True)
 os.makedirs(a.out)
@@ -68,7 +76,7 @@ failures = []
 def refused(label, extra, pattern):
     r = subprocess.run(launch + [a.program, '--out', a.out] + extra + common,
                        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    msg = [l for l in r.stderr.splitlines() if 'wellposed-mpm: error:' in l]
+    msg = [l for l in r.stderr.splitlines() if said in l]
     ok = r.returncode != 0 and msg and re.search(pattern, msg[0])
     if os.path.exists(os.path.join(a.out, a.name)):
         ok = False
@@ -86,4 +94,9 @@ refused('checkpoint with a flipped byte', ['--restart-from', flipped],
 shutil.copy(flipped, os.path.join(ckdir, 'checkpoint_9999999999.h5'))
 refused('damaged newest checkpoint found by --restart', ['--restart'],
         r'checkpoint_9999999999\.h5" is refused.*--restart-from')
+if a.downgrade:
+    old = subprocess.run([a.downgrade, 'downgrade', good, os.path.join(a.out, 'old')],
+                         stdout=subprocess.PIPE, text=True, check=True).stdout.split()[0]
+    refused('checkpoint of the programs before the snapshot store', ['--restart-from', old],
+            re.escape(old) + r': it was written by an earlier version of the program')
 sys.exit(1 if failures else 0)

@@ -3,11 +3,13 @@
 
 check_ranks.py --launcher "mpirun -np 4 --oversubscribe" --program wellposed-mpm
                --deck DECK --name NAME --reference DIR --out DIR
-               [--bitwise | --tolerance T] [--translate] -- [ARGS]
+               [--bitwise | --tolerance T] [--translate] [--ranks N --parallel-hdf5]
+               -- [ARGS]
 
 Runs DECK under the launcher into OUT and compares its run.h5 with the
 serial run of the same deck in REFERENCE/NAME (run by the fixture test):
-every dataset bitwise (--bitwise: one rank must be the serial program), or
+the same layout (datasets, their types and shapes, root attributes and
+their values) and every dataset bitwise (--bitwise: one rank must be the serial program), or
 within T relative to the dataset's largest value. Always exact, whatever T:
 the nonlocal iteration counts (datasets nonlocal/step and
 nonlocal/iterations: the sweeps of every step; the summary's nonlocal_*
@@ -20,11 +22,16 @@ totals shows at 1e-8 of the residual, 1e-16 of the totals).
 (micro-pascals) and are not compared; instead every particle must be there
 exactly once with its own data (x0 of the last snapshot bitwise), and the
 momentum minus impulse must stay at its initial value within 1e-13 in both
-runs. Exit status 0 when all holds.
+runs. The summary's h5_writer must say how run.h5 was written: on
+--ranks N > 1 with --parallel-hdf5 (the build's HDF5 is parallel)
+mpio-collective, every rank writing its rows through MPI-IO; else
+rank0-gather. Exit status 0 when all holds.
 """
 import argparse, os, shlex, subprocess, sys
 import warnings
 import h5py, numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
+from rank_launch import layout_problems, writer_problem  # noqa: E402
 warnings.simplefilter("ignore", RuntimeWarning)   # all-NaN measures of stations the wave never reached
 
 ap = argparse.ArgumentParser()
@@ -37,6 +44,8 @@ ap.add_argument('--out', required=True)
 ap.add_argument('--bitwise', action='store_true')
 ap.add_argument('--tolerance', type=float, default=1e-12)
 ap.add_argument('--translate', action='store_true')
+ap.add_argument('--ranks', type=int, default=1)
+ap.add_argument('--parallel-hdf5', action='store_true')
 ap.add_argument('args', nargs='*')
 a = ap.parse_args()
 
@@ -52,7 +61,7 @@ run = h5py.File(os.path.join(a.out, a.name, 'run.h5'), 'r')
 residuals = {'energy/momentum_minus_impulse'}
 names = []
 ref.visit(lambda n: names.append(n) if isinstance(ref[n], h5py.Dataset) else None)
-bad, worst, worst_name = [], 0.0, ''
+bad, worst, worst_name = layout_problems(ref, run), 0.0, ''
 for n in names:
     if n not in run:
         bad.append(n + ' (missing)'); continue
@@ -92,6 +101,11 @@ exact = ['steps', 'particles'] + [k for k in sa if k.startswith('nonlocal_') and
 for k in exact:
     if sa.get(k) != sb.get(k):
         bad.append('summary %s: %s, serial %s' % (k, sb.get(k), sa.get(k)))
+for label, s, ranks in (('serial', sa, 1), ('this run', sb, a.ranks)):
+    problem = writer_problem(s.get('h5_writer'), ranks, a.parallel_hdf5)
+    if problem:
+        bad.append('%s: %s' % (label, problem))
+print('run.h5 written %s on %d rank(s)' % (sb.get('h5_writer'), a.ranks))
 if a.translate:
     last = sorted(k for k in ref['snapshots'] if k != 'count')[-1]
     x0a, x0b = ref['snapshots/%s/x0' % last][()], run['snapshots/%s/x0' % last][()]

@@ -2,17 +2,20 @@
 """Kill -9 + --restart equals the uninterrupted run (issue 7).
 
 check_restart.py --launcher "mpirun -np 2 --oversubscribe" --restart-launcher "..."
-                 --program wellposed-mpm --deck DECK --out DIR [--tolerance T] -- [ARGS]
+                 --program wellposed-mpm --deck DECK --out DIR [--tolerance T]
+                 [--kill-at STEP] -- [ARGS]
 
 Runs DECK uninterrupted into DIR/ref, then again into DIR/run in its own
 session, kills every process of it (launcher and ranks) with SIGKILL once two
-checkpoints exist, runs
-it again with --restart, and compares every run.h5 dataset (bitwise unless a
+checkpoints exist (with --kill-at, once a checkpoint of step STEP or later
+exists: late enough that snapshots were taken before it, which the restart
+must write again from the checkpoint), runs it again with --restart, checks
+that it continued from such a checkpoint, and compares every run.h5 dataset (bitwise unless a
 tolerance is given; then relative to the dataset's largest value, with the
 conservation residual energy/momentum_minus_impulse exempt) and summary.txt
 (wall-clock lines excepted). Exit status 0 when equal.
 """
-import argparse, glob, os, shlex, signal, subprocess, sys, time
+import argparse, glob, os, re, shlex, signal, subprocess, sys, time
 
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
@@ -28,6 +31,7 @@ ap.add_argument('--out', required=True)
 ap.add_argument('--name', default='short_wave')
 ap.add_argument('--every', default='500')
 ap.add_argument('--tolerance', type=float, default=0.0)
+ap.add_argument('--kill-at', type=int, default=0)
 ap.add_argument('args', nargs='*')
 a = ap.parse_args()
 launch = shlex.split(a.launcher)
@@ -42,17 +46,30 @@ proc = subprocess.Popen(launch + [a.program, '--out', out] + common, stdout=subp
                         stderr=subprocess.DEVNULL, start_new_session=True)
 ckdir = os.path.join(out, a.name + '.checkpoints')
 deadline = time.time() + 120
-while len(glob.glob(os.path.join(ckdir, 'checkpoint_*.h5'))) < 2:
+while True:
+    steps = [int(os.path.basename(p)[11:21])
+             for p in glob.glob(os.path.join(ckdir, 'checkpoint_??????????.h5'))]
+    if len(steps) >= 2 and max(steps) >= a.kill_at:
+        break
     if proc.poll() is not None:
-        sys.exit('FAIL: the run ended before its second checkpoint: use a longer run')
+        sys.exit('FAIL: the run ended before its checkpoint of step %d: use a longer run'
+                 % max(a.kill_at, 1))
     if time.time() > deadline:
-        sys.exit('FAIL: no second checkpoint within 120 s')
-    time.sleep(0.02)
+        sys.exit('FAIL: no such checkpoint within 120 s')
+    time.sleep(0.005)
 kill_session(proc.pid)
 proc.wait()
 if os.path.exists(os.path.join(out, a.name)):
     sys.exit('FAIL: the killed run left a finished-looking folder')
-print(run(relaunch + [a.program, '--out', out, '--restart'] + common).strip().splitlines()[-1])
+text = run(relaunch + [a.program, '--out', out, '--restart'] + common)
+resumed = re.search(r'restarted from .* \(step (\d+),.*', text)
+print(resumed.group(0).strip() if resumed else text.strip().splitlines()[-1])
+if not resumed or int(resumed.group(1)) < a.kill_at:
+    sys.exit('FAIL: the restart did not continue from a checkpoint of step %d or later'
+             % a.kill_at)
+again = re.search(r'(\d+) snapshots written again', text)
+if a.kill_at > 0 and (not again or int(again.group(1)) < 2):
+    sys.exit('FAIL: the checkpoint held fewer than two snapshots: kill it later')
 fa, fb = h5py.File(os.path.join(ref, a.name, 'run.h5')), h5py.File(os.path.join(out, a.name, 'run.h5'))
 names = []
 fa.visit(lambda n: names.append(n) if isinstance(fa[n], h5py.Dataset) else None)

@@ -3,21 +3,26 @@
 
 check_ranks_2d.py --program wellposed-mpm2d --deck DECK --out DIR
                   [--launcher "mpirun --oversubscribe"] [--np-flag -np]
-                  [--ranks 2 4] [--tolerance 1e-12] [--min-handed 1] -- [ARGS]
+                  [--ranks 2 4] [--tolerance 1e-12] [--min-handed 1]
+                  [--parallel-hdf5] -- [ARGS]
 
 Runs DECK serially (no launcher) into DIR/np1, then under the launcher on
 each rank count into DIR/np<N>, and compares every run.h5 dataset with the
 serial one: the largest difference relative to the dataset's largest
 magnitude must stay within the tolerance (summation order of the nodal sums
-is the only difference). Also: the same datasets, the same summary.txt lines
+is the only difference). Also: the same layout (datasets, their types and
+shapes, root attributes and their values), the same summary.txt lines
 but for wall times and the figures computed from the stress curve (compared
 with the same tolerance), and at least --min-handed particles handed between
-ranks, as the program reports, so the run did cross rank boundaries.
+ranks, as the program reports, so the run did cross rank boundaries, and
+the summary's h5_writer: rank0-gather serially, and on more ranks
+mpio-collective when the build has parallel HDF5 (--parallel-hdf5: run.h5
+written by every rank through MPI-IO), else rank0-gather.
 Exit status 0 when all hold.
 """
 import argparse, os, re, shlex, subprocess, sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
-from rank_launch import run  # noqa: E402
+from rank_launch import layout_problems, run, writer_problem  # noqa: E402
 import h5py, numpy as np
 
 ap = argparse.ArgumentParser()
@@ -29,6 +34,7 @@ ap.add_argument('--np-flag', default='-np')
 ap.add_argument('--ranks', type=int, nargs='+', default=[2, 4])
 ap.add_argument('--tolerance', type=float, default=1e-12)
 ap.add_argument('--min-handed', type=int, default=1)
+ap.add_argument('--parallel-hdf5', action='store_true')
 ap.add_argument('args', nargs='*')
 a = ap.parse_args()
 common = ['--no-plot', '--checkpoint-every', '0', a.deck] + a.args
@@ -51,13 +57,16 @@ fa = h5py.File(os.path.join(ref, name, 'run.h5'))
 names = []
 fa.visit(lambda n: names.append(n) if isinstance(fa[n], h5py.Dataset) else None)
 sa = summary(ref)
-failed = False
+problem = writer_problem(sa.get('h5_writer'), 1, a.parallel_hdf5)
+failed = problem is not None
+if problem:
+    print('serial: ' + problem)
 for np_ in a.ranks:
     d = os.path.join(a.out, 'np%d' % np_)
     text = run(shlex.split(a.launcher) + [a.np_flag, str(np_), a.program, '--out', d] + common)
     handed = sum(int(m) for m in re.findall(r'particles handed between ranks: (\d+)', text))
     fb = h5py.File(os.path.join(d, name, 'run.h5'))
-    bad, worst = [], (0.0, '')
+    bad, worst = layout_problems(fa, fb), (0.0, '')
     for n in names:
         if n not in fb:
             bad.append(n + ' (missing)')
@@ -76,7 +85,8 @@ for np_ in a.ranks:
             bad.append('%s (%.2e)' % (n, r))
     sb = summary(d)
     for key, value in sa.items():
-        if key.endswith(('wall_time', 'ns_per_particle_step', 'sweep_cost_over_local_update')):
+        if key.endswith(('wall_time', 'ns_per_particle_step', 'sweep_cost_over_local_update',
+                         'h5_writer')):
             continue
         other = sb.get(key)
         try:
@@ -86,10 +96,15 @@ for np_ in a.ranks:
             same = value == other
         if not same:
             bad.append('summary %s: %s against %s' % (key, value, other))
+    problem = writer_problem(sb.get('h5_writer'), np_, a.parallel_hdf5)
+    if problem:
+        bad.append(problem)
     if handed < a.min_handed:
         bad.append('only %d particles handed between ranks' % handed)
-    print('%d ranks: %d datasets, worst relative difference %.2e (%s), %d particles handed; %s'
-          % (np_, len(names), worst[0], worst[1], handed, 'equal' if not bad else
+    print('%d ranks (run.h5: %s): %d datasets, worst relative difference %.2e (%s), '
+          '%d particles handed; %s'
+          % (np_, sb.get('h5_writer'), len(names), worst[0], worst[1], handed,
+             'equal' if not bad else
              'differ: ' + ', '.join(bad)))
     failed = failed or bool(bad)
 sys.exit(1 if failed else 0)
