@@ -8,8 +8,8 @@
 !>
 !> Without DECK: the default scene inputs/sandler_rubin_default.nml. Writes
 !> ROOT/NAME/ (ROOT = out, NAME = the deck's &scene name): the deck, run.h5
-!> (station histories, particle snapshots, energies, metadata), summary.txt
-!> and stations.png. Everything is written into ROOT/NAME.partial and renamed
+!> (station histories, particle snapshots, energies, metadata), run.xdmf
+!> (the snapshots for ParaView), summary.txt and stations.png. Everything is written into ROOT/NAME.partial and renamed
 !> at the end, so a failed run leaves nothing that looks finished. Errors go
 !> to standard error and the exit status is 1.
 !>
@@ -311,6 +311,11 @@ program wellposed_mpm
     call comm_stop(comm)
     stop
   end if
+  ! the particle snapshots for ParaView: points on the x axis over time
+  if (nsnap > 0) then
+    call snaps%write_xdmf(rd%path('run.xdmf'), 'run.h5', 'particles', ntotal, 1, 'x', err)
+    if (allocated(err)) call die_alone(err)
+  end if
   if (opts%plot .and. .not. no_plot) then
     script = find_data(stations_plot_name)
     call run_plot(script, shell_quote(rd%path('run.h5'))//' '// &
@@ -332,7 +337,8 @@ program wellposed_mpm
       meas%t_tail(i)*1e3_dp, ' ms'
   end do
   write (output_unit, '(a)') '  results in '//rd%final//'/ (summary.txt, run.h5'// &
-    merge(', stations.png', '              ', opts%plot .and. .not. no_plot)//')'
+    trim(merge(', run.xdmf', '          ', nsnap > 0))// &
+    trim(merge(', stations.png', '              ', opts%plot .and. .not. no_plot))//')'
   call comm_stop(comm)
 
 contains

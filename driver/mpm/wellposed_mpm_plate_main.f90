@@ -353,7 +353,9 @@ program wellposed_mpm2d
       call write_csv_curve(rd%path(o%tag//'_curve.csv'), o%curve)
       call write_csv_iterations(rd%path(o%tag//'_iterations.csv'), o%its, o%nplast, &
                                 o%scal(1), o%bounds, o%scal(3))
-      call write_xdmf(rd%path(o%tag//'.xdmf'), o%tag, o%nsnap, o%nparticles, o%scal(2))
+      call store%write_xdmf(rd%path(o%tag//'.xdmf'), 'run.h5', o%tag, o%nparticles, 2, 'xy', &
+                            err, prefix='cases/'//o%tag//'/')
+      if (allocated(err)) call die_root(err%message)
     end associate
   end do
   if (study%plot .and. .not. no_plot) then
@@ -780,57 +782,6 @@ contains
     end do
     close (u)
   end subroutine write_csv_iterations
-
-  !> An XDMF 2 file: a temporal collection of polyvertex grids whose
-  !> geometry and attributes are the snapshot datasets in run.h5.
-  subroutine write_xdmf(path, tg, ns, n, t_final)
-    character(len=*), intent(in) :: path, tg
-    integer, intent(in) :: ns, n
-    real(dp), intent(in) :: t_final
-    integer :: j, f
-    character(len=*), parameter :: fields(7) = [character(len=14) :: 'plastic_strain', &
-      'sigma_xx', 'sigma_yy', 'sigma_xy', 'dlambda', 'zeta', 'plastic_strain']
-    character(len=:), allocatable :: g
-    open (newunit=u, file=path, status='replace', action='write')
-    write (u, '(a)') '<?xml version="1.0" ?>'
-    write (u, '(a)') '<Xdmf Version="2.0">'
-    write (u, '(a)') ' <Domain>'
-    write (u, '(a)') '  <Grid Name="'//tg//'" GridType="Collection" CollectionType="Temporal">'
-    do j = 1, ns
-      g = 'run.h5:/cases/'//tg//'/snap_'//int_text(j)//'/'
-      write (u, '(a)') '   <Grid Name="snap_'//int_text(j)//'" GridType="Uniform">'
-      write (u, '(a)') '    <Time Value="'//real_text(snap_time(j, t_final))//'"/>'
-      write (u, '(a)') '    <Topology TopologyType="Polyvertex" NumberOfElements="'// &
-        int_text(n)//'"/>'
-      write (u, '(a)') '    <Geometry GeometryType="XY">'
-      write (u, '(a)') '     <DataItem Dimensions="'//int_text(n)//' 2" Format="HDF" '// &
-        'NumberType="Float" Precision="8">'//g//'xy</DataItem>'
-      write (u, '(a)') '    </Geometry>'
-      do f = 1, 6
-        write (u, '(a)') '    <Attribute Name="'//trim(fields(f))//'" Center="Node">'
-        write (u, '(a)') '     <DataItem Dimensions="'//int_text(n)//'" Format="HDF" '// &
-          'NumberType="Float" Precision="8">'//g//trim(fields(f))//'</DataItem>'
-        write (u, '(a)') '    </Attribute>'
-      end do
-      write (u, '(a)') '   </Grid>'
-    end do
-    write (u, '(a)') '  </Grid>'
-    write (u, '(a)') ' </Domain>'
-    write (u, '(a)') '</Xdmf>'
-    close (u)
-  end subroutine write_xdmf
-
-  !> Time of snapshot j (the snapshots are every snapshot_dt, the last at
-  !> the end of the case, t_final).
-  real(dp) function snap_time(j, t_final)
-    integer, intent(in) :: j
-    real(dp), intent(in) :: t_final
-    if (study%snapshot_dt > 0.0_dp) then
-      snap_time = min((j - 1)*study%snapshot_dt, t_final)
-    else
-      snap_time = merge(0.0_dp, t_final, j == 1)
-    end if
-  end function snap_time
 
   function short(x) result(text)
     real(dp), intent(in) :: x

@@ -109,6 +109,11 @@ def main(argv):
         if not any(x.endswith(suffix) for x in os.listdir(folder)):
             print(f"FAIL: no file ending in {suffix} in {folder}")
             ok = False
+    if ".xdmf" in suffixes:
+        import xdmf_check
+        for msg in xdmf_check.problems(folder):
+            print("FAIL: " + msg)
+            ok = False
     return 0 if ok else 1
 
 

@@ -30,6 +30,7 @@ module wellposed_mpm_snapshots
   use wellposed_mpi, only: comm_t, gatherv_real, gatherv_int
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_h5_parallel, only: h5_parallel_file_t, h5_row_order_t, new_row_order
+  use wellposed_xdmf, only: write_particle_xdmf
   implicit none
   private
   public :: snapshot_store_t, new_snapshot_store, check_snapshots_format, snapshots_version
@@ -59,6 +60,7 @@ module wellposed_mpm_snapshots
     procedure :: write_stored => store_write_stored
     procedure :: put => store_put
     procedure :: get => store_get
+    procedure :: write_xdmf => store_write_xdmf
   end type snapshot_store_t
 
 contains
@@ -125,6 +127,38 @@ contains
       if (allocated(err)) return
     end do
   end subroutine store_write_stored
+
+  !> The XDMF file `path` for the stored snapshots (all, or those whose
+  !> group begins with `prefix`) of `n` particles in the HDF5 file
+  !> `h5_name` beside it: positions from the field `geometry` (`ndim` = 1
+  !> or 2 values per particle), every other field a point attribute, each
+  !> snapshot at the time it was taken. Any rank may call it alone.
+  subroutine store_write_xdmf(self, path, h5_name, grid_name, n, ndim, geometry, err, prefix)
+    class(snapshot_store_t), intent(in) :: self
+    character(len=*), intent(in) :: path, h5_name, grid_name, geometry
+    integer, intent(in) :: n, ndim
+    type(error_t), allocatable, intent(out) :: err
+    character(len=*), intent(in), optional :: prefix
+    character(len=256) :: groups(self%n)
+    real(dp) :: times(self%n)
+    integer :: k, m
+    m = 0
+    do k = 1, self%n
+      if (present(prefix)) then
+        if (index(self%snaps(k)%group, prefix) /= 1) cycle
+      end if
+      if (len(self%snaps(k)%group) > len(groups)) then
+        call new_error(err, status_invalid, 'xdmf', path//': snapshot group name longer '// &
+          'than '//int_text(len(groups))//' characters: '//self%snaps(k)%group)
+        return
+      end if
+      m = m + 1
+      groups(m) = self%snaps(k)%group
+      times(m) = self%snaps(k)%time
+    end do
+    call write_particle_xdmf(path, h5_name, grid_name, groups(1:m), times(1:m), n, ndim, &
+                             geometry, pack(self%names, self%names /= geometry), err)
+  end subroutine store_write_xdmf
 
   !> Snapshot k into `h5` (collective): every field in global-id order,
   !> and its time before or after them (`time_first`).

@@ -121,7 +121,25 @@ def mode_run(argv):
         ok, msg = evaluate(vals, c)
         print(("ok   " if ok else "FAIL ") + msg)
         bad += not ok
+    bad += xdmf_problems(folder)
     return 1 if bad else 0
+
+
+def xdmf_problems(folder):
+    """A run with particle snapshots has a run.xdmf that describes them."""
+    import h5py
+    with h5py.File(os.path.join(folder, "run.h5"), "r") as f:
+        nsnap = int(f["snapshots/count"][0]) if "snapshots/count" in f else 0
+    if nsnap == 0:
+        return 0
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+    import xdmf_check
+    found = xdmf_check.problems(folder, grids=nsnap)
+    for msg in found:
+        print("FAIL " + msg)
+    if not found:
+        print("ok   run.xdmf describes the %d snapshots" % nsnap)
+    return len(found)
 
 
 def mode_fail(argv):

@@ -13,7 +13,7 @@ must write again from the checkpoint), runs it again with --restart, checks
 that it continued from such a checkpoint, and compares every run.h5 dataset (bitwise unless a
 tolerance is given; then relative to the dataset's largest value, with the
 conservation residual energy/momentum_minus_impulse exempt) and summary.txt
-(wall-clock lines excepted). Exit status 0 when equal.
+(wall-clock lines excepted), and run.xdmf byte for byte. Exit status 0 when equal.
 """
 import argparse, glob, os, re, shlex, signal, subprocess, sys, time
 
@@ -94,6 +94,11 @@ def summary(d):
         return [l for l in f if not l.startswith(('wall_time', 'ns_per', 'share_'))]
 if a.tolerance == 0.0 and summary(ref) != summary(out):
     bad.append('summary.txt')
+# the snapshots' XDMF (names, shapes, times) is the uninterrupted run's, to the byte
+xdmf_ref, xdmf_out = (os.path.join(d, a.name, 'run.xdmf') for d in (ref, out))
+if os.path.exists(xdmf_ref) and (not os.path.exists(xdmf_out) or
+                                 open(xdmf_ref, 'rb').read() != open(xdmf_out, 'rb').read()):
+    bad.append('run.xdmf')
 print('%d datasets compared (%s): %s' % (len(names), 'bitwise' if a.tolerance == 0 else
       'relative %g' % a.tolerance, 'all equal' if not bad else 'differ: ' + ', '.join(bad)))
 sys.exit(1 if bad else 0)
