@@ -22,8 +22,8 @@ exactly once with its own data (x0 of the last snapshot bitwise), and the
 momentum minus impulse must stay at its initial value within 1e-13 in both
 runs. Exit status 0 when all holds.
 
-compare_runs() and compare_summaries() are the comparison alone, for
-every_deck.py.
+compare_runs(), relative() and compare_summaries() are the comparison
+alone, for every_deck.py.
 """
 import argparse, os, shlex, subprocess, sys
 import warnings
@@ -41,6 +41,12 @@ def dataset_names(f):
     names = []
     f.visit(lambda n: names.append(n) if isinstance(f[n], h5py.Dataset) else None)
     return names
+
+
+def relative(x, y):
+    """The largest |x - y| over the largest |x| (NaNs left out; 0 for x = 0)."""
+    s = np.nanmax(np.abs(x)) if x.size else 0.0
+    return float(np.nanmax(np.abs(x - y)) / s) if s > 0 else 0.0
 
 
 def compare_runs(ref, run, tolerance=1e-12, bitwise=False, translate=False):
@@ -63,8 +69,7 @@ def compare_runs(ref, run, tolerance=1e-12, bitwise=False, translate=False):
         if n in RESIDUALS or (translate and ('sigma' in n or n in ('energy/internal_work',
                                                                     'measures/peak'))):
             continue
-        s = np.nanmax(np.abs(x)) if x.size else 0.0
-        d = float(np.nanmax(np.abs(x - y)) / s) if s > 0 else 0.0
+        d = relative(x, y)
         if not np.array_equal(np.isnan(x), np.isnan(y)):
             d = np.inf
         if d > worst:
