@@ -19,54 +19,28 @@ the summary's h5_writer: rank0-gather serially, and on more ranks
 mpio-collective when the build has parallel HDF5 (--parallel-hdf5: run.h5
 written by every rank through MPI-IO), else rank0-gather.
 Exit status 0 when all hold.
+
+compare_runs(), read_summary(), compare_summaries() and handed() are the
+comparison alone, for every_deck.py.
 """
 import argparse, os, re, shlex, subprocess, sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
 from rank_launch import layout_problems, run, writer_problem  # noqa: E402
 import h5py, numpy as np
 
-ap = argparse.ArgumentParser()
-ap.add_argument('--program', required=True)
-ap.add_argument('--deck', required=True)
-ap.add_argument('--out', required=True)
-ap.add_argument('--launcher', default='')
-ap.add_argument('--np-flag', default='-np')
-ap.add_argument('--ranks', type=int, nargs='+', default=[2, 4])
-ap.add_argument('--tolerance', type=float, default=1e-12)
-ap.add_argument('--min-handed', type=int, default=1)
-ap.add_argument('--parallel-hdf5', action='store_true')
-ap.add_argument('args', nargs='*')
-a = ap.parse_args()
-common = ['--no-plot', '--checkpoint-every', '0', a.deck] + a.args
-name = re.search(r"name\s*=\s*'([^']+)'", open(a.deck).read()).group(1)
+
+def dataset_names(f):
+    names = []
+    f.visit(lambda n: names.append(n) if isinstance(f[n], h5py.Dataset) else None)
+    return names
 
 
-def summary(d):
-    out = {}
-    with open(os.path.join(d, name, 'summary.txt')) as f:
-        for line in f:
-            key, _, value = line.partition(' = ')
-            out[key] = value.split('  #')[0].strip()
-    return out
-
-
-subprocess.run(['rm', '-rf', a.out])
-ref = os.path.join(a.out, 'np1')
-run([a.program, '--out', ref] + common)
-fa = h5py.File(os.path.join(ref, name, 'run.h5'))
-names = []
-fa.visit(lambda n: names.append(n) if isinstance(fa[n], h5py.Dataset) else None)
-sa = summary(ref)
-problem = writer_problem(sa.get('h5_writer'), 1, a.parallel_hdf5)
-failed = problem is not None
-if problem:
-    print('serial: ' + problem)
-for np_ in a.ranks:
-    d = os.path.join(a.out, 'np%d' % np_)
-    text = run(shlex.split(a.launcher) + [a.np_flag, str(np_), a.program, '--out', d] + common)
-    handed = sum(int(m) for m in re.findall(r'particles handed between ranks: (\d+)', text))
-    fb = h5py.File(os.path.join(d, name, 'run.h5'))
-    bad, worst = layout_problems(fa, fb), (0.0, '')
+def compare_runs(fa, fb, tolerance=1e-12):
+    """Every dataset of the open run.h5 `fa` (serial) against `fb`: (names,
+    bad, (worst, its name)), bad listing what differs beyond `tolerance`
+    relative to the dataset's largest magnitude."""
+    names = dataset_names(fa)
+    bad, worst = [], (0.0, '')
     for n in names:
         if n not in fb:
             bad.append(n + ' (missing)')
@@ -81,9 +55,24 @@ for np_ in a.ranks:
         r = float(np.max(np.abs(x - y))) / s if s > 0 else float(np.max(np.abs(y)))
         if r > worst[0]:
             worst = (r, n)
-        if not r <= a.tolerance:
+        if not r <= tolerance:
             bad.append('%s (%.2e)' % (n, r))
-    sb = summary(d)
+    return names, bad, worst
+
+
+def read_summary(path):
+    out = {}
+    with open(path) as f:
+        for line in f:
+            key, _, value = line.partition(' = ')
+            out[key] = value.split('  #')[0].strip()
+    return out
+
+
+def compare_summaries(sa, sb, tolerance=1e-12):
+    """Every summary.txt line of `sa` (serial) against `sb` but for wall
+    times: numbers within `tolerance` relative, text equal. What differs."""
+    bad = []
     for key, value in sa.items():
         if key.endswith(('wall_time', 'ns_per_particle_step', 'sweep_cost_over_local_update',
                          'h5_writer')):
@@ -91,20 +80,65 @@ for np_ in a.ranks:
         other = sb.get(key)
         try:
             u, v = float(value), float(other)
-            same = abs(u - v) <= a.tolerance * max(abs(u), abs(v), 1e-300)
+            same = abs(u - v) <= tolerance * max(abs(u), abs(v), 1e-300)
         except (TypeError, ValueError):
             same = value == other
         if not same:
             bad.append('summary %s: %s against %s' % (key, value, other))
-    problem = writer_problem(sb.get('h5_writer'), np_, a.parallel_hdf5)
+    return bad
+
+
+def handed(text):
+    """Particles handed between ranks, as the program's output reports them."""
+    return sum(int(m) for m in re.findall(r'particles handed between ranks: (\d+)', text))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument('--program', required=True)
+    ap.add_argument('--deck', required=True)
+    ap.add_argument('--out', required=True)
+    ap.add_argument('--launcher', default='')
+    ap.add_argument('--np-flag', default='-np')
+    ap.add_argument('--ranks', type=int, nargs='+', default=[2, 4])
+    ap.add_argument('--tolerance', type=float, default=1e-12)
+    ap.add_argument('--min-handed', type=int, default=1)
+    ap.add_argument('--parallel-hdf5', action='store_true')
+    ap.add_argument('args', nargs='*')
+    a = ap.parse_args()
+    common = ['--no-plot', '--checkpoint-every', '0', a.deck] + a.args
+    name = re.search(r"name\s*=\s*'([^']+)'", open(a.deck).read()).group(1)
+
+    subprocess.run(['rm', '-rf', a.out])
+    ref = os.path.join(a.out, 'np1')
+    run([a.program, '--out', ref] + common)
+    fa = h5py.File(os.path.join(ref, name, 'run.h5'))
+    sa = read_summary(os.path.join(ref, name, 'summary.txt'))
+    problem = writer_problem(sa.get('h5_writer'), 1, a.parallel_hdf5)
+    failed = problem is not None
     if problem:
-        bad.append(problem)
-    if handed < a.min_handed:
-        bad.append('only %d particles handed between ranks' % handed)
-    print('%d ranks (run.h5: %s): %d datasets, worst relative difference %.2e (%s), '
-          '%d particles handed; %s'
-          % (np_, sb.get('h5_writer'), len(names), worst[0], worst[1], handed,
-             'equal' if not bad else
-             'differ: ' + ', '.join(bad)))
-    failed = failed or bool(bad)
-sys.exit(1 if failed else 0)
+        print('serial: ' + problem)
+    for np_ in a.ranks:
+        d = os.path.join(a.out, 'np%d' % np_)
+        text = run(shlex.split(a.launcher) + [a.np_flag, str(np_), a.program, '--out', d] + common)
+        n_handed = handed(text)
+        fb = h5py.File(os.path.join(d, name, 'run.h5'))
+        names, bad, worst = compare_runs(fa, fb, a.tolerance)
+        bad = layout_problems(fa, fb) + bad
+        sb = read_summary(os.path.join(d, name, 'summary.txt'))
+        bad += compare_summaries(sa, sb, a.tolerance)
+        if n_handed < a.min_handed:
+            bad.append('only %d particles handed between ranks' % n_handed)
+        problem = writer_problem(sb.get('h5_writer'), np_, a.parallel_hdf5)
+        if problem:
+            bad.append(problem)
+        print('%d ranks (run.h5: %s): %d datasets, worst relative difference %.2e (%s), '
+              '%d particles handed; %s'
+              % (np_, sb.get('h5_writer'), len(names), worst[0], worst[1], n_handed,
+                 'equal' if not bad else 'differ: ' + ', '.join(bad)))
+        failed = failed or bool(bad)
+    sys.exit(1 if failed else 0)
+
+
+if __name__ == '__main__':
+    main()
