@@ -35,9 +35,11 @@
 !> the order of the nodal additions only. Nonlocal averaging (h_zeta /= 0)
 !> widens the ghost rows to the Gaussian's support (nonlocal_ghost_nodes)
 !> and runs Algorithm 1's passes over the nodal field as the pipeline of
-!> wellposed_mpm_nonlocal, in global-id order, through the neighbour
-!> exchanges of wellposed_mpm_ranks on these strips (the same as the 1D
-!> driver's): the sweeps and their counts are the serial ones.
+!> wellposed_mpm_nonlocal, ordered by the owning cell row at the start of
+!> the step, then the global id (sweep_key; one rank passes the same keys),
+!> through the neighbour exchanges of wellposed_mpm_ranks on these strips
+!> (the same as the 1D driver's): the sweeps and their counts are the
+!> serial ones.
 module wellposed_mpm_plane_strain
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
