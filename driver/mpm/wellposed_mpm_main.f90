@@ -549,8 +549,8 @@ contains
       call sm%add('nonlocal_scheme', trim(nl_scheme_names(cfg%nonlocal%scheme)))
       call sm%add('nonlocal_support_radius', scene%nl%radius, 'm, where the Gaussian '// &
                   'falls below weight_cutoff')
-      call sm%add('nonlocal_sweep_order', 'Gauss-Seidel in particle-id order, pipelined '// &
-                  'across ranks')
+      call sm%add('nonlocal_sweep_order', 'Gauss-Seidel by owning cell, then particle '// &
+                  'id, pipelined across ranks')
       call sm%add('nonlocal_steps_iterated', scene%nl%steps_iterated)
       call sm%add('nonlocal_iterations_mean', real(scene%nl%iterations_total, dp)/ &
                   max(scene%nl%steps_iterated, 1), 'sweeps per step with plastic particles')

@@ -11,7 +11,7 @@ module wellposed_mpm_grid
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: grid_t, new_grid_1d, grid_reset
+  public :: grid_t, new_grid_1d, grid_reset, cell_layer
 
   type :: grid_t
     integer :: ndim = 1
@@ -31,6 +31,18 @@ module wellposed_mpm_grid
   end type grid_t
 
 contains
+
+  !> The cell (0 .. ncells-1) of `ncells` cells of size `dx` from `origin`
+  !> holding coordinate `x`; -1 outside. The rule of every owner decision.
+  elemental integer function cell_layer(x, origin, dx, ncells) result(layer)
+    real(dp), intent(in) :: x, origin, dx
+    integer, intent(in) :: ncells
+    real(dp) :: s
+    s = (x - origin)/dx
+    layer = -1
+    if (.not. (s >= 0.0_dp .and. s < real(ncells, dp))) return
+    layer = min(int(s), ncells - 1)
+  end function cell_layer
 
   !> A 1D grid of `ncells` cells of size `dx` starting at `origin`, one
   !> patch holding all nodes (serial run; no ghosts needed).

@@ -55,7 +55,7 @@
 !> [glo, ghi] whose ghost layers cover the Gaussian's support around every
 !> particle of the patch (nonlocal_ghost_nodes). A decomposed run passes
 !> `ranks` (a nonlocal_ranks_t: its neighbour exchanges and reductions) and
-!> `key` (each local particle's place in the serial order, its global id) to
+!> `key` (each local particle's place in the sweep order) to
 !> nonlocal_solve, which then keeps the seed's Gauss-Seidel sweep in the
 !> serial order across ranks by pipelining every pass that updates the
 !> nodal field as it goes (projection, sweep, plastic diffusion): rank r
@@ -69,6 +69,18 @@
 !> same on every rank. The price: the sweeps of the ranks run one after
 !> the other (the UMAT calls of step 1, most of a step's work, stay
 !> parallel). Without `ranks` nothing of this runs: one process.
+!>
+!> The sweep order (`sweep_key`): by the cell layer along the decomposition
+!> axis that decides the particle's owner (from its start-of-step position,
+!> where the hosts hand particles off), then by global id. The pipeline
+!> needs every key of rank r below every key of rank r+1; the global id
+!> alone is not, once a particle crosses to the rank below while a
+!> neighbour with a lower id stays above (the 2D plate under compression).
+!> The layer does not depend on the rank count, so the serial program
+!> passes the same keys and sweeps in the same order as every N. Within a
+!> layer the ids keep the storage order of a fresh scene; in 1D the ids
+!> follow x and particles keep their order, so there the order is the id
+!> order.
 module wellposed_mpm_nonlocal
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -87,7 +99,7 @@ module wellposed_mpm_nonlocal
   public :: nonlocal_settings_t, nonlocal_t, nonlocal_host_t, nonlocal_step_stats_t
   public :: new_nonlocal, nonlocal_solve, nonlocal_project, nonlocal_average
   public :: nl_fixed_point, nl_anderson, nl_scheme_names, nl_scheme_id
-  public :: nonlocal_ranks_t, nonlocal_ghost_nodes
+  public :: nonlocal_ranks_t, nonlocal_ghost_nodes, sweep_key
 
   !> Iteration schemes: the seed's Gauss-Seidel fixed point of eq. 4.39,
   !> and Anderson acceleration of the same sweep.
@@ -529,7 +541,7 @@ contains
   !> iterations, and host errors, return an error value. When `log_unit` is
   !> given, warnings about the contraction bounds are written there before
   !> iterating (once per run each). A run spread over ranks gives `ranks`
-  !> and `key` (n): the particles' places in the serial order (global ids,
+  !> and `key` (n): the particles' places in the serial order (sweep_key,
   !> unique); the solve is then collective, and its error values and the
   !> step's measures (self%last, but umat_calls: this rank's) are the same
   !> on every rank.
@@ -541,7 +553,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     integer, intent(in), optional :: log_unit
     class(nonlocal_ranks_t), intent(inout), optional :: ranks
-    integer, intent(in), optional :: key(:)
+    integer(int64), intent(in), optional :: key(:)
     integer :: n, p, q, round
     integer(int64) :: c0, c1
     real(dp) :: avg, dnew, smass
@@ -676,7 +688,7 @@ contains
         ! and keeps its own entries (pos)
         if (par) then
           call ranks%gather_all(real(key_of(act), dp), kall)
-          call key_order(nint(kall), perm)
+          call key_order(nint(kall, int64), perm)
           kall = kall(perm)
           do q = 1, size(act)
             pos(q) = find_sorted(kall, real(key_of([act(q)]), dp))
@@ -767,29 +779,31 @@ contains
     !> The serial-order keys of local particles (their indices without `key`).
     function key_of(idx) result(k)
       integer, intent(in) :: idx(:)
-      integer :: k(size(idx))
+      integer(int64) :: k(size(idx))
       if (present(key)) then
         k = key(idx)
       else
-        k = idx
+        k = int(idx, int64)
       end if
     end function key_of
 
-    !> Node mass and field from particle `values` (eq. 4.46): with ranks,
-    !> pipelined in the serial order (the module comment), else
-    !> nonlocal_project.
+    !> Node mass and field from particle `values` (eq. 4.46) in the key
+    !> order: with ranks, pipelined (the module comment); without a key,
+    !> nonlocal_project (storage order).
     subroutine project(values)
       real(dp), intent(in) :: values(:)
       integer :: k, i, qq, pq
       real(dp) :: w
-      if (.not. par) then
+      if (.not. par .and. .not. present(key)) then
         call nonlocal_project(self, mass, node, phi, values)
         return
       end if
       self%node_mass = 0.0_dp
       self%field = 0.0_dp
-      call ranks%nodes_from_lower(self%node_mass)
-      call ranks%nodes_from_lower(self%field)
+      if (par) then
+        call ranks%nodes_from_lower(self%node_mass)
+        call ranks%nodes_from_lower(self%field)
+      end if
       do qq = 1, n
         pq = order(qq)
         do k = 1, size(node, 1)
@@ -799,6 +813,7 @@ contains
           self%field(i) = self%field(i) + w*values(pq)
         end do
       end do
+      if (.not. par) return
       call ranks%nodes_to_higher(self%node_mass)
       call ranks%nodes_to_higher(self%field)
       call ranks%nodes_from_highest(self%node_mass)
@@ -849,10 +864,19 @@ contains
 
   end subroutine nonlocal_solve
 
+  !> The sweep key of a particle in cell layer `layer` (0 .. ncells-1 along
+  !> the decomposition axis, the layer that decides its owner) with global
+  !> id `gid` (1 .. 2**31-1): layer first, then id. Below 2**53 while
+  !> layer < 2**22, so exact also as a real (Anderson gathers keys so).
+  elemental integer(int64) function sweep_key(layer, gid) result(k)
+    integer, intent(in) :: layer, gid
+    k = int(layer, int64)*2_int64**31 + int(gid, int64)
+  end function sweep_key
+
   !> order(1:n): the indices of key(1:n) in ascending key order (stable
   !> merge sort; the identity, at the cost of one pass, when already sorted).
   pure subroutine key_order(key, order)
-    integer, intent(in) :: key(:)
+    integer(int64), intent(in) :: key(:)
     integer, allocatable, intent(out) :: order(:)
     integer, allocatable :: tmp(:)
     integer :: n, width, lo, mid, hi, i, j, k, p

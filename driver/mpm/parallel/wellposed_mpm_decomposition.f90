@@ -33,11 +33,12 @@ module wellposed_mpm_decomposition
   use wellposed_mpi, only: comm_t, alltoall_counts, alltoallv_real, sendrecv_real, &
                            allreduce_any, gatherv_real, gatherv_int, allreduce_sum
   use wellposed_nonlocal, only: weight_support
-  use wellposed_mpm_grid, only: grid_t
+  use wellposed_mpm_grid, only: grid_t, cell_layer
   use wellposed_mpm_particles, only: particles_t, new_particles
   implicit none
   private
   public :: decomposition_t, new_decomposition, owner_of_layer, owner_of_position, &
+            layer_of_position, &
             restrict_grid, restrict_particles, hand_off_particles, sum_ghost_values, &
             sum_ghost_grid, copy_owned_to_ghosts, ensure_capacity, particle_record_length, &
             pack_particle, unpack_particle, gather_by_gid, check_support, ghost_layers
@@ -176,17 +177,24 @@ contains
     owner = lo
   end function owner_of_layer
 
+  !> The cell layer (0 .. ncells-1) holding coordinate `x` along the split
+  !> axis, the one that decides its owner; -1 outside the grid's cells. It
+  !> does not depend on the rank count.
+  pure integer function layer_of_position(self, x) result(layer)
+    type(decomposition_t), intent(in) :: self
+    real(dp), intent(in) :: x
+    layer = cell_layer(x, self%origin, self%dx, self%ncells)
+  end function layer_of_position
+
   !> The rank owning the cell that holds coordinate `x` along the split
   !> axis; -1 outside the grid's cells.
   pure integer function owner_of_position(self, x) result(owner)
     type(decomposition_t), intent(in) :: self
     real(dp), intent(in) :: x
-    real(dp) :: s
     integer :: c
-    s = (x - self%origin)/self%dx
     owner = -1
-    if (.not. (s >= 0.0_dp .and. s < real(self%ncells, dp))) return
-    c = min(int(s), self%ncells - 1)
+    c = layer_of_position(self, x)
+    if (c < 0) return
     owner = owner_of_layer(self, c)
   end function owner_of_position
 

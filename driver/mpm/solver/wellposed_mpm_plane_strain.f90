@@ -35,9 +35,11 @@
 !> the order of the nodal additions only. Nonlocal averaging (h_zeta /= 0)
 !> widens the ghost rows to the Gaussian's support (nonlocal_ghost_nodes)
 !> and runs Algorithm 1's passes over the nodal field as the pipeline of
-!> wellposed_mpm_nonlocal, in global-id order, through the neighbour
-!> exchanges of wellposed_mpm_ranks on these strips (the same as the 1D
-!> driver's): the sweeps and their counts are the serial ones.
+!> wellposed_mpm_nonlocal, ordered by the owning cell row at the start of
+!> the step, then the global id (sweep_key; one rank passes the same keys),
+!> through the neighbour exchanges of wellposed_mpm_ranks on these strips
+!> (the same as the 1D driver's): the sweeps and their counts are the
+!> serial ones.
 module wellposed_mpm_plane_strain
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -50,12 +52,14 @@ module wellposed_mpm_plane_strain
   use wellposed_mpm_shape_2d, only: shape_2d, support_size_2d, shape2d_cpdi, shape2d_gimp, &
                                     shape2d_linear, shape2d_reach, shape2d_names
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nonlocal_t, nonlocal_host_t, &
-                                    new_nonlocal, nonlocal_solve, nonlocal_ghost_nodes
+                                    new_nonlocal, nonlocal_solve, nonlocal_ghost_nodes, &
+                                    sweep_key
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpi, only: comm_t, allreduce_any, allreduce_min, allreduce_max, &
                            allreduce_sum, broadcast, gatherv_real
   use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, patch_nodes, &
                                          owner_of_position, hand_off_particles_with, &
+                                         layer_of_position, &
                                          sum_ghost_values, particle_record_length, &
                                          pack_particle, unpack_particle, ensure_capacity
   use wellposed_checkpoint, only: checkpoint_t
@@ -352,6 +356,7 @@ contains
     real(dp) :: dt, w, vtop, mmin, lg(2, 2), dkk, rho, sig(2, 2), wspin, f2(2, 2), c
     real(dp) :: s4(4)
     real(dp), allocatable :: sums(:, :)
+    integer(int64), allocatable :: skey(:)
     integer(int64) :: t0, t1, t2
 
     call system_clock(t0)
@@ -364,6 +369,13 @@ contains
       n = pt%n
       dt = self%dt
       ns = pt%nsup
+      ! --- Algorithm 1's sweep order: the owning cell row at x^n (the
+      ! positions the hand-off above decided from), then the id; the same
+      ! keys on one rank as on N
+      allocate (skey(n))
+      do p = 1, n
+        skey(p) = sweep_key(layer_of_position(self%dec, pt%x(self%dec%axis, p)), pt%gid(p))
+      end do
       ! --- weights at x^n
       do p = 1, n
         f2 = pt%defgrad(1:2, 1:2, p)
@@ -497,16 +509,20 @@ contains
         self%sv0(:, p) = pt%statev(:, p)
       end do
       call system_clock(t1)
-      if (self%dec%nranks == 1 .or. .not. self%nl%active) then
+      if (.not. self%nl%active) then
         ! one pass per particle on its own: nothing to exchange
         call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
                             pt%phi(:, 1:n), err, log_unit)
+      else if (self%dec%nranks == 1) then
+        ! one process, in the order of every rank count
+        call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
+                            pt%phi(:, 1:n), err, log_unit, key=skey)
       else if (self%dec%rank == 0) then
         call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
-                            pt%phi(:, 1:n), err, log_unit, self%nl_ranks, pt%gid(1:n))
+                            pt%phi(:, 1:n), err, log_unit, self%nl_ranks, skey)
       else
         call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
-                            pt%phi(:, 1:n), err, ranks=self%nl_ranks, key=pt%gid(1:n))
+                            pt%phi(:, 1:n), err, ranks=self%nl_ranks, key=skey)
       end if
       call system_clock(t2)
       self%ticks_umat = self%ticks_umat + (t2 - t1)

@@ -36,14 +36,14 @@ module wellposed_mpm_solver
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_config
-  use wellposed_mpm_grid, only: grid_t, new_grid_1d, grid_reset
+  use wellposed_mpm_grid, only: grid_t, new_grid_1d, grid_reset, cell_layer
   use wellposed_mpm_particles, only: particles_t, new_particles
   use wellposed_mpm_shape, only: support_size, shape_1d
   use wellposed_mpm_loads, only: surface_stress
   use wellposed_mpm_material, only: umat_point
   use wellposed_mpm_exchange, only: mpm_exchange_t, mpm_serial_t
   use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, new_nonlocal, nonlocal_solve, &
-                                    nonlocal_ghost_nodes
+                                    nonlocal_ghost_nodes, sweep_key
   implicit none
   private
   public :: mpm_scene_t, new_scene, advance, kinetic_energy, total_momentum, &
@@ -298,6 +298,7 @@ contains
     type(mpm_scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
     integer(int64) :: t0, t1
+    integer(int64), allocatable :: skey(:)
     integer :: p, k, i, n, psurf
     real(dp) :: dt, sig_b, xs, w, fs(2), vsurf, de, vs, ds, lg, mmin, surf(4)
     integer :: is
@@ -310,6 +311,13 @@ contains
       if (allocated(err)) return
       n = pt%n
       call size_workspace(self)
+      ! --- Algorithm 1's sweep order: the owning cell at x^n (the positions
+      ! the hand-off above decided from), then the id; the same keys on one
+      ! rank as on N (ids follow x here, so this is the id order)
+      allocate (skey(n))
+      do p = 1, n
+        skey(p) = sweep_key(cell_layer(pt%x(1, p), g%origin, cfg%dx, g%nnodes - 1), pt%gid(p))
+      end do
       ! --- shape weights at x^n, eq. 4.6-4.7, and the support check
       do p = 1, n
         call shape_1d(cfg%shape, pt%x(1, p), pt%lp(1, p), g%origin, g%dx, pt%node(:, p), &
@@ -453,10 +461,10 @@ contains
       ! bound warnings from rank 0 only)
       if (ex%rank() == 0) then
         call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
-                            pt%phi(:, 1:n), err, self%nl_log_unit, ex, pt%gid(1:n))
+                            pt%phi(:, 1:n), err, self%nl_log_unit, ex, skey)
       else
         call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
-                            pt%phi(:, 1:n), err, ranks=ex, key=pt%gid(1:n))
+                            pt%phi(:, 1:n), err, ranks=ex, key=skey)
       end if
       if (allocated(err)) then
         err%message = 'step '//int_text(self%nstep + 1)//', t = '//real_text(self%t + dt)// &
