@@ -577,13 +577,6 @@ contains
         self%wy(self%nbmax, n), self%den(n), self%blo(2, n), self%bhi(2, n), self%cached(n))
       self%cached = .false.
     end if
-    ! the local particles in the serial order
-    if (present(key)) then
-      call key_order(key(1:n), order)
-    else
-      order = [(p, p=1, n)]
-    end if
-
     ! Step 1: the local estimate, <dlambda> = 0.
     call system_clock(c0)
     do p = 1, n
@@ -603,6 +596,12 @@ contains
       call ranks%max_real(self%last%max_dlambda)
     end if
     if (.not. self%active .or. self%last%n_plastic == 0) return
+    ! the local particles in the serial order (a local model never needs it)
+    if (present(key)) then
+      call key_order(key(1:n), order)
+    else
+      order = [(p, p=1, n)]
+    end if
     call project(self%dl)
 
     ! The bounds, before iterating.

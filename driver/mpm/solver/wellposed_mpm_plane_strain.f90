@@ -371,11 +371,13 @@ contains
       ns = pt%nsup
       ! --- Algorithm 1's sweep order: the owning cell row at x^n (the
       ! positions the hand-off above decided from), then the id; the same
-      ! keys on one rank as on N
-      allocate (skey(n))
-      do p = 1, n
-        skey(p) = sweep_key(layer_of_position(self%dec, pt%x(self%dec%axis, p)), pt%gid(p))
-      end do
+      ! keys on one rank as on N (a local model sweeps nothing)
+      if (self%nl%active) then
+        allocate (skey(n))
+        do p = 1, n
+          skey(p) = sweep_key(layer_of_position(self%dec, pt%x(self%dec%axis, p)), pt%gid(p))
+        end do
+      end if
       ! --- weights at x^n
       do p = 1, n
         f2 = pt%defgrad(1:2, 1:2, p)

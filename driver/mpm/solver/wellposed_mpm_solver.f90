@@ -313,11 +313,15 @@ contains
       call size_workspace(self)
       ! --- Algorithm 1's sweep order: the owning cell at x^n (the positions
       ! the hand-off above decided from), then the id; the same keys on one
-      ! rank as on N (ids follow x here, so this is the id order)
-      allocate (skey(n))
-      do p = 1, n
-        skey(p) = sweep_key(cell_layer(pt%x(1, p), g%origin, cfg%dx, g%nnodes - 1), pt%gid(p))
-      end do
+      ! rank as on N (ids follow x here, so this is the id order). A local
+      ! model sweeps nothing: skey stays unallocated, i.e. no key is passed.
+      if (self%nl%active) then
+        allocate (skey(n))
+        do p = 1, n
+          skey(p) = sweep_key(cell_layer(pt%x(1, p), g%origin, cfg%dx, g%nnodes - 1), &
+                              pt%gid(p))
+        end do
+      end if
       ! --- shape weights at x^n, eq. 4.6-4.7, and the support check
       do p = 1, n
         call shape_1d(cfg%shape, pt%x(1, p), pt%lp(1, p), g%origin, g%dx, pt%node(:, p), &
