@@ -120,9 +120,7 @@ contains
     character(len=*), intent(in), optional :: prefix
     integer :: k
     do k = 1, self%n
-      if (present(prefix)) then
-        if (index(self%snaps(k)%group, prefix) /= 1) cycle
-      end if
+      if (.not. selected(self, k, prefix)) cycle
       call write_one(self, k, h5, comm, err)
       if (allocated(err)) return
     end do
@@ -144,9 +142,7 @@ contains
     integer :: k, m
     m = 0
     do k = 1, self%n
-      if (present(prefix)) then
-        if (index(self%snaps(k)%group, prefix) /= 1) cycle
-      end if
+      if (.not. selected(self, k, prefix)) cycle
       if (len(self%snaps(k)%group) > len(groups)) then
         call new_error(err, status_invalid, 'xdmf', path//': snapshot group name longer '// &
           'than '//int_text(len(groups))//' characters: '//self%snaps(k)%group)
@@ -159,6 +155,16 @@ contains
     call write_particle_xdmf(path, h5_name, grid_name, groups(1:m), times(1:m), n, ndim, &
                              geometry, pack(self%names, self%names /= geometry), err)
   end subroutine store_write_xdmf
+
+  !> Snapshot k is one of those asked for: all without `prefix`, else
+  !> those whose group begins with it.
+  logical function selected(self, k, prefix)
+    class(snapshot_store_t), intent(in) :: self
+    integer, intent(in) :: k
+    character(len=*), intent(in), optional :: prefix
+    selected = .true.
+    if (present(prefix)) selected = index(self%snaps(k)%group, prefix) == 1
+  end function selected
 
   !> Snapshot k into `h5` (collective): every field in global-id order,
   !> and its time before or after them (`time_first`).
