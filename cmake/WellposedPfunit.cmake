@@ -4,16 +4,16 @@
 #                         [LINK_LIBRARIES <lib>...] [LABELS <label>...]
 #                         [WORKING_DIRECTORY <dir>])
 #
-# Builds an executable target <name> from the .pf files (plus any plain
-# Fortran helper sources) and adds a test <name>. The module in each .pf must
-# be named after the file (pFUnit rule). Relative paths are relative to
-# CMAKE_CURRENT_SOURCE_DIR; the test runs in CMAKE_CURRENT_BINARY_DIR unless
-# WORKING_DIRECTORY is given (both as add_pfunit_ctest does).
+# Builds an executable <name> from the .pf files (each holding one module
+# named after the file) and any plain Fortran helpers, and adds the test
+# <name> with those labels, run in CMAKE_CURRENT_BINARY_DIR unless
+# WORKING_DIRECTORY is given. Relative paths are relative to
+# CMAKE_CURRENT_SOURCE_DIR.
 #
-# With pFUnit (the caller ran `find_package(PFUNIT 4 QUIET)` first and
-# PFUNIT_FOUND is true) this is add_pfunit_ctest(). Without it, pfunit_lite
-# (tests/pfunit_lite) translates the .pf files with pf2f90.py at build time and
-# links them with the `wellposed_funit` library, a small module named `funit`.
+# With pFUnit (the caller ran `find_package(PFUNIT 4 QUIET)`, PFUNIT_FOUND)
+# this is add_pfunit_ctest(). Without it, pfunit_lite (tests/pfunit_lite):
+# pf2f90.py translates the .pf files at build time and the test links
+# `wellposed_funit`, a module `funit` that gen_funit.py writes.
 
 include_guard(GLOBAL)
 
@@ -21,13 +21,12 @@ set(WELLPOSED_PFUNIT_LITE_DIR "${CMAKE_CURRENT_LIST_DIR}/../tests/pfunit_lite"
   CACHE INTERNAL "pfunit_lite sources")
 get_filename_component(WELLPOSED_PFUNIT_LITE_DIR "${WELLPOSED_PFUNIT_LITE_DIR}" ABSOLUTE)
 
-# pfunit_lite needs a Python 3 interpreter (standard library only). pFUnit 4
-# itself needs one too, so this is no new requirement.
+# pfunit_lite needs Python 3 (standard library only), as pFUnit itself does.
 if(NOT Python3_Interpreter_FOUND)
   find_package(Python3 COMPONENTS Interpreter)
 endif()
 
-# Split SOURCES into absolute .pf files and other sources.
+# Absolute .pf files of SOURCES, and the other sources.
 function(_wellposed_pf_split_sources sources pf_out other_out)
   set(pf_files)
   set(other_files)
@@ -43,89 +42,76 @@ function(_wellposed_pf_split_sources sources pf_out other_out)
   set(${other_out} "${other_files}" PARENT_SCOPE)
 endfunction()
 
-# The assertion library of pfunit_lite, built once per build tree.
+# The assertion library of pfunit_lite, generated and built once per tree.
 function(_wellposed_pfunit_lite_library)
   if(TARGET wellposed_funit)
     return()
   endif()
-  set(mod_dir "${CMAKE_BINARY_DIR}/pfunit_lite/mod")
-  add_library(wellposed_funit STATIC "${WELLPOSED_PFUNIT_LITE_DIR}/funit.f90")
+  set(dir "${CMAKE_BINARY_DIR}/pfunit_lite")
+  add_custom_command(OUTPUT "${dir}/funit.f90"
+    COMMAND "${Python3_EXECUTABLE}" "${WELLPOSED_PFUNIT_LITE_DIR}/gen_funit.py"
+            "${WELLPOSED_PFUNIT_LITE_DIR}/funit.f90.in" "${dir}/funit.f90"
+    DEPENDS "${WELLPOSED_PFUNIT_LITE_DIR}/gen_funit.py" "${WELLPOSED_PFUNIT_LITE_DIR}/funit.f90.in"
+    COMMENT "pfunit_lite: writing the funit module"
+    VERBATIM)
+  add_library(wellposed_funit STATIC "${dir}/funit.f90")
   set_target_properties(wellposed_funit PROPERTIES
-    Fortran_MODULE_DIRECTORY "${mod_dir}"
-    ARCHIVE_OUTPUT_DIRECTORY "${CMAKE_BINARY_DIR}/pfunit_lite")
-  target_include_directories(wellposed_funit PUBLIC "${mod_dir}")
+    Fortran_MODULE_DIRECTORY "${dir}/mod" ARCHIVE_OUTPUT_DIRECTORY "${dir}")
+  target_include_directories(wellposed_funit PUBLIC "${dir}/mod")
 endfunction()
 
-# pfunit_lite path; also used directly by the pfunit_lite self-tests.
+# The pfunit_lite path; the self-tests of tests/pfunit_lite call it directly.
 function(wellposed_add_pf_test_lite)
   cmake_parse_arguments(PARSE_ARGV 0 arg "" "NAME;WORKING_DIRECTORY" "SOURCES;LINK_LIBRARIES;LABELS")
-  if(NOT arg_NAME OR NOT arg_SOURCES)
-    message(FATAL_ERROR "wellposed_add_pf_test_lite: NAME and SOURCES are required")
-  endif()
   if(NOT Python3_Interpreter_FOUND)
     message(FATAL_ERROR "wellposed_add_pf_test(${arg_NAME}): pFUnit 4 was not found and pfunit_lite "
-      "needs a Python 3 interpreter (find_package(Python3 COMPONENTS Interpreter) failed). "
-      "Install python3 or pFUnit 4.")
+      "needs a Python 3 interpreter: install python3, or pFUnit 4 (-DCMAKE_PREFIX_PATH=<prefix>).")
+  endif()
+  _wellposed_pf_split_sources("${arg_SOURCES}" pf_files other_files)
+  _wellposed_pfunit_lite_library()
+  set(gen_dir "${CMAKE_CURRENT_BINARY_DIR}/${arg_NAME}_pflite")
+  set(driver "${gen_dir}/${arg_NAME}_driver.F90")
+  set(generated)
+  foreach(pf IN LISTS pf_files)
+    get_filename_component(stem "${pf}" NAME_WE)
+    list(APPEND generated "${gen_dir}/${stem}.F90")
+  endforeach()
+  add_custom_command(OUTPUT ${generated} "${driver}"
+    COMMAND "${Python3_EXECUTABLE}" "${WELLPOSED_PFUNIT_LITE_DIR}/pf2f90.py"
+            --outdir "${gen_dir}" --driver "${driver}" ${pf_files}
+    DEPENDS ${pf_files} "${WELLPOSED_PFUNIT_LITE_DIR}/pf2f90.py"
+    COMMENT "pfunit_lite: translating the .pf files of ${arg_NAME}"
+    VERBATIM)
+  add_executable(${arg_NAME} ${generated} ${other_files} "${driver}")
+  set_target_properties(${arg_NAME} PROPERTIES Fortran_MODULE_DIRECTORY "${gen_dir}/mod")
+  target_include_directories(${arg_NAME} PRIVATE "${gen_dir}/mod")
+  # The plain signature, as add_pfunit_ctest uses: callers may add libraries
+  # the same way under both paths.
+  target_link_libraries(${arg_NAME} wellposed_funit ${arg_LINK_LIBRARIES})
+  set(workdir "${CMAKE_CURRENT_BINARY_DIR}")
+  if(arg_WORKING_DIRECTORY)
+    set(workdir "${arg_WORKING_DIRECTORY}")
+  endif()
+  add_test(NAME ${arg_NAME} COMMAND ${arg_NAME} WORKING_DIRECTORY "${workdir}")
+  set_tests_properties(${arg_NAME} PROPERTIES LABELS "${arg_LABELS}")
+endfunction()
+
+function(wellposed_add_pf_test)
+  cmake_parse_arguments(PARSE_ARGV 0 arg "" "NAME;WORKING_DIRECTORY" "SOURCES;LINK_LIBRARIES;LABELS")
+  if(arg_UNPARSED_ARGUMENTS OR NOT arg_NAME OR NOT arg_SOURCES)
+    message(FATAL_ERROR "wellposed_add_pf_test(NAME <name> SOURCES <file.pf>... [LINK_LIBRARIES ...] "
+      "[LABELS ...] [WORKING_DIRECTORY <dir>]): got ${ARGN}")
   endif()
   _wellposed_pf_split_sources("${arg_SOURCES}" pf_files other_files)
   if(NOT pf_files)
     message(FATAL_ERROR "wellposed_add_pf_test(${arg_NAME}): no .pf file in SOURCES")
   endif()
-  _wellposed_pfunit_lite_library()
-
-  set(gen_dir "${CMAKE_CURRENT_BINARY_DIR}/${arg_NAME}_pflite")
-  set(driver "${gen_dir}/${arg_NAME}_driver.F90")
-  set(generated)
-  foreach(pf IN LISTS pf_files)
-    # pFUnit rule: module name == file base name (pf2f90.py checks it).
-    get_filename_component(stem "${pf}" NAME_WE)
-    list(APPEND generated "${gen_dir}/${stem}.F90")
-  endforeach()
-  add_custom_command(
-    OUTPUT ${generated} "${driver}"
-    COMMAND "${Python3_EXECUTABLE}" "${WELLPOSED_PFUNIT_LITE_DIR}/pf2f90.py"
-            --outdir "${gen_dir}" --driver "${driver}" ${pf_files}
-    DEPENDS ${pf_files} "${WELLPOSED_PFUNIT_LITE_DIR}/pf2f90.py"
-    COMMENT "pfunit_lite: translating .pf files of ${arg_NAME}"
-    VERBATIM)
-
-  add_executable(${arg_NAME} ${generated} ${other_files} "${driver}")
-  set(mod_dir "${gen_dir}/mod")
-  set_target_properties(${arg_NAME} PROPERTIES Fortran_MODULE_DIRECTORY "${mod_dir}")
-  target_include_directories(${arg_NAME} PRIVATE "${mod_dir}")
-  # No -ffree-line-length-none: pf2f90.py wraps what it generates below 132
-  # columns, and users' own lines stay under the same limit as with pFUnit.
-  target_link_libraries(${arg_NAME} PRIVATE wellposed_funit ${arg_LINK_LIBRARIES})
-
-  if(arg_WORKING_DIRECTORY)
-    set(workdir "${arg_WORKING_DIRECTORY}")
-  else()
-    set(workdir "${CMAKE_CURRENT_BINARY_DIR}")
-  endif()
-  add_test(NAME ${arg_NAME} COMMAND ${arg_NAME} WORKING_DIRECTORY "${workdir}")
-  if(arg_LABELS)
-    set_tests_properties(${arg_NAME} PROPERTIES LABELS "${arg_LABELS}")
-  endif()
-endfunction()
-
-function(wellposed_add_pf_test)
-  cmake_parse_arguments(PARSE_ARGV 0 arg "" "NAME;WORKING_DIRECTORY" "SOURCES;LINK_LIBRARIES;LABELS")
-  if(arg_UNPARSED_ARGUMENTS)
-    message(FATAL_ERROR "wellposed_add_pf_test: unexpected arguments: ${arg_UNPARSED_ARGUMENTS}")
-  endif()
-  if(NOT arg_NAME OR NOT arg_SOURCES)
-    message(FATAL_ERROR "wellposed_add_pf_test: NAME and SOURCES are required")
-  endif()
-
   if(NOT PFUNIT_FOUND)
     wellposed_add_pf_test_lite(${ARGN})
     return()
   endif()
-
-  _wellposed_pf_split_sources("${arg_SOURCES}" pf_files other_files)
-  # add_pfunit_ctest treats absolute TEST_SOURCES as build-tree files and
-  # writes the generated .F90 next to them; pass paths relative to the
-  # current source directory so generated files land in the binary dir.
+  # Relative TEST_SOURCES: add_pfunit_ctest writes each generated .F90 at the
+  # same relative path in the build tree (absolute ones it takes for build files).
   set(pf_rel)
   foreach(pf IN LISTS pf_files)
     file(RELATIVE_PATH rel "${CMAKE_CURRENT_SOURCE_DIR}" "${pf}")
@@ -138,11 +124,8 @@ function(wellposed_add_pf_test)
   if(other_files)
     list(APPEND extra OTHER_SOURCES ${other_files})
   endif()
-  add_pfunit_ctest(${arg_NAME}
-    TEST_SOURCES ${pf_rel}
-    LINK_LIBRARIES ${arg_LINK_LIBRARIES}
-    ${extra})
   if(arg_LABELS)
-    set_tests_properties(${arg_NAME} PROPERTIES LABELS "${arg_LABELS}")
+    list(APPEND extra LABELS ${arg_LABELS})
   endif()
+  add_pfunit_ctest(${arg_NAME} TEST_SOURCES ${pf_rel} LINK_LIBRARIES ${arg_LINK_LIBRARIES} ${extra})
 endfunction()

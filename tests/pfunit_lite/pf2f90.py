@@ -1,22 +1,21 @@
 #!/usr/bin/env python3
-"""pf2f90: turn pFUnit 4 .pf test files into plain Fortran (pfunit_lite).
+"""pf2f90: pFUnit 4 .pf test files to plain Fortran, for pfunit_lite.
 
-Usage:
     pf2f90.py --outdir DIR --driver DRIVER.F90 TEST.pf [TEST2.pf ...]
 
-For each TEST.pf it writes DIR/TEST.F90: the test module with every directive
-replaced by a call on the `funit` module of pfunit_lite, as pFUnit 4 does:
+Writes DIR/<module>.F90 for each TEST.pf with every directive replaced as
+pFUnit 4 replaces it,
 
-    call assertEqual(<args as written>, location=SourceLocation('TEST.pf', N))
+    call assertEqual(<arguments as written>, location=SourceLocation('TEST.pf', N))
     if (anyExceptions()) return
 
-with `#line` markers so that compiler messages point at the .pf file. It also
-writes DRIVER.F90, a program that runs every @test (with @before/@after around
-it), prints `N passed, N failed[, N skipped]` and ends with `error stop 1` if
-any test failed.
+(#line markers keep compiler messages on the .pf), and DRIVER.F90, a program
+that runs each @test between its @before and @after and ends with
+`error stop 1` when one failed.
 
-Only the directives listed in SUPPORTED are accepted; anything else stops with
-a message naming the file, the line and what to do. Standard library only.
+Strict on purpose: what real pFUnit 4.14 refuses and a test could slip into
+(README.md, "What is refused") stops here too, as `file:line: error: ...`.
+Standard library only.
 """
 
 import argparse
@@ -24,444 +23,305 @@ import os
 import re
 import sys
 
-# Directive (lower case) -> (Fortran name, minimum operands counting a
-# tolerance= keyword, maximum positional arguments, allowed keywords).
-# The message must always be given as message=: most pFUnit 4 assertions put a
-# KeywordEnforcer dummy before it, so a positional message does not compile.
-SUPPORTED = {
-    # name: (Fortran name, minimum operands, maximum positional, keywords)
-    'assertequal': ('assertEqual', 2, 3, {'message', 'tolerance'}),
-    'assertrelativelyequal': ('assertRelativelyEqual', 3, 3, {'message', 'tolerance'}),
-    'asserttrue': ('assertTrue', 1, 1, {'message'}),
-    'assertfalse': ('assertFalse', 1, 1, {'message'}),
-    'assertlessthan': ('assertLessThan', 2, 2, {'message'}),
-    'assertlessthanorequal': ('assertLessThanOrEqual', 2, 2, {'message'}),
-    'assertgreaterthan': ('assertGreaterThan', 2, 2, {'message'}),
-    'assertgreaterthanorequal': ('assertGreaterThanOrEqual', 2, 2, {'message'}),
-    'assertisfinite': ('assertIsFinite', 1, 1, {'message'}),
-    'assertisnan': ('assertIsNaN', 1, 1, {'message'}),
-    'assertall': ('assertAll', 1, 1, {'message'}),
-    'assertany': ('assertAny', 1, 1, {'message'}),
+# Directive (lower case) -> (spelling, fewest operands counting tolerance=,
+# most positional). The suite gives the message by keyword, message=, and
+# tolerance= only where a tolerance can be.
+ASSERTS = {
+    'assertequal': ('assertEqual', 2, 3),
+    'assertrelativelyequal': ('assertRelativelyEqual', 3, 3),
+    'asserttrue': ('assertTrue', 1, 1),
+    'assertfalse': ('assertFalse', 1, 1),
+    'assertlessthan': ('assertLessThan', 2, 2),
+    'assertlessthanorequal': ('assertLessThanOrEqual', 2, 2),
+    'assertgreaterthan': ('assertGreaterThan', 2, 2),
+    'assertgreaterthanorequal': ('assertGreaterThanOrEqual', 2, 2),
+    'assertisfinite': ('assertIsFinite', 1, 1),
+    'assertisnan': ('assertIsNaN', 1, 1),
+    'assertall': ('assertAll', 1, 1),
+    'assertany': ('assertAny', 1, 1),
 }
+TOLERANT = {'assertequal', 'assertrelativelyequal'}
+# pFUnit 4 directives the suite does not use, so pfunit_lite lacks them.
+PFUNIT_ONLY = {'assertnotequal', 'assertnotall', 'assertnone', 'assertsameshape', 'assertfail',
+               'assertexceptionraised', 'assertassociated', 'assertnotassociated',
+               'assertequivalent', 'assertequaluserdefined', 'testcase', 'testparameter',
+               'suite', 'mpitest', 'mpiassertequal', 'mpiasserttrue', 'mpiassertfalse'}
+# Accepted by pFUnit 4.14's parser, but the code it writes does not compile.
+PFUNIT_BROKEN = {'assertisinfinite', 'assertthat', 'assertismemberof', 'assertcontains',
+                 'assertispermutationof'}
+# Names a test module must not define: `use funit` brings them in under
+# pFUnit 4.14 (each tried there), and its generated suite declares t, suite.
+RESERVED = set('''t suite abstractmatcher abstracttestparameter all_of allof any_of anyexceptions
+    anyof array_with_size assert_that assertall assertany assertequal assertexceptionraised
+    assertfail assertfalse assertgreaterthan assertgreaterthanorequal assertisfinite assertisnan
+    assertlessthan assertlessthanorequal assertnone assertnotall assertnotequal
+    assertrelativelyequal assertsameshape asserttrue basetestrunner catch catchnext
+    contains_string debuglistener disable empty_array ends_with equal_to every every_item
+    expectation false fhamcrest finalize funit generic_run get_context ignore_all
+    ignore_differences initialize is isarraywithsize isequal isnear isnot iso_fortran_env
+    isrelativelynear istrueorfalse keep_all listenerpointer loadtests_interface matchable
+    matcherdescription namefilter near not output_unit parallelcontext parameterizedtestcase
+    predicate relatively_near remoterunner resultprinter robustrunner run serialcontext
+    sourcelocation starts_with stringcontains stringdescription stringendswith stringstartswith
+    stub subject taplistener test testannotation testcase testlistener testlistenervector
+    testmethod testresult testrunner testsuite throw timeoutannotation trim_all true wascalled
+    wascalledonce wasnotcalled whitespaceoptions xmlprinter'''.split())
+COLUMNS = 132  # gfortran's free-form line limit, which pFUnit's output must keep
 
-# Valid in pFUnit 4 but not (yet) implemented here.
-PFUNIT_ONLY = {
-    'assertnotequal', 'assertnotall', 'assertnone', 'assertsameshape',
-    'assertfail', 'assertexceptionraised', 'assertassociated',
-    'assertnotassociated', 'assertunassociated', 'assertequivalent',
-    'assertequaluserdefined', 'testcase', 'testparameter', 'suite',
-    'mpitest', 'mpiassertequal', 'mpiasserttrue', 'mpiassertfalse',
-}
-
-# Accepted by pFUnit's parser but the generated code does not compile.
-PFUNIT_BROKEN = {
-    'assertisinfinite', 'assertthat', 'assertismemberof', 'assertcontains',
-    'assertispermutationof',
-}
-
-# @test(...) options that change which tests run or how; refused rather than
-# silently ignored.
-TEST_OPTIONS_REFUSED = {
-    'npes': 'MPI tests (npes=) need real pFUnit',
-    'ifdef': 'conditional tests (ifdef=) are not supported',
-    'ifndef': 'conditional tests (ifndef=) are not supported',
-    'type': 'test case types (type=) are not supported',
-    'testparameters': 'parameterized tests (testParameters=) are not supported',
-    'cases': 'parameterized tests (cases=) are not supported',
-}
-
-MAX_LINE = 100  # target length of generated lines (gfortran limit is 132)
-
-EXTEND_HINT = 'extend tests/pfunit_lite (pf2f90.py + funit.f90) or build with real pFUnit'
+DIRECTIVE = re.compile(r'^\s*@(\w+)\s*(.*?)\s*$')
+MODULE = re.compile(r'^\s*module\s+(?!procedure\b|subroutine\b|function\b)(\w+)', re.I)
+SUBROUTINE = re.compile(r'^\s*subroutine\s+(\w+)\s*(?:\((.*)\))?\s*$', re.I)
+PROCEDURE = re.compile(r'^(?!\s*end\b)\s*(?:[\w(),=*:\s]*\s)?(?:subroutine|function)\s+(\w+)', re.I)
+END_PROCEDURE = re.compile(r'^\s*end\s*(?:(?:subroutine|function)\b.*)?$', re.I)
+# Module-level names: an interface, a type, the entities of a declaration.
+INTERFACE = re.compile(r'^\s*(?:abstract\s+)?interface\s+(\w+)|^\s*type\s+(\w+)\s*$', re.I)
+DECLARATION = re.compile(r'^(?!\s*(?:use|public|private)\b)[^!]*?::(.*)$', re.I)
+KEYWORD = re.compile(r'^(\w+)\s*=(?!=)')
 
 
 class PfError(Exception):
-    """Error in a .pf file, reported as `file:line: error: message`."""
-
     def __init__(self, path, line, message):
         super().__init__('%s:%d: error: %s' % (path, line, message))
 
 
-# ----------------------------------------------------------------------------
-# Lexical helpers (quote aware)
-# ----------------------------------------------------------------------------
-
-def strip_comment(text):
-    """Remove a trailing `!` comment that is outside string literals."""
+def split_code(text):
+    """(code, comment) of a line: the comment starts at a `!` outside strings."""
     quote = None
     for i, c in enumerate(text):
-        if quote:
-            if c == quote:
-                quote = None  # a doubled quote re-enters on the next char
-        elif c in ('"', "'"):
-            quote = c
-        elif c == '!':
-            return text[:i]
-    return text
+        if c in '\'"' and quote in (None, c):
+            quote = None if quote else c
+        elif c == '!' and not quote:
+            return text[:i], text[i:]
+    return text, ''
 
 
-def split_top_level(text, path, line):
-    """Split on commas outside (), [], and string literals."""
-    args, depth, quote, cur = [], 0, None, []
-    for c in text:
-        if quote:
-            cur.append(c)
-            if c == quote:
-                quote = None
+def split_args(text):
+    """Arguments split at commas outside brackets and strings (None if unbalanced)."""
+    args, depth, quote, start = [], 0, None, 0
+    for i, c in enumerate(text):
+        if c in '\'"' and quote in (None, c):
+            quote = None if quote else c
+        elif quote:
             continue
-        if c in ('"', "'"):
-            quote = c
         elif c in '([':
             depth += 1
         elif c in ')]':
             depth -= 1
-            if depth < 0:
-                raise PfError(path, line, 'unbalanced brackets in directive arguments')
         elif c == ',' and depth == 0:
-            args.append(''.join(cur).strip())
-            cur = []
-            continue
-        cur.append(c)
-    if quote:
-        raise PfError(path, line, 'unterminated string in directive arguments')
-    if depth != 0:
-        raise PfError(path, line, 'unbalanced brackets in directive arguments')
-    last = ''.join(cur).strip()
-    if last or args:
-        args.append(last)
-    if any(a == '' for a in args):
-        raise PfError(path, line, 'empty argument in directive')
-    return args
-
-
-def matching_paren(text, start):
-    """Index of the `)` closing the `(` at text[start], or -1."""
-    depth, quote = 0, None
-    for i in range(start, len(text)):
-        c = text[i]
-        if quote:
-            if c == quote:
-                quote = None
-            continue
-        if c in ('"', "'"):
-            quote = c
-        elif c in '([':
-            depth += 1
-        elif c in ')]':
-            depth -= 1
-            if depth == 0:
-                return i if c == ')' else -1
-    return -1
-
-
-KEYWORD_RE = re.compile(r'^([A-Za-z]\w*)\s*=(?!=)')
-
-
-def wrap_statement(pieces, indent):
-    """Join pieces into free-form lines shorter than MAX_LINE.
-
-    Breaks preferably between pieces; a piece too long for one line is cut
-    anywhere with `&` at the end and `&` at the start of the next line, which
-    free form allows even inside names and character literals.
-    """
-    lines, cur = [], indent
-    for piece in pieces:
-        if len(cur) + len(piece) + 2 <= MAX_LINE:
-            cur += piece
-            continue
-        if cur.strip():
-            lines.append(cur + '&')
-            cur = indent + '  & '
-        while len(cur) + len(piece) + 2 > MAX_LINE:
-            room = MAX_LINE - len(cur) - 2
-            lines.append(cur + piece[:room] + '&')
-            piece = piece[room:]
-            cur = indent + '  &'
-        cur += piece
-    lines.append(cur)
-    return '\n'.join(lines) + '\n'
-
-
-# ----------------------------------------------------------------------------
-# .pf translation
-# ----------------------------------------------------------------------------
-
-DIRECTIVE_RE = re.compile(r'^\s*@(\w+)\s*(.*)$', re.DOTALL)
-MODULE_RE = re.compile(r'^\s*module\s+(\w+)\s*(!.*)?$', re.IGNORECASE)
-SUBROUTINE_RE = re.compile(
-    r'^\s*subroutine\s+(\w+)\s*(\(\s*([\w\s,]*)\))?\s*(!.*)?$', re.IGNORECASE)
-COMMENT_RE = re.compile(r'^\s*(!.*)?$')
-
-
-def line_marker(line, path):
-    return '#line %d "%s"\n' % (line, path.replace('\\', '\\\\').replace('"', '\\"'))
+            args.append(text[start:i].strip())
+            start = i + 1
+        if depth < 0:
+            return None
+    args.append(text[start:].strip())
+    return None if depth or quote or '' in args else args
 
 
 class PfFile:
-    """One translated .pf file: its module name and its tests."""
-
     def __init__(self, path):
         self.path = os.path.abspath(path)
         self.base = os.path.basename(path)
         self.stem = os.path.splitext(self.base)[0]
         self.module = None
-        self.tests = []        # list of (name, disabled)
-        self.before = None
-        self.after = None
-        self.output = []
-
-    def mark(self, line):
-        marker = line_marker(line, self.path)
-        if not (self.output and self.output[-1] == marker):
-            self.output.append(marker)
+        self.tests = []            # (name, disabled)
+        self.fixture = {}          # 'before'/'after' -> name
+        self.out = ['#line 1 "%s"\n' % self.path]
+        self.depth = 0             # nesting of subroutines and functions
+        self.in_contains = False   # past the module's own `contains`
 
     def error(self, line, message):
         return PfError(self.path, line, message)
 
     def translate(self):
         with open(self.path, encoding='utf-8') as f:
-            raw = f.read().splitlines()
-        out = self.output
-        self.mark(1)
-        pending = None   # 'test' | 'before' | 'after' waiting for its subroutine
-        pending_line = 0
-        pending_test = None  # dict for the test being declared
-        i = 0
-        n = len(raw)
-        while i < n:
-            lineno = i + 1
-            text = raw[i]
-            m = DIRECTIVE_RE.match(text)
+            lines = f.read().splitlines()
+        waiting = None    # [directive, its line, disabled] until its subroutine
+        uses_funit = False
+        for n, text in enumerate(lines, 1):
+            code, comment = split_code(text)
+            m = DIRECTIVE.match(code)
             if not m:
-                if pending and not COMMENT_RE.match(text) and not text.lstrip().startswith('#'):
-                    sm = SUBROUTINE_RE.match(text)
-                    if not sm:
-                        raise self.error(lineno, 'expected "subroutine <name>()" after @%s (line %d)'
-                                         % (pending, pending_line))
-                    name, argl = sm.group(1), (sm.group(3) or '').strip()
-                    if argl:
-                        raise self.error(lineno, 'subroutine %s takes arguments (%s): fixtures and '
-                                         'test cases are not supported; %s' % (name, argl, EXTEND_HINT))
-                    if pending == 'test':
-                        pending_test['name'] = name
-                        self.tests.append((name, pending_test['disabled']))
-                        pending_test = None
-                    elif pending == 'before':
-                        self.before = name
-                    else:
-                        self.after = name
-                    pending = None
-                if self.module is None:
-                    mm = MODULE_RE.match(text)
-                    if mm and mm.group(1).lower() != 'procedure':
-                        self.module = mm.group(1)
-                        if self.module.lower() != self.stem.lower():
-                            raise self.error(lineno, 'module name "%s" and file name "%s" do not match '
-                                             '(pFUnit requires the module in %s to be named %s)'
-                                             % (self.module, self.stem, self.base, self.stem))
-                out.append(text + '\n')
-                i += 1
+                if waiting and code.strip():
+                    self.take_subroutine(waiting, code, n)
+                    waiting = None
+                uses_funit |= self.check_statement(code, comment, n)
+                self.out.append(text + '\n')
                 continue
-
-            # A directive: join continuation lines (trailing `&`).
-            first = lineno
-            logical = strip_comment(text).rstrip()
-            while logical.endswith('&'):
-                i += 1
-                if i >= n:
-                    raise self.error(first, 'directive continued with "&" past the end of the file')
-                nxt = strip_comment(raw[i]).strip()
-                if nxt.startswith('&'):
-                    logical = logical[:-1] + nxt[1:]
-                else:
-                    logical = logical[:-1].rstrip() + ' ' + nxt
-            last = i + 1
-            i += 1
-            m = DIRECTIVE_RE.match(logical)
-            name, rest = m.group(1), m.group(2).strip()
+            name, rest = m.group(1), m.group(2)
             key = name.lower()
-
-            if key == 'test':
-                if pending:
-                    raise self.error(first, '@test while @%s (line %d) still waits for its subroutine'
-                                     % (pending, pending_line))
-                self.check_test_options(rest, first)
-                pending, pending_line = 'test', first
-                pending_test = {'disabled': False}
-                out.append('!' + logical.lstrip() + '\n')
+            if waiting and key != 'disable':
+                raise self.error(n, '@%s while @%s (line %d) still waits for its subroutine'
+                                 % (name, waiting[0], waiting[1]))
+            if code.rstrip().endswith('&'):
+                raise self.error(n, '@%s is continued with "&": pFUnit reads a directive from one line '
+                                    'only; put it on one line (compute a long expression into a '
+                                    'variable first)' % name)
+            if comment:
+                raise self.error(n, 'comment after @%s: pFUnit then leaves the line untranslated; put '
+                                    'the comment on the line above' % name)
+            if key in ('test', 'before', 'after'):
+                if rest:
+                    raise self.error(n, '@%s%s: pfunit_lite supports @%s without options (npes=, '
+                                        'cases=, ... need real pFUnit)' % (name, rest, key))
+                if key in self.fixture:
+                    raise self.error(n, 'second @%s in one file' % key)
+                waiting = [key, n, False]
             elif key == 'disable':
-                if rest:
-                    raise self.error(first, '@disable takes no arguments')
-                if pending != 'test':
-                    raise self.error(first, '@disable must come after @test and before the test '
-                                     'subroutine (pFUnit ignores it anywhere else)')
-                pending_test['disabled'] = True
-                out.append('!' + logical.lstrip() + '\n')
-            elif key in ('before', 'after'):
-                if rest:
-                    raise self.error(first, '@%s takes no arguments' % key)
-                if pending:
-                    raise self.error(first, '@%s while @%s (line %d) still waits for its subroutine'
-                                     % (key, pending, pending_line))
-                if getattr(self, key) is not None:
-                    raise self.error(first, 'second @%s in one file' % key)
-                pending, pending_line = key, first
-                out.append('!' + logical.lstrip() + '\n')
-            elif key in SUPPORTED:
-                self.mark(first)
-                out.append(self.expand_assert(key, rest, first))
-                self.mark(last + 1)
+                if rest or not waiting or waiting[0] != 'test':
+                    raise self.error(n, '@disable goes alone on the line between @test and its '
+                                        'subroutine (pFUnit ignores it elsewhere)')
+                waiting[2] = True
+            elif key in ASSERTS:
+                self.out.append('#line %d\n' % n)
+                self.out.append(self.expand(key, name, rest, n))
+                self.out.append('#line %d\n' % (n + 1))
                 continue
             elif key in PFUNIT_ONLY:
-                raise self.error(first, '@%s is valid pFUnit 4 but not supported by pfunit_lite; %s'
-                                 % (name, EXTEND_HINT))
+                raise self.error(n, '@%s is pFUnit 4 but pfunit_lite does not support it (no test used '
+                                    'it yet): add it to gen_funit.py and pf2f90.py with a self-test'
+                                 % name)
             elif key in PFUNIT_BROKEN:
-                raise self.error(first, '@%s is accepted by pFUnit 4\'s parser but its generated code '
-                                 'does not compile; do not use it' % name)
+                raise self.error(n, '@%s is accepted by pFUnit 4.14\'s parser but what it generates '
+                                    'does not compile; do not use it' % name)
             else:
-                raise self.error(first, 'unknown directive @%s' % name)
-            if last > first:
-                self.mark(last + 1)
-
-        if pending:
-            raise self.error(pending_line, '@%s is not followed by a subroutine' % pending)
+                raise self.error(n, 'unknown directive @%s (pFUnit 4 has none of that name)' % name)
+            self.out.append('!' + text.lstrip() + '\n')
+        if waiting:
+            raise self.error(waiting[1], '@%s is not followed by a subroutine' % waiting[0])
         if self.module is None:
-            raise self.error(1, 'no "module %s" found: pFUnit 4 test files hold one module named '
-                             'after the file' % self.stem)
+            raise self.error(1, 'no "module %s": pFUnit 4 wants one module named after the file'
+                             % self.stem)
+        if not uses_funit:
+            raise self.error(self.module_line, 'module %s does not "use funit" on a line of its own (pFUnit 4 test '
+                                'modules use funit; pfunit is MPI-only, pfunit_mod is gone)'
+                             % self.module)
         if not self.tests:
-            sys.stderr.write('%s: warning: no @test found\n' % self.path)
+            raise self.error(1, 'no @test in %s' % self.base)
 
-    def check_test_options(self, rest, line):
-        if not rest:
-            return
-        if not (rest.startswith('(') and matching_paren(rest, 0) == len(rest) - 1):
-            raise self.error(line, 'malformed @test options "%s"' % rest)
-        for opt in split_top_level(rest[1:-1], self.path, line) if rest[1:-1].strip() else []:
-            km = KEYWORD_RE.match(opt)
-            if not km:
-                raise self.error(line, '@test option "%s" is not of the form key=value' % opt)
-            k = km.group(1).lower()
-            if k in TEST_OPTIONS_REFUSED:
-                raise self.error(line, '@test(%s=...): %s; %s' % (km.group(1), TEST_OPTIONS_REFUSED[k],
-                                                                   EXTEND_HINT))
-            # Other options (e.g. timeout=) are accepted and ignored.
+    def check_statement(self, code, comment, n):
+        """File-shape rules of a plain line; True when it is `use funit`."""
+        m = MODULE.match(code)
+        if m and self.module is not None:
+            raise self.error(n, 'a second module in one file: pFUnit wants one, named after the file')
+        if m:
+            if m.group(1).lower() != self.stem.lower():
+                raise self.error(n, 'module name "%s" and file name "%s" do not match (pFUnit '
+                                    'requires module %s in %s)' % (m.group(1), self.stem, self.stem,
+                                                                   self.base))
+            if not re.match(r'^\s*module\s+\w+\s*$', code) or comment:
+                raise self.error(n, 'write "module %s" alone on its line: pFUnit finds the module '
+                                    'name only there' % m.group(1))
+            self.module, self.module_line = m.group(1), n
+        names = []
+        m = PROCEDURE.match(code)
+        if m:
+            names = [m.group(1)] if self.depth == 0 else []
+            self.depth += 1
+        elif END_PROCEDURE.match(code):
+            self.depth = max(self.depth - 1, 0)
+        elif self.depth == 0 and re.match(r'^\s*contains\s*$', code, re.I):
+            self.in_contains = True
+        elif self.depth == 0:
+            m = INTERFACE.match(code)
+            names = [g for g in m.groups() if g] if m else []
+            m = DECLARATION.match(code)
+            if m and not self.in_contains:
+                names += [re.match(r'\s*(\w*)', e).group(1) for e in split_args(m.group(1)) or []]
+        for name in names:
+            if name.lower() in RESERVED | {self.stem.lower() + '_suite', 'wrap' + self.stem.lower()}:
+                raise self.error(n, '"%s" is a name pFUnit defines in a test module (through use '
+                                    'funit) or in the suite it generates; rename it' % name)
+        return re.match(r'^\s*use\s+funit\s*$', code, re.I) is not None
 
-    def expand_assert(self, key, rest, line):
-        fname, min_pos, max_pos, keywords = SUPPORTED[key]
-        if not (rest.startswith('(') and matching_paren(rest, 0) == len(rest) - 1):
-            raise self.error(line, '@%s needs its arguments in parentheses: @%s(...)' % (fname, fname))
-        inner = rest[1:-1].strip()
-        args = split_top_level(inner, self.path, line) if inner else []
-        n_pos, seen_kw = 0, set()
-        for a in args:
-            km = KEYWORD_RE.match(a)
-            if km:
-                k = km.group(1).lower()
-                if k not in keywords:
-                    raise self.error(line, '@%s: keyword argument "%s=" is not supported (allowed: %s)'
-                                     % (fname, km.group(1), ', '.join(sorted(keywords))))
-                if k in seen_kw:
-                    raise self.error(line, '@%s: keyword "%s=" given twice' % (fname, km.group(1)))
-                seen_kw.add(k)
-            else:
-                if seen_kw:
-                    raise self.error(line, '@%s: positional argument "%s" after a keyword argument'
-                                     % (fname, a))
-                n_pos += 1
-        positional = [a for a in args if not KEYWORD_RE.match(a)]
-        if n_pos > max_pos or (n_pos == 3 and positional[2][:1] in ('"', "'")):
-            raise self.error(line, '@%s: too many positional arguments; give the message as '
-                             'message=... (pFUnit 4 requires the keyword)' % fname)
-        if n_pos + len(seen_kw & {'tolerance'}) < min_pos:
-            raise self.error(line, '@%s needs at least %d operands, got %d' % (fname, min_pos, n_pos))
-        pieces = ['call %s(' % fname] + [a + ', ' for a in args]
-        pieces.append("location=SourceLocation('%s', %d))" % (self.base.replace("'", "''"), line))
-        return wrap_statement(pieces, '  ') + '  if (anyExceptions()) return\n'
+    def take_subroutine(self, waiting, code, n):
+        key, line, disabled = waiting
+        m = SUBROUTINE.match(code)
+        if not m:
+            raise self.error(n, 'expected "subroutine <name>()" after @%s (line %d)' % (key, line))
+        if (m.group(2) or '').strip():
+            raise self.error(n, 'subroutine %s(%s): pfunit_lite runs tests without arguments '
+                                '(fixtures and test cases need real pFUnit)' % (m.group(1), m.group(2)))
+        if key == 'test':
+            self.tests.append((m.group(1), disabled))
+        else:
+            self.fixture[key] = m.group(1)
 
-    def write(self, outdir):
-        path = os.path.join(outdir, self.module + '.F90')
-        write_file(path, ''.join(self.output))
-        return path
-
-
-def write_file(path, text):
-    with open(path, 'w', encoding='utf-8') as f:
-        f.write(text)
+    def expand(self, key, name, rest, n):
+        spelling, fewest, most = ASSERTS[key]
+        args = split_args(rest[1:-1]) if rest.startswith('(') and rest.endswith(')') else None
+        if args is None:
+            raise self.error(n, '@%s needs its arguments in balanced parentheses: @%s(...)'
+                             % (name, spelling))
+        keywords = [KEYWORD.match(a).group(1).lower() for a in args if KEYWORD.match(a)]
+        positional = [a for a in args if not KEYWORD.match(a)]
+        if args[:len(positional)] != positional:
+            raise self.error(n, '@%s: a positional argument after a keyword argument' % name)
+        allowed = {'message', 'tolerance'} if key in TOLERANT else {'message'}
+        for k in keywords:
+            if k not in allowed or keywords.count(k) > 1:
+                raise self.error(n, '@%s: keyword "%s=" is not one of %s, once each'
+                                 % (name, k, ', '.join(sorted(allowed))))
+        if len(positional) > most or (most == 3 and len(positional) == 3
+                                      and positional[2][:1] in '\'"'):
+            raise self.error(n, '@%s: too many positional arguments; the suite gives the message as '
+                                'message=...' % name)
+        if len(positional) + ('tolerance' in keywords) < fewest:
+            raise self.error(n, '@%s needs %d operands' % (name, fewest))
+        wide = '  call %s(%s, &' % (name, rest[1:-1])
+        if len(wide) > COLUMNS:
+            raise self.error(n, '@%s: pFUnit writes this as a line of %d columns, over the %d that '
+                                'gfortran reads; shorten it' % (name, len(wide), COLUMNS))
+        call = '  call %s(%s, &\n#line %d\n    & location=SourceLocation(\'%s\', %d))\n' % (
+            spelling, rest[1:-1], n, self.base, n)
+        return call + '  if (anyExceptions()) return\n'
 
 
 def driver_source(files):
-    lines = [
-        '! Generated by pf2f90.py (pfunit_lite): runs every @test of',
-        '! ' + ', '.join(f.base for f in files) + '. Do not edit.',
-        'program funit_lite_driver',
-        '  use funit, only: funit_begin_test, funit_end_test, funit_skip_test, funit_summary, &',
-        '    anyExceptions',
-    ]
-    calls = []
-    k = 0
+    uses, calls, k = [], [], 0
     for f in files:
-        local = {}
-
-        def alias(proc):
-            nonlocal k
-            if proc not in local:
-                k += 1
-                local[proc] = 'funit_proc_%04d' % k
-                lines.append('  use %s, only: %s => %s' % (f.module, local[proc], proc))
-            return local[proc]
-
-        calls.append("  write (*, '(a)') '%s: %d test(s)'" % (f.base, len(f.tests)))
+        alias = {}
+        for proc in [t for t, _ in f.tests] + list(f.fixture.values()):
+            k += 1
+            alias[proc] = 'p%d' % k
+            uses.append('  use %s, only: p%d => %s' % (f.module, k, proc))
         for name, disabled in f.tests:
-            label = '%s::%s' % (f.module, name)
+            label = "'%s::%s'" % (f.module, name)
             if disabled:
-                calls.append("  call funit_skip_test('%s')" % label)
+                calls.append('  call funit_skip_test(%s)' % label)
                 continue
-            calls.append("  call funit_begin_test('%s')" % label)
-            if f.before:
-                calls.append('  call %s()' % alias(f.before))
-                calls.append('  if (.not. anyExceptions()) then')
-                calls.append('    call %s()' % alias(name))
-                if f.after:
-                    calls.append('    call %s()' % alias(f.after))
-                calls.append('  end if')
+            calls.append('  call funit_begin_test(%s)' % label)
+            body = ['call %s()' % alias[name]] + (['call %s()' % alias[f.fixture['after']]]
+                                                   if 'after' in f.fixture else [])
+            if 'before' in f.fixture:
+                calls.append('  call %s()' % alias[f.fixture['before']])
+                calls += ['  if (.not. anyExceptions()) then'] + ['    ' + b for b in body] + ['  end if']
             else:
-                calls.append('  call %s()' % alias(name))
-                if f.after:
-                    calls.append('  call %s()' % alias(f.after))
+                calls += ['  ' + b for b in body]
             calls.append('  call funit_end_test()')
-    lines += ['  implicit none', '  integer :: n_failed', '']
-    lines += calls
-    lines += ['', '  call funit_summary(n_failed)', '  if (n_failed > 0) error stop 1',
-              'end program funit_lite_driver', '']
-    return '\n'.join(lines)
+    return '\n'.join(['! Written by pf2f90.py (pfunit_lite).', 'program funit_lite_driver',
+                      '  use funit, only: funit_begin_test, funit_end_test, funit_skip_test, &',
+                      '    funit_summary, anyExceptions'] + uses +
+                     ['  implicit none', '  integer :: n_failed'] + calls +
+                     ['  call funit_summary(n_failed)', '  if (n_failed > 0) error stop 1',
+                      'end program funit_lite_driver', ''])
 
 
 def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument('--outdir', required=True, help='directory for the generated modules')
-    ap.add_argument('--driver', required=True, help='path of the generated driver program')
-    ap.add_argument('sources', nargs='+', help='.pf files')
+    ap.add_argument('--outdir', required=True)
+    ap.add_argument('--driver', required=True)
+    ap.add_argument('sources', nargs='+')
     opts = ap.parse_args(argv)
     try:
-        files = []
-        for src in opts.sources:
-            pf = PfFile(src)
-            pf.translate()
-            files.append(pf)
-        names = {}
-        for pf in files:
-            if pf.module.lower() in names:
-                raise PfError(pf.path, 1, 'module %s also defined in %s'
-                              % (pf.module, names[pf.module.lower()]))
-            names[pf.module.lower()] = pf.path
+        files = [PfFile(src) for src in opts.sources]
+        for f in files:
+            f.translate()
         os.makedirs(opts.outdir, exist_ok=True)
-        for pf in files:
-            pf.write(opts.outdir)
-        write_file(opts.driver, driver_source(files))
-    except PfError as e:
-        sys.stderr.write('pf2f90: %s\n' % e)
-        return 1
-    except OSError as e:
+        for f in files:
+            with open(os.path.join(opts.outdir, f.stem + '.F90'), 'w', encoding='utf-8') as out:
+                out.write(''.join(f.out))
+        with open(opts.driver, 'w', encoding='utf-8') as out:
+            out.write(driver_source(files))
+    except (PfError, OSError) as e:
         sys.stderr.write('pf2f90: %s\n' % e)
         return 1
     return 0
