@@ -168,7 +168,7 @@ class PfFile:
             elif key == 'disable':
                 if rest or not waiting or waiting[0] != 'test':
                     raise self.error(n, '@disable goes alone on the line between @test and its '
-                                        'subroutine (pFUnit ignores it elsewhere)')
+                                        'subroutine (elsewhere pFUnit loses it or fails)')
                 waiting[2] = True
             elif key in ASSERTS:
                 self.out.append('#line %d\n' % n)
@@ -191,9 +191,9 @@ class PfFile:
             raise self.error(1, 'no "module %s": pFUnit 4 wants one module named after the file'
                              % self.stem)
         if not uses_funit:
-            raise self.error(self.module_line, 'module %s does not "use funit" on a line of its own (pFUnit 4 test '
-                                'modules use funit; pfunit is MPI-only, pfunit_mod is gone)'
-                             % self.module)
+            raise self.error(self.module_line, 'module %s does not "use funit" on a line of its '
+                             'own (pFUnit 4 test modules use funit; pfunit is MPI-only, pfunit_mod '
+                             'is gone)' % self.module)
         if not self.tests:
             raise self.error(1, 'no @test in %s' % self.base)
 
