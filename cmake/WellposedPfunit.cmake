@@ -1,19 +1,13 @@
 # WellposedPfunit.cmake: register pFUnit 4 .pf test files as CTest tests.
-#
 #   wellposed_add_pf_test(NAME <name> SOURCES <file.pf>... [<helper.f90>...]
 #                         [LINK_LIBRARIES <lib>...] [LABELS <label>...]
 #                         [WORKING_DIRECTORY <dir>])
-#
-# Builds an executable <name> from the .pf files (each holding one module
-# named after the file) and any plain Fortran helpers, and adds the test
-# <name> with those labels, run in CMAKE_CURRENT_BINARY_DIR unless
-# WORKING_DIRECTORY is given. Relative paths are relative to
-# CMAKE_CURRENT_SOURCE_DIR.
-#
-# With pFUnit (the caller ran `find_package(PFUNIT 4 QUIET)`, PFUNIT_FOUND)
-# this is add_pfunit_ctest(). Without it, pfunit_lite (tests/pfunit_lite):
-# pf2f90.py translates the .pf files at build time and the test links
-# `wellposed_funit`, a module `funit` that gen_funit.py writes.
+# One executable and test <name> (run in CMAKE_CURRENT_BINARY_DIR unless
+# WORKING_DIRECTORY is given); the module in each .pf is named after the
+# file. With pFUnit found (find_package(PFUNIT 4 QUIET)) this is
+# add_pfunit_ctest(); without it, tests/pfunit_lite: pf2f90.py translates
+# the .pf files and gen_funit.py writes their `funit` module, at build
+# time. See docs/testing.md.
 
 include_guard(GLOBAL)
 
