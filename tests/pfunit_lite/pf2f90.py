@@ -26,20 +26,11 @@ import sys
 # Directive (lower case) -> (spelling, fewest operands counting tolerance=,
 # most positional). The suite gives the message by keyword, message=, and
 # tolerance= only where a tolerance can be.
-ASSERTS = {
-    'assertequal': ('assertEqual', 2, 3),
-    'assertrelativelyequal': ('assertRelativelyEqual', 3, 3),
-    'asserttrue': ('assertTrue', 1, 1),
-    'assertfalse': ('assertFalse', 1, 1),
-    'assertlessthan': ('assertLessThan', 2, 2),
-    'assertlessthanorequal': ('assertLessThanOrEqual', 2, 2),
-    'assertgreaterthan': ('assertGreaterThan', 2, 2),
-    'assertgreaterthanorequal': ('assertGreaterThanOrEqual', 2, 2),
-    'assertisfinite': ('assertIsFinite', 1, 1),
-    'assertisnan': ('assertIsNaN', 1, 1),
-    'assertall': ('assertAll', 1, 1),
-    'assertany': ('assertAny', 1, 1),
-}
+ASSERTS = {spelling.lower(): (spelling, fewest, most) for spelling, fewest, most in (
+    ('assertEqual', 2, 3), ('assertRelativelyEqual', 3, 3), ('assertTrue', 1, 1),
+    ('assertFalse', 1, 1), ('assertLessThan', 2, 2), ('assertLessThanOrEqual', 2, 2),
+    ('assertGreaterThan', 2, 2), ('assertGreaterThanOrEqual', 2, 2), ('assertIsFinite', 1, 1),
+    ('assertIsNaN', 1, 1), ('assertAll', 1, 1), ('assertAny', 1, 1))}
 TOLERANT = {'assertequal', 'assertrelativelyequal'}
 # pFUnit 4 directives the suite does not use, so pfunit_lite lacks them.
 PFUNIT_ONLY = {'assertnotequal', 'assertnotall', 'assertnone', 'assertsameshape', 'assertfail',
