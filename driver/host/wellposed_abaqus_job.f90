@@ -16,11 +16,13 @@ contains
 
   !> End the run now, as Abaqus' XIT does: `why` on standard error, exit
   !> status 3; the run folder stays <name>.partial (nothing looks finished).
+  !> A plain STOP (no backtrace: the UMAT's own message says why); under
+  !> mpirun a rank ending without MPI_Finalize ends the whole job.
   subroutine abaqus_abort(why)
     character(len=*), intent(in) :: why
     write (error_unit, '(a)') 'wellposed: '//why//'; the run stops here and its output '// &
       'stays unfinished (<name>.partial)'
-    error stop 3
+    stop 3
   end subroutine abaqus_abort
 
   !> The running job's output folder (where a UMAT may write its own files)
