@@ -23,11 +23,11 @@ contains
     logical, intent(out) :: ok
     integer :: n, i, k, piv
     real(dp) :: factor, big
-    real(dp), allocatable :: row(:), rhs(:), col_scale(:)
+    ! Automatic arrays (on the stack): no heap allocation on a model's path.
+    real(dp) :: row(size(a, 2)), rhs(size(b, 2)), col_scale(size(a, 1))
 
     n = size(a, 1)
     ok = .false.
-    allocate (row(n), rhs(size(b, 2)), col_scale(n))
     do k = 1, n
       big = maxval(abs(a(:, k)))
       if (.not. (big > 0.0_dp .and. big <= huge(big))) return
