@@ -15,7 +15,7 @@ module wellposed_umat_adapter
   use wellposed_umat_layout
   implicit none
   private
-  public :: umat_update, cutback_factor
+  public :: umat_update, cutback_factor, check_props, explain, fault_non_finite
 
   !> PNEWDT requested on status -2 (a smaller increment may succeed).
   real(dp), parameter :: cutback_factor = 0.5_dp
@@ -126,9 +126,28 @@ contains
     type(dp_params_t), intent(out) :: p
     logical, intent(out) :: want_tangent
     integer, intent(out) :: fault
-    real(dp) :: pr(nprops_known)
-    integer :: i, param_fault
 
+    call check_props(ndi, nshr, ntens, nstatv, nprops, props, dtime, p, want_tangent, fault)
+    if (fault /= 0) return
+    fault = fault_non_finite
+    if (.not. (all_finite(stress) .and. all_finite(dstran) .and. all_finite(stran) .and. &
+               all_finite(statev(1:nstatv_min)))) return
+    fault = 0
+  end subroutine check_inputs
+
+  !> The checks of check_inputs that concern a whole block of points: layout,
+  !> PROPS (fill_dp_params) and DTIME.
+  pure subroutine check_props(ndi, nshr, ntens, nstatv, nprops, props, dtime, p, want_tangent, &
+                              fault)
+    integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops
+    real(dp), intent(in) :: props(nprops), dtime
+    type(dp_params_t), intent(out) :: p
+    logical, intent(out) :: want_tangent
+    integer, intent(out) :: fault
+    real(dp) :: pr(nprops_known)
+    integer :: param_fault
+
+    want_tangent = .false.
     fault = layout_fault(ndi, nshr, ntens, nstatv, nprops, props)
     if (fault /= 0) return
     pr = 0.0_dp
@@ -142,14 +161,8 @@ contains
     fault = fault_dtime
     if (.not. is_finite(dtime)) return
     if (dtime < 0.0_dp) return
-    fault = fault_non_finite
-    do i = 1, ntens
-      if (.not. (is_finite(stress(i)) .and. is_finite(dstran(i)) .and. is_finite(stran(i)))) &
-        return
-    end do
-    if (.not. all_finite(statev(1:nstatv_min))) return
     fault = 0
-  end subroutine check_inputs
+  end subroutine check_props
 
   !> 0 when the dimensions and array sizes are ones the contract supports
   !> and PROPS past the known slots are 0, else the fault_* code.
