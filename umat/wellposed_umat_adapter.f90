@@ -150,8 +150,12 @@ contains
     want_tangent = .false.
     fault = layout_fault(ndi, nshr, ntens, nstatv, nprops, props)
     if (fault /= 0) return
-    pr = 0.0_dp
-    pr(1:min(nprops, nprops_known)) = props(1:min(nprops, nprops_known))
+    if (nprops >= nprops_known) then
+      pr = props(1:nprops_known)
+    else
+      pr = 0.0_dp
+      pr(1:nprops) = props
+    end if
     call fill_dp_params(p, pr(1:n_params), param_fault)
     fault = fault_params
     if (param_fault /= 0) return

@@ -1,6 +1,7 @@
 !> Small dense linear solves for local Newton iterations (a handful of
 !> unknowns, so no LAPACK call overhead and pure for use inside the models).
 module wellposed_dense
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
   implicit none
   private
@@ -55,7 +56,10 @@ contains
       end do
     end do
     do k = n, 1, -1
-      b(k, :) = (b(k, :) - matmul(a(k, k + 1:n), b(k + 1:n, :)))/a(k, k)
+      do i = k + 1, n
+        b(k, :) = b(k, :) - a(k, i)*b(i, :)
+      end do
+      b(k, :) = b(k, :)/a(k, k)
     end do
     do k = 1, n
       b(k, :) = b(k, :)/col_scale(k)
@@ -63,10 +67,14 @@ contains
     ok = .true.
   end subroutine solve_dense
 
-  !> The largest power of two not above `x` > 0 (dividing by it is exact).
+  !> The largest power of two not above `x` > 0 (dividing by it is exact):
+  !> x with its mantissa bits cleared, or by set_exponent when x is
+  !> subnormal (the bit form is then 0).
   elemental real(dp) function power_of_two(x) result(p)
     real(dp), intent(in) :: x
-    p = set_exponent(1.0_dp, exponent(x))
+    integer(int64), parameter :: exponent_bits = int(z'7FF0000000000000', int64)
+    p = transfer(iand(transfer(x, 0_int64), exponent_bits), 1.0_dp)
+    if (p == 0.0_dp) p = set_exponent(1.0_dp, exponent(x))
   end function power_of_two
 
 end module wellposed_dense

@@ -6,7 +6,7 @@
 !> optional feature off.
 module wellposed_dp_params
   use wellposed_kinds, only: dp
-  use wellposed_finite, only: is_finite
+  use wellposed_finite, only: is_finite, all_finite
   use wellposed_text, only: real_text
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_elasticity, only: elastic_t
@@ -72,11 +72,12 @@ contains
     real(dp) :: slope
     integer :: i
 
-    do i = 1, n_params
-      if (.not. is_finite(v(i))) then
-        fault = i; return
-      end if
-    end do
+    if (.not. all_finite(v)) then
+      do i = 1, n_params
+        if (.not. is_finite(v(i))) exit
+      end do
+      fault = i; return
+    end if
     fault = fault_bulk
     if (.not. v(1) > 0.0_dp) return
     fault = fault_shear

@@ -216,9 +216,10 @@ contains
         coef = 0.0_dp
         qn = p%hard%h/(3.0_dp*p%beta)
         if (dz > 0.0_dp) coef = qn/(1.0_dp + qn*(dep(1) + dep(2) + dep(3))/(dz*3.0_dp*bulk))/dz
-        tangent = 0.0_dp
         do j = 1, n
-          tangent(1:3, j) = coef*dep(j)
+          do i = 1, n
+            tangent(i, j) = merge(coef*dep(j), 0.0_dp, i <= 3)
+          end do
         end do
       end if
     end if
@@ -229,10 +230,7 @@ contains
       sig_new = sig_new + w*(sig_tr - sig_new)
       dep = (1.0_dp - w)*dep
       dz = (1.0_dp - w)*dz
-      if (present(tangent)) then
-        tangent = (1.0_dp - w)*tangent
-        call add_voigt_stiffness(bulk, shear, n, w, tangent)
-      end if
+      if (present(tangent)) call blend_voigt_stiffness(bulk, shear, n, w, tangent)
       i1 = sig_new(1) + sig_new(2) + sig_new(3)
       s(1:3) = sig_new(1:3) - i1/3.0_dp
       s(4:6) = sig_new(4:6)
@@ -252,26 +250,38 @@ contains
   end subroutine point_closed_form
 
   !> The isotropic stiffness in Voigt form (leading n x n block):
-  !> K + 4G/3 and K - 2G/3 on the normal block, G on the shears.
+  !> K + 4G/3 and K - 2G/3 on the normal block, G on the shears. Written
+  !> element by element (no separate zeroing pass).
   pure subroutine voigt_stiffness(bulk, shear, n, c)
     real(dp), intent(in) :: bulk, shear
     integer, intent(in) :: n
     real(dp), intent(out) :: c(n, n)
-    c = 0.0_dp
-    call add_voigt_stiffness(bulk, shear, n, 1.0_dp, c)
+    real(dp) :: lam
+    integer :: i, j
+    lam = bulk - 2.0_dp*shear/3.0_dp
+    do j = 1, n
+      do i = 1, n
+        c(i, j) = merge(lam, 0.0_dp, i <= 3 .and. j <= 3)
+      end do
+      c(j, j) = c(j, j) + merge(2.0_dp*shear, shear, j <= 3)
+    end do
   end subroutine voigt_stiffness
 
-  !> c += w C (Voigt form, leading n x n block).
-  pure subroutine add_voigt_stiffness(bulk, shear, n, w, c)
+  !> c = (1 - w) c + w C (Voigt form, leading n x n block).
+  pure subroutine blend_voigt_stiffness(bulk, shear, n, w, c)
     real(dp), intent(in) :: bulk, shear, w
     integer, intent(in) :: n
     real(dp), intent(inout) :: c(n, n)
-    integer :: i
-    c(1:3, 1:3) = c(1:3, 1:3) + w*(bulk - 2.0_dp*shear/3.0_dp)
-    do i = 1, n
-      c(i, i) = c(i, i) + w*merge(2.0_dp*shear, shear, i <= 3)
+    real(dp) :: lam
+    integer :: i, j
+    lam = bulk - 2.0_dp*shear/3.0_dp
+    do j = 1, n
+      do i = 1, n
+        c(i, j) = (1.0_dp - w)*c(i, j) + w*merge(lam, 0.0_dp, i <= 3 .and. j <= 3)
+      end do
+      c(j, j) = c(j, j) + w*merge(2.0_dp*shear, shear, j <= 3)
     end do
-  end subroutine add_voigt_stiffness
+  end subroutine blend_voigt_stiffness
 
   !> Elastic energy density sigma : C^-1 : sigma / 2 of a stress in tensor
   !> components: ||S||^2/(4G) + I1^2/(18K).
