@@ -22,12 +22,34 @@ contains
     real(dp), intent(inout) :: a(:, :)
     real(dp), intent(inout) :: b(:, :)
     logical, intent(out) :: ok
-    integer :: n, i, k, piv
-    real(dp) :: factor, big
-    ! Automatic arrays (on the stack): no heap allocation on a model's path.
-    real(dp) :: row(size(a, 2)), rhs(size(b, 2)), col_scale(size(a, 1))
-
+    ! The column scales live in a fixed buffer up to max_fixed unknowns
+    ! (gfortran puts automatic arrays on the heap): no allocation on a
+    ! model's path.
+    integer, parameter :: max_fixed = 32
+    real(dp) :: scale_fixed(max_fixed)
+    real(dp), allocatable :: scale_heap(:)
+    integer :: n, m
     n = size(a, 1)
+    m = size(b, 2)
+    if (n <= max_fixed) then
+      call eliminate(n, m, a, b, scale_fixed, ok)
+    else
+      allocate (scale_heap(n))
+      call eliminate(n, m, a, b, scale_heap, ok)
+    end if
+  end subroutine solve_dense
+
+  !> solve_dense on explicit-shape arrays (contiguous: the compiler can
+  !> specialise it for a caller's fixed n), the column scales' storage given.
+  pure subroutine eliminate(n, m, a, b, col_scale, ok)
+    integer, intent(in) :: n, m
+    real(dp), intent(inout) :: a(n, n)
+    real(dp), intent(inout) :: b(n, m)
+    real(dp), intent(out) :: col_scale(*)
+    logical, intent(out) :: ok
+    integer :: i, j, k, piv
+    real(dp) :: factor, big, swap
+
     ok = .false.
     do k = 1, n
       big = maxval(abs(a(:, k)))
@@ -46,8 +68,12 @@ contains
       piv = k - 1 + maxloc(abs(a(k:n, k)), dim=1)
       if (.not. abs(a(piv, k)) > 1.0e3_dp*epsilon(1.0_dp)) return
       if (piv /= k) then
-        row = a(k, :); a(k, :) = a(piv, :); a(piv, :) = row
-        rhs = b(k, :); b(k, :) = b(piv, :); b(piv, :) = rhs
+        do j = 1, n
+          swap = a(k, j); a(k, j) = a(piv, j); a(piv, j) = swap
+        end do
+        do j = 1, m
+          swap = b(k, j); b(k, j) = b(piv, j); b(piv, j) = swap
+        end do
       end if
       do i = k + 1, n
         factor = a(i, k)/a(k, k)
@@ -65,7 +91,7 @@ contains
       b(k, :) = b(k, :)/col_scale(k)
     end do
     ok = .true.
-  end subroutine solve_dense
+  end subroutine eliminate
 
   !> The largest power of two not above `x` > 0 (dividing by it is exact):
   !> x with its mantissa bits cleared, or by set_exponent when x is
