@@ -1,9 +1,10 @@
 !> The UMAT contract implemented on typed arguments: validation, unpacking
 !> of PROPS/STATEV, the call of the point update (wellposed_dp_point, in
 !> tensor components: the Abaqus<->model conversion is a factor 1/2 on the
-!> engineering shears), packing back, and the contract's error behaviour. The external `umat` (umat.f90) only forwards
-!> here and prints the message of an invalid input; hosts and tests that
-!> want the message as a value call umat_update directly.
+!> engineering shears), packing back, and the contract's error behaviour
+!> (docs/umat.md). The external `umat` (umat.f90) only forwards here and
+!> prints the message of an invalid input; hosts and tests that want the
+!> message as a value call umat_update directly.
 module wellposed_umat_adapter
   use wellposed_kinds, only: dp
   use wellposed_finite, only: is_finite, all_finite

@@ -64,9 +64,17 @@ contains
       a(i, :) = a(i, :)/factor
       b(i, :) = b(i, :)/factor
     end do
+    ! Column-oriented elimination; the multipliers overwrite column k.
     do k = 1, n
-      piv = k - 1 + maxloc(abs(a(k:n, k)), dim=1)
-      if (.not. abs(a(piv, k)) > 1.0e3_dp*epsilon(1.0_dp)) return
+      piv = k
+      big = abs(a(k, k))
+      do i = k + 1, n
+        if (abs(a(i, k)) > big) then
+          piv = i
+          big = abs(a(i, k))
+        end if
+      end do
+      if (.not. big > 1.0e3_dp*epsilon(1.0_dp)) return
       if (piv /= k) then
         do j = 1, n
           swap = a(k, j); a(k, j) = a(piv, j); a(piv, j) = swap
@@ -76,9 +84,17 @@ contains
         end do
       end if
       do i = k + 1, n
-        factor = a(i, k)/a(k, k)
-        a(i, k:n) = a(i, k:n) - factor*a(k, k:n)
-        b(i, :) = b(i, :) - factor*b(k, :)
+        a(i, k) = a(i, k)/a(k, k)
+      end do
+      do j = k + 1, n
+        do i = k + 1, n
+          a(i, j) = a(i, j) - a(i, k)*a(k, j)
+        end do
+      end do
+      do j = 1, m
+        do i = k + 1, n
+          b(i, j) = b(i, j) - a(i, k)*b(k, j)
+        end do
       end do
     end do
     do k = n, 1, -1
