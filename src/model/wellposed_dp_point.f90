@@ -27,6 +27,7 @@ module wellposed_dp_point
   public :: point_update, point_closed_form, has_closed_form, voigt_stiffness, &
             elastic_energy
 
+  real(dp), parameter :: third = 1.0_dp/3.0_dp, rsqrt2 = 1.0_dp/sqrt2
   !> Shear scale between tensor and Mandel components.
   real(dp), parameter :: mandel(ntens6) = [1.0_dp, 1.0_dp, 1.0_dp, sqrt2, sqrt2, sqrt2]
 
@@ -110,7 +111,7 @@ contains
     real(dp), intent(inout), optional :: tangent(n, n)
     real(dp) :: bulk, shear, zeta_new, tr_de, sig_tr(ntens6), s(ntens6), i1_tr, q, k_n, f_tr
     real(dp) :: x, x_max, shrink, i1, dep(ntens6), dz, sig_new(ntens6), w, s_ap, c0, c1, a2
-    real(dp) :: b2, c2, disc, sh(ntens6), cm(ntens6), cn(ntens6), rate, lam, g2, coef, qn
+    real(dp) :: b2, c2, disc, sh(ntens6), cm(ntens6), cn(ntens6), rate, lam, g2, coef, qn, rn
     integer :: i, j
     logical :: apex
 
@@ -119,14 +120,14 @@ contains
     zeta_new = zeta + p%h_zeta*avg_dlambda
     ! Elastic trial C : de (eq. 1.5).
     tr_de = de(1) + de(2) + de(3)
-    sig_tr(1:3) = sig(1:3) + 2.0_dp*shear*(de(1:3) - tr_de/3.0_dp) + bulk*tr_de
+    sig_tr(1:3) = sig(1:3) + 2.0_dp*shear*(de(1:3) - third*tr_de) + bulk*tr_de
     sig_tr(4:6) = sig(4:6) + 2.0_dp*shear*de(4:6)
     i1_tr = sig_tr(1) + sig_tr(2) + sig_tr(3)
-    s(1:3) = sig_tr(1:3) - i1_tr/3.0_dp
+    s(1:3) = sig_tr(1:3) - third*i1_tr
     s(4:6) = sig_tr(4:6)
     q = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp*(s(4)**2 + s(5)**2 + s(6)**2))
     k_n = p%hard%k0 + p%hard%h*z + zeta_new
-    f_tr = q/sqrt2 + p%beta*i1_tr - k_n
+    f_tr = rsqrt2*q + p%beta*i1_tr - k_n
 
     if (.not. f_tr > 0.0_dp) then
       sig = sig_tr
@@ -151,12 +152,13 @@ contains
         return
       end if
       shrink = 1.0_dp - x/x_max
-      i1 = i1_tr - 9.0_dp*bulk*p%beta_p*x/p%n_m
+      rn = 1.0_dp/p%n_m
+      i1 = i1_tr - 9.0_dp*bulk*p%beta_p*x*rn
       sig_new = shrink*s
-      sig_new(1:3) = sig_new(1:3) + i1/3.0_dp
+      sig_new(1:3) = sig_new(1:3) + third*i1
       ! d eps^p = x M_hat, M_hat = (S_hat/sqrt(2) + beta_p I)/n_m (eq. 4.35).
-      dep = (x/(sqrt2*q*p%n_m))*s
-      dep(1:3) = dep(1:3) + x*p%beta_p/p%n_m
+      dep = (rsqrt2*x*rn/q)*s
+      dep(1:3) = dep(1:3) + x*p%beta_p*rn
       dz = x
       status = state_plastic
     else
@@ -195,15 +197,15 @@ contains
       if (.not. apex) then
         ! Consistent cone tangent (Voigt form of the Mandel
         ! C - (C:M_hat)(x)(C:N)/(a + h) - x 2 sqrt(2) G^2/(n_m q)(Pdev - S_hat (x) S_hat)).
-        sh = s/q
+        sh = (1.0_dp/q)*s
         cm = sqrt2*shear*sh
         cn = cm
         cm(1:3) = cm(1:3) + 3.0_dp*bulk*p%beta_p
-        cm = cm/p%n_m
+        cm = cm*rn
         cn(1:3) = cn(1:3) + 3.0_dp*bulk*p%beta
         rate = 1.0_dp/(p%a_m + p%hard%h)
-        g2 = x*2.0_dp*sqrt2*shear**2/(p%n_m*q)
-        lam = bulk - 2.0_dp*shear/3.0_dp + g2/3.0_dp
+        g2 = x*2.0_dp*sqrt2*shear**2*rn/q
+        lam = bulk - third*(2.0_dp*shear - g2)
         do j = 1, n
           do i = 1, n
             tangent(i, j) = g2*sh(i)*sh(j) - cm(i)*cn(j)*rate
@@ -237,7 +239,7 @@ contains
       q = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp*(s(4)**2 + s(5)**2 + s(6)**2))
       f = q/sqrt2 + p%beta*i1 - (p%hard%k0 + p%hard%h*(z + dz)) - zeta_new
     else if (.not. apex) then
-      f = shrink*q/sqrt2 + p%beta*i1 - (p%hard%k0 + p%hard%h*(z + dz)) - zeta_new
+      f = rsqrt2*shrink*q + p%beta*i1 - (p%hard%k0 + p%hard%h*(z + dz)) - zeta_new
     else
       f = 3.0_dp*p%beta*s_ap - (p%hard%k0 + p%hard%h*(z + dz)) - zeta_new
     end if
