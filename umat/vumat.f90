@@ -1,4 +1,5 @@
-!> The Abaqus/Explicit VUMAT entry point of wellposed: an external
+!> The Abaqus/Explicit VUMAT entry point of wellposed (docs/umat.md, "The
+!> VUMAT"): an external
 !> subroutine with the documented argument list, callable from free- or
 !> fixed-form Fortran without any module. All work is done by
 !> wellposed_vumat_adapter; this routine forwards. Abaqus/Explicit cannot cut

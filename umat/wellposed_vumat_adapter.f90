@@ -9,7 +9,7 @@
 !> the plastic strain (slots 5-10) in this same order and convention.
 !> Energies are per unit mass: the internal energy grows by the trapezoidal
 !> stress power (sigma_old + sigma_new) : d eps/(2 rho), the inelastic one
-!> by (sigma_old + sigma_new) : d eps^p/(2 rho).
+!> by (sigma_old + sigma_new) : d eps^p/(2 rho). Contract: docs/umat.md.
 module wellposed_vumat_adapter
   use wellposed_kinds, only: dp
   use wellposed_finite, only: all_finite, is_finite
