@@ -120,14 +120,14 @@ contains
     zeta_new = zeta + p%h_zeta*avg_dlambda
     ! Elastic trial C : de (eq. 1.5).
     tr_de = de(1) + de(2) + de(3)
-    sig_tr(1:3) = sig(1:3) + 2.0_dp*shear*(de(1:3) - third*tr_de) + bulk*tr_de
+    sig_tr(1:3) = sig(1:3) + 2.0_dp*shear*(de(1:3) - tr_de/3.0_dp) + bulk*tr_de
     sig_tr(4:6) = sig(4:6) + 2.0_dp*shear*de(4:6)
     i1_tr = sig_tr(1) + sig_tr(2) + sig_tr(3)
-    s(1:3) = sig_tr(1:3) - third*i1_tr
+    s(1:3) = sig_tr(1:3) - i1_tr/3.0_dp
     s(4:6) = sig_tr(4:6)
     q = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp*(s(4)**2 + s(5)**2 + s(6)**2))
     k_n = p%hard%k0 + p%hard%h*z + zeta_new
-    f_tr = rsqrt2*q + p%beta*i1_tr - k_n
+    f_tr = q/sqrt2 + p%beta*i1_tr - k_n
 
     if (.not. f_tr > 0.0_dp) then
       sig = sig_tr
@@ -155,7 +155,7 @@ contains
       rn = 1.0_dp/p%n_m
       i1 = i1_tr - 9.0_dp*bulk*p%beta_p*x*rn
       sig_new = shrink*s
-      sig_new(1:3) = sig_new(1:3) + third*i1
+      sig_new(1:3) = sig_new(1:3) + i1/3.0_dp
       ! d eps^p = x M_hat, M_hat = (S_hat/sqrt(2) + beta_p I)/n_m (eq. 4.35).
       dep = (rsqrt2*x*rn/q)*s
       dep(1:3) = dep(1:3) + x*p%beta_p*rn
