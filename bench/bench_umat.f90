@@ -1,15 +1,24 @@
 !> bench_umat: nanoseconds per UMAT call (NTENS 6) for elastic, plastic-cone
 !> and apex increments of the case-study material, with DDSDDE and without
-!> it (PROPS(14) = 1, an explicit host), and the ratio of each to the cost of
-!> the elastic trial stress alone (bench_elastic_trial), all measured in this
-!> one run: the ratios hold on a shared machine where absolute times drift.
+!> it (PROPS(14) = 1, an explicit host), as ratios to two lower bounds
+!> measured in the same run: the elastic trial stress alone
+!> (bench_elastic_trial) and a minimal closed-form Drucker-Prager return with
+!> its tangent, no validation and no conversions (bench_reference). Then the
+!> extended flow rule against the regular cone call, and where a cone call's
+!> time goes. Times are CPU time (what other processes take is not
+!> counted) and every figure is the fastest of 30 short rounds, each round
+!> timing every case once, so that the ratios hold on a shared machine
+!> where absolute times drift.
 !>
-!> Usage: bench_umat [calls per case]   (default 2,000,000; use a small number
-!> under valgrind --tool=callgrind for instruction counts)
+!> Usage: bench_umat [calls per case and round]   (default 20,000, the EFR
+!> cases a twentieth of it; use a small number under
+!> valgrind --tool=callgrind for instruction counts)
 program bench_umat
-  use, intrinsic :: iso_fortran_env, only: int64, output_unit
+  use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_kinds, only: dp
   use wellposed_umat_interface, only: umat
+  use wellposed_dp_params, only: dp_params_t, fill_dp_params
+  use wellposed_dp_point, only: point_closed_form
   implicit none
   interface
     subroutine bench_elastic_trial(stress, statev, ddsdde, dstran, nstatv)
@@ -18,13 +27,23 @@ program bench_umat
       real(dp), intent(inout) :: stress(6), statev(nstatv)
       real(dp), intent(in) :: ddsdde(6, 6), dstran(6)
     end subroutine bench_elastic_trial
+    subroutine bench_reference(stress, statev, ddsdde, dstran, props, tangent)
+      import :: dp
+      real(dp), intent(inout) :: stress(6), statev(12), ddsdde(6, 6)
+      real(dp), intent(in) :: dstran(6), props(5)
+      logical, intent(in) :: tangent
+    end subroutine bench_reference
   end interface
+  integer, parameter :: nrounds = 30
   character(len=*), parameter :: names(3) = ['elastic     ', 'plastic cone', 'apex        ']
-  real(dp) :: strains(6, 3), base_stress(6, 3), t_trial, t_case(3, 2), sink
-  integer :: ncalls, icase, itan
+  character(len=34), parameter :: efr_names(3) = [character(len=34) :: 'regular flow rule', &
+    'EFR P_v = 0.5 (the dissertation)', 'EFR P_d = 0.5 (seven unknowns)']
+  real(dp) :: strains(6, 3), base_stress(6, 3), props(14)
+  real(dp) :: t_trial, t_case(3, 2), t_ref(3, 2), t_efr(3, 2), t_check, t_kernel, sink
+  integer :: ncalls, icase, itan, iround, i
   character(len=32) :: arg
 
-  ncalls = 2000000
+  ncalls = 20000
   if (command_argument_count() >= 1) then
     call get_command_argument(1, arg)
     read (arg, *) ncalls
@@ -37,80 +56,217 @@ program bench_umat
   strains(:, 2) = [1.0e-4_dp, -2.0e-5_dp, 3.0e-5_dp, 4.0e-5_dp, -1.0e-5_dp, 2.0e-5_dp]
   base_stress(:, 3) = 0.0_dp
   strains(:, 3) = [3.0e-3_dp, 2.0e-3_dp, 2.5e-3_dp, 1.0e-4_dp, -2.0e-4_dp, 3.0e-4_dp]
-
+  props = 0.0_dp
+  props(1:5) = [4.0e9_dp, 1.5e9_dp, 0.315_dp, 0.0_dp, 5.066e6_dp]
   sink = 0.0_dp
-  t_trial = time_trial(base_stress(:, 2), strains(:, 2))
-  do itan = 1, 2
-    do icase = 1, 3
-      t_case(icase, itan) = time_umat(base_stress(:, icase), strains(:, icase), icase, itan == 2)
+  call check_reference()
+  t_trial = huge(1.0_dp); t_case = huge(1.0_dp); t_ref = huge(1.0_dp); t_efr = huge(1.0_dp)
+  t_check = huge(1.0_dp); t_kernel = huge(1.0_dp)
+  do iround = 1, nrounds
+    t_trial = min(t_trial, time_trial(base_stress(:, 2), strains(:, 2)))
+    do itan = 1, 2
+      do icase = 1, 3
+        t_case(icase, itan) = min(t_case(icase, itan), time_umat(props, base_stress(:, icase), &
+          strains(:, icase), icase - 1, itan == 2, ncalls))
+        t_ref(icase, itan) = min(t_ref(icase, itan), time_reference(base_stress(:, icase), &
+          strains(:, icase), itan == 1))
+      end do
+      do i = 1, 3
+        t_efr(i, itan) = min(t_efr(i, itan), time_umat(efr_props(i), base_stress(:, 2), &
+                             strains(:, 2), 1, itan == 2, max(1, ncalls/20)))
+      end do
     end do
+    t_check = min(t_check, time_check())
+    t_kernel = min(t_kernel, time_kernel(base_stress(:, 2), strains(:, 2)))
   end do
 
-  write (output_unit, '(a,i0,a)') 'bench_umat: ', ncalls, ' calls per case, NTENS = 6'
-  write (output_unit, '(a,f8.1,a)') '  elastic trial alone (lower bound):   ', t_trial, ' ns'
-  write (output_unit, '(a)') '  case            with DDSDDE   ratio   without   ratio'
+  write (output_unit, '(a,i0,a,i0,a)') 'bench_umat: ', ncalls, ' calls per case and round, ', &
+    nrounds, ' rounds (fastest kept), NTENS = 6'
+  write (output_unit, '(a,f7.1,a)') '  elastic trial alone (lower bound):  ', t_trial, ' ns'
+  write (output_unit, '(a)') '  case          DDSDDE  ref ns  umat ns  /trial  /ref  |'// &
+    '  explicit  ref ns  umat ns  /trial  /ref'
   do icase = 1, 3
-    write (output_unit, '(2x,a,f13.1,a,f6.2,f9.1,a,f6.2)') names(icase), t_case(icase, 1), &
-      ' ns', t_case(icase, 1)/t_trial, t_case(icase, 2), ' ns', t_case(icase, 2)/t_trial
+    write (output_unit, '(2x,a12,2(6x,2f8.1,f8.2,f6.2,3x))') names(icase), &
+      (t_ref(icase, itan), t_case(icase, itan), t_case(icase, itan)/t_trial, &
+       t_case(icase, itan)/t_ref(icase, itan), itan = 1, 2)
   end do
+  write (output_unit, '(a)') '  targets /trial: elastic 2.5 / 2, cone 4 / 3, apex 5 / 4'
+  write (output_unit, '(a)') '  (ref: the minimal closed-form return of bench_reference.f90, no'// &
+    ' checks, no conversions)'
+  write (output_unit, '(a)') '  extended flow rule (beta_p = beta), cone case:'// &
+    ' DDSDDE ns  /regular  explicit ns  /regular'
+  do i = 1, 3
+    write (output_unit, '(4x,a34,2(f10.1,f9.2,3x))') efr_names(i), &
+      (t_efr(i, itan), t_efr(i, itan)/t_efr(1, itan), itan = 1, 2)
+  end do
+  write (output_unit, '(a)') '  target: an EFR call <= 3x the regular cone call'
+  write (output_unit, '(a)') '  where a cone call with DDSDDE goes:'
+  write (output_unit, '(a,f7.1,a,f5.1,a)') '    PROPS validation (fill_dp_params)  ', t_check, &
+    ' ns ', 100*t_check/t_case(2, 1), ' %'
+  write (output_unit, '(a,f7.1,a,f5.1,a)') '    closed-form return and tangent     ', t_kernel, &
+    ' ns ', 100*t_kernel/t_case(2, 1), ' %'
+  write (output_unit, '(a,f7.1,a,f5.1,a)') '    the rest (layout and finiteness    ', &
+    t_case(2, 1) - t_check - t_kernel, ' ns ', 100*(t_case(2, 1) - t_check - t_kernel)/ &
+    t_case(2, 1), ' %'
+  write (output_unit, '(a)') '     checks, Abaqus packing, energies, the call of 37 arguments)'
   if (sink == 1.2345_dp) write (output_unit, '(a)') 'checksum hit'
 
 contains
 
+  !> The case-study props with beta_p = beta: 1 regular flow rule, 2 EFR
+  !> P_v = 0.5 (the dissertation's case: the first Newton step is exact),
+  !> 3 EFR P_d = 0.5 (Newton on all seven unknowns).
+  function efr_props(k) result(pr)
+    integer, intent(in) :: k
+    real(dp) :: pr(14)
+    pr = props
+    pr(4) = props(3)
+    if (k == 2) pr(9) = 0.5_dp
+    if (k == 3) pr(10) = 0.5_dp
+  end function efr_props
+
+  !> The reference must answer as the UMAT does (else it bounds nothing).
+  subroutine check_reference()
+    real(dp) :: s_u(6), sv_u(12), s_r(6), sv_r(12), dd_u(6, 6), dd_r(6, 6)
+    integer :: ic
+    do ic = 1, 3
+      s_u = base_stress(:, ic); sv_u = 0.0_dp
+      call one_umat(props, s_u, sv_u, dd_u, strains(:, ic))
+      s_r = base_stress(:, ic); sv_r = 0.0_dp
+      call bench_reference(s_r, sv_r, dd_r, strains(:, ic), props(1:5), .true.)
+      if (maxval(abs(s_u - s_r)) > 1.0e-12_dp*maxval(abs(s_u)) .or. &
+          maxval(abs(dd_u - dd_r)) > 1.0e-12_dp*maxval(abs(dd_u)) + tiny(1.0_dp) .or. &
+          abs(sv_u(1) - sv_r(1)) > 1.0e-12_dp*abs(sv_u(1))) &
+        error stop 'bench_umat: the reference does not answer as the UMAT'
+    end do
+  end subroutine check_reference
+
+  subroutine one_umat(pr, stress, statev, ddsdde, de)
+    real(dp), intent(in) :: pr(14), de(6)
+    real(dp), intent(inout) :: stress(6), statev(12), ddsdde(6, 6)
+    real(dp) :: sse, spd, scd, rpl, ddsddt(6), drplde(6), drpldt, stran(6), time(2)
+    real(dp) :: predef(1), coords(3), drot(3, 3), f(3, 3), pnewdt
+    character(len=80) :: cmname
+    sse = 0; spd = 0; scd = 0; rpl = 0; ddsddt = 0; drplde = 0; drpldt = 0; stran = 0
+    time = 0; predef = 0; coords = 0; drot = 0; f = 0; cmname = 'BENCH'; pnewdt = 1
+    call umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, de, &
+              time, 1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, 3, 6, 12, pr, 14, &
+              coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
+  end subroutine one_umat
+
   !> ns per call of umat for one case, resetting stress and state each call.
-  function time_umat(s0, de, icase, explicit) result(ns)
-    real(dp), intent(in) :: s0(6), de(6)
-    integer, intent(in) :: icase
+  function time_umat(pr, s0, de, status, explicit, n) result(ns)
+    real(dp), intent(in) :: pr(14), s0(6), de(6)
+    integer, intent(in) :: status, n
     logical, intent(in) :: explicit
     real(dp) :: ns
-    real(dp) :: props(14), stress(6), statev(12), ddsdde(6, 6), sse, spd, scd, rpl, ddsddt(6)
+    real(dp) :: p(14), stress(6), statev(12), ddsdde(6, 6), sse, spd, scd, rpl, ddsddt(6)
     real(dp) :: drplde(6), drpldt, stran(6), time(2), predef(1), coords(3), drot(3, 3), f(3, 3)
     real(dp) :: pnewdt
     character(len=80) :: cmname
-    integer(int64) :: t0, t1, rate
+    real(dp) :: t0, t1
     integer :: i
-    props = 0.0_dp
-    props(1:5) = [4.0e9_dp, 1.5e9_dp, 0.315_dp, 0.0_dp, 5.066e6_dp]
-    if (explicit) props(14) = 1.0_dp
+    p = pr
+    p(14) = merge(1.0_dp, 0.0_dp, explicit)
     sse = 0; spd = 0; scd = 0; rpl = 0; ddsddt = 0; drplde = 0; drpldt = 0; stran = 0
     time = 0; predef = 0; coords = 0; drot = 0; f = 0; cmname = 'BENCH'; ddsdde = 0
     stress = s0; statev = 0; pnewdt = 1
     call umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, de, &
-              time, 1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, 3, 6, 12, props, 14, &
+              time, 1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, 3, 6, 12, p, 14, &
               coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
-    if (nint(statev(12)) /= icase - 1) error stop 'bench_umat: a case is not in its regime'
-    call system_clock(t0, rate)
-    do i = 1, ncalls
+    if (nint(statev(12)) /= status) error stop 'bench_umat: a case is not in its regime'
+    call cpu_time(t0)
+    do i = 1, n
       stress = s0; statev = 0.0_dp
       call umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, de, &
-                time, 1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, 3, 6, 12, props, 14, &
+                time, 1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, 3, 6, 12, p, 14, &
                 coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
       sink = sink + stress(1)
     end do
-    call system_clock(t1)
-    ns = real(t1 - t0, dp)/real(rate, dp)*1.0e9_dp/ncalls
+    call cpu_time(t1)
+    ns = (t1 - t0)*1.0e9_dp/n
   end function time_umat
+
+  !> ns per call of the minimal reference, with the same resets.
+  function time_reference(s0, de, tangent) result(ns)
+    real(dp), intent(in) :: s0(6), de(6)
+    logical, intent(in) :: tangent
+    real(dp) :: ns, stress(6), statev(12), ddsdde(6, 6)
+    real(dp) :: t0, t1
+    integer :: i, n
+    ddsdde = 0.0_dp
+    n = ncalls
+    call cpu_time(t0)
+    do i = 1, n
+      stress = s0; statev = 0.0_dp
+      call bench_reference(stress, statev, ddsdde, de, props(1:5), tangent)
+      sink = sink + stress(1)
+    end do
+    call cpu_time(t1)
+    ns = (t1 - t0)*1.0e9_dp/n
+  end function time_reference
 
   !> ns per elastic trial stress, with the same resets.
   function time_trial(s0, de) result(ns)
     real(dp), intent(in) :: s0(6), de(6)
     real(dp) :: ns, stress(6), statev(12), c(6, 6)
-    integer(int64) :: t0, t1, rate
-    integer :: i
+    real(dp) :: t0, t1
+    integer :: i, n
     c = 0.0_dp
     c(1:3, 1:3) = 4.0e9_dp - 1.0e9_dp
     do i = 1, 3
       c(i, i) = 4.0e9_dp + 2.0e9_dp
       c(i + 3, i + 3) = 1.5e9_dp
     end do
-    call system_clock(t0, rate)
-    do i = 1, ncalls
+    n = ncalls
+    call cpu_time(t0)
+    do i = 1, n
       stress = s0; statev = 0.0_dp
       call bench_elastic_trial(stress, statev, c, de, 12)
       sink = sink + stress(1)
     end do
-    call system_clock(t1)
-    ns = real(t1 - t0, dp)/real(rate, dp)*1.0e9_dp/ncalls
+    call cpu_time(t1)
+    ns = (t1 - t0)*1.0e9_dp/n
   end function time_trial
+
+  !> ns per validation of the 13 parameters (the PROPS share of a call).
+  function time_check() result(ns)
+    real(dp) :: ns, v(13)
+    type(dp_params_t) :: p
+    real(dp) :: t0, t1
+    integer :: i, fault, n
+    v = props(1:13)
+    n = ncalls
+    call cpu_time(t0)
+    do i = 1, n
+      v(13) = sink*1.0e-300_dp
+      call fill_dp_params(p, v, fault)
+      sink = sink + p%a_m + fault
+    end do
+    call cpu_time(t1)
+    ns = (t1 - t0)*1.0e9_dp/n
+  end function time_check
+
+  !> ns per closed-form cone return with tangent (the model's share).
+  function time_kernel(s0, de) result(ns)
+    real(dp), intent(in) :: s0(6), de(6)
+    real(dp) :: ns, sig(6), eps_p(6), z, zeta, dlambda, f, t(6, 6), det(6)
+    type(dp_params_t) :: p
+    real(dp) :: t0, t1
+    integer :: i, status, fault, n
+    call fill_dp_params(p, props(1:13), fault)
+    det = de
+    det(4:6) = 0.5_dp*de(4:6)
+    n = ncalls
+    call cpu_time(t0)
+    do i = 1, n
+      sig = s0; eps_p = 0.0_dp; z = 0.0_dp; zeta = 0.0_dp
+      call point_closed_form(p, sig, eps_p, z, zeta, 0.0_dp, det, 1.0e-3_dp, dlambda, f, &
+                             status, 6, t)
+      sink = sink + sig(1) + t(1, 1)
+    end do
+    call cpu_time(t1)
+    ns = (t1 - t0)*1.0e9_dp/n
+  end function time_kernel
 
 end program bench_umat

@@ -1,26 +1,30 @@
 !> The UMAT contract implemented on typed arguments: validation, unpacking
-!> of PROPS/STATEV into wellposed's types, the call, packing back, and the
-!> contract's error behaviour. The external `umat` (umat.f90) only forwards
-!> here and prints the message of an invalid input; hosts and tests that
-!> want the message as a value call umat_update directly.
+!> of PROPS/STATEV, the call of the point update (wellposed_dp_point, in
+!> tensor components: the Abaqus<->model conversion is a factor 1/2 on the
+!> engineering shears), packing back, and the contract's error behaviour
+!> (docs/umat.md). The external `umat` (umat.f90) only forwards here and
+!> prints the message of an invalid input; hosts and tests that want the
+!> message as a value call umat_update directly.
 module wellposed_umat_adapter
   use wellposed_kinds, only: dp
   use wellposed_finite, only: is_finite, all_finite
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_tensor, only: ntens6
-  use wellposed_elasticity, only: elastic_t, stiffness, apply_compliance
-  use wellposed_dp_params, only: dp_params_t, new_dp_params
+  use wellposed_dp_params, only: dp_params_t, new_dp_params, fill_dp_params, n_params
+  use wellposed_dp_point, only: point_update, voigt_stiffness, elastic_energy
   use wellposed_text, only: int_text, real_text
-  use wellposed_dp_model, only: dp_state_t, dp_output_t, dp_update
-  use wellposed_abaqus, only: stress_to_mandel, stress_from_mandel, strain_to_mandel, &
-                              strain_from_mandel, tangent_from_mandel
   use wellposed_umat_layout
   implicit none
   private
-  public :: umat_update, cutback_factor
+  public :: umat_update, cutback_factor, check_props, explain, fault_non_finite
 
   !> PNEWDT requested on status -2 (a smaller increment may succeed).
   real(dp), parameter :: cutback_factor = 0.5_dp
+
+  ! What check_inputs finds, in the order it checks.
+  integer, parameter :: fault_layout = 1, fault_nstatv = 2, fault_nprops = 3, &
+                        fault_extra_prop = 4, fault_params = 5, fault_explicit = 6, &
+                        fault_dtime = 7, fault_non_finite = 8
 
 contains
 
@@ -28,6 +32,7 @@ contains
   !> is allocated (status -1 invalid input, -2 cut back), STATEV(12) holds the
   !> status when NSTATV >= 12, PNEWDT < 1, STRESS and the other STATEV slots
   !> are untouched and DDSDDE is the elastic stiffness where K and G are valid.
+  !> Every check runs on every call; text is built only for a failure.
   subroutine umat_update(stress, statev, ddsdde, sse, spd, dstran, stran, dtime, ndi, nshr, &
                          ntens, nstatv, props, nprops, pnewdt, err)
     integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops
@@ -36,71 +41,56 @@ contains
     real(dp), intent(in) :: dstran(ntens), stran(ntens), dtime, props(nprops)
     type(error_t), allocatable, intent(out) :: err
     type(dp_params_t) :: p
-    type(dp_state_t) :: state
-    type(dp_output_t) :: out
-    real(dp) :: pr(nprops_known), sig(ntens6), sig_n(ntens6), tangent(ntens6, ntens6)
-    real(dp) :: deps(ntens6), eps_p_n(ntens6)
+    real(dp) :: sig(ntens6), sig_n(ntens6), de(ntens6), eps_p(ntens6), eps_p_n(ntens6)
+    real(dp) :: z, zeta, dlambda, f, dep(ntens6)
+    integer :: fault, status
     logical :: want_tangent
 
-    call check_layout(ndi, nshr, ntens, nstatv, nprops, props, err)
-    if (allocated(err)) then
-      call fail(); return
-    end if
-    pr = 0.0_dp
-    pr(1:min(nprops, nprops_known)) = props(1:min(nprops, nprops_known))
-    call new_dp_params(p, pr(prop_bulk), pr(prop_shear), pr(prop_beta), pr(prop_beta_p), &
-                       pr(prop_k0), pr(prop_h), pr(prop_k_lim), pr(prop_z_ref), pr(prop_p_v), &
-                       pr(prop_p_d), pr(prop_tau), pr(prop_h_zeta), pr(prop_length), err)
-    if (allocated(err)) then
-      err%message = slot_text(err%key)//err%message
-      call fail(); return
-    end if
-    if (pr(prop_explicit) /= 0.0_dp .and. pr(prop_explicit) /= 1.0_dp) then
-      call new_error(err, status_invalid, 'explicit', slot_text('explicit')//'explicit = '// &
-        real_text(pr(prop_explicit))//' is out of range: valid is 0 (compute DDSDDE) or 1 '// &
-        '(explicit host: no tangent)')
-      call fail(); return
-    end if
-    if (.not. is_finite(dtime)) then
-      call bad_dtime(); return
-    else if (dtime < 0.0_dp) then
-      call bad_dtime(); return
-    end if
-    if (.not. (all_finite(stress) .and. all_finite(dstran) .and. all_finite(stran) .and. &
-               all_finite(statev(1:nstatv_min)))) then
-      call new_error(err, status_cutback, '', 'non-finite STRESS, STRAN, DSTRAN or STATEV '// &
-        'on input')
+    call check_inputs(ndi, nshr, ntens, nstatv, nprops, props, dtime, stress, dstran, stran, &
+                      statev, p, want_tangent, fault)
+    if (fault /= 0) then
+      call explain(fault, ndi, nshr, ntens, nstatv, nprops, props, dtime, err)
       call fail(); return
     end if
 
-    state%z = statev(sv_z)
-    state%zeta = statev(sv_zeta)
-    eps_p_n = strain_to_mandel(statev(sv_eps_p:sv_eps_p + 5), ntens6)
-    state%eps_p = eps_p_n
-    sig_n = stress_to_mandel(stress, ntens)
-    sig = sig_n
-    deps = strain_to_mandel(dstran, ntens)
-    want_tangent = pr(prop_explicit) == 0.0_dp
+    ! Abaqus order 11, 22, 33, 12, 13, 23 with engineering shears in the
+    ! strains; the model takes tensor shears.
+    sig(1:ntens) = stress
+    sig(ntens + 1:) = 0.0_dp
+    de(1:3) = dstran(1:3)
+    de(4:ntens) = 0.5_dp*dstran(4:ntens)
+    de(ntens + 1:) = 0.0_dp
+    eps_p(1:3) = statev(sv_eps_p:sv_eps_p + 2)
+    eps_p(4:6) = 0.5_dp*statev(sv_eps_p + 3:sv_eps_p + 5)
+    z = statev(sv_z)
+    zeta = statev(sv_zeta)
+    sig_n = sig
+    eps_p_n = eps_p
     if (want_tangent) then
-      call dp_update(p, sig, state, deps, dtime, statev(sv_avg_dlambda), out, tangent, err)
+      call point_update(p, sig, eps_p, z, zeta, statev(sv_avg_dlambda), de, dtime, dlambda, f, &
+                        status, ntens, ddsdde, err)
     else
-      call dp_update(p, sig, state, deps, dtime, statev(sv_avg_dlambda), out, err=err)
+      call point_update(p, sig, eps_p, z, zeta, statev(sv_avg_dlambda), de, dtime, dlambda, f, &
+                        status, ntens, err=err)
     end if
     if (allocated(err)) then
       call fail(); return
     end if
 
-    call stress_from_mandel(sig, ntens, stress)
-    if (want_tangent) call tangent_from_mandel(tangent, ntens, ddsdde)
-    statev(sv_z) = state%z
-    statev(sv_dlambda) = out%dlambda
-    statev(sv_zeta) = state%zeta
-    statev(sv_eps_p:sv_eps_p + 5) = strain_from_mandel(state%eps_p)
-    statev(sv_f) = out%f
-    statev(sv_status) = real(out%status, dp)
+    stress = sig(1:ntens)
+    statev(sv_z) = z
+    statev(sv_dlambda) = dlambda
+    statev(sv_zeta) = zeta
+    statev(sv_eps_p:sv_eps_p + 2) = eps_p(1:3)
+    statev(sv_eps_p + 3:sv_eps_p + 5) = 2.0_dp*eps_p(4:6)
+    statev(sv_f) = f
+    statev(sv_status) = real(status, dp)
     ! Elastic energy density and plastic dissipation (trapezoidal rule).
-    sse = 0.5_dp*dot_product(sig, apply_compliance(p%el, sig))
-    spd = spd + 0.5_dp*dot_product(sig_n + sig, state%eps_p - eps_p_n)
+    sse = elastic_energy(p%el%bulk, p%el%shear, sig)
+    dep = eps_p - eps_p_n
+    sig_n = sig_n + sig
+    spd = spd + 0.5_dp*(sig_n(1)*dep(1) + sig_n(2)*dep(2) + sig_n(3)*dep(3) + &
+                        2.0_dp*(sig_n(4)*dep(4) + sig_n(5)*dep(5) + sig_n(6)*dep(6)))
 
   contains
 
@@ -117,54 +107,137 @@ contains
       if (nprops >= prop_shear .and. ntens >= 4 .and. ntens <= 6) then
         if (all_finite(props(prop_bulk:prop_shear))) then
           if (props(prop_bulk) > 0.0_dp .and. props(prop_shear) > 0.0_dp) then
-            call tangent_from_mandel(stiffness(elastic_t(props(prop_bulk), &
-                                                         props(prop_shear))), ntens, ddsdde)
+            call voigt_stiffness(props(prop_bulk), props(prop_shear), ntens, ddsdde)
           end if
         end if
       end if
     end subroutine fail
 
-    subroutine bad_dtime()
-      call new_error(err, status_invalid, '', 'DTIME = '//real_text(dtime)// &
-        ' is out of range: valid is a finite time increment >= 0')
-      call fail()
-    end subroutine bad_dtime
-
   end subroutine umat_update
 
-  !> Dimensions and array sizes the contract supports.
-  pure subroutine check_layout(ndi, nshr, ntens, nstatv, nprops, props, err)
+  !> `fault` is 0 when the layout, PROPS, DTIME and every input of the
+  !> increment are valid (`p` then holds the validated parameters and
+  !> `want_tangent` says whether DDSDDE is wanted), else the first check that
+  !> fails (a fault_* code): comparisons only, no text.
+  pure subroutine check_inputs(ndi, nshr, ntens, nstatv, nprops, props, dtime, stress, dstran, &
+                               stran, statev, p, want_tangent, fault)
+    integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops
+    real(dp), intent(in) :: props(nprops), dtime, stress(ntens), dstran(ntens), stran(ntens)
+    real(dp), intent(in) :: statev(nstatv)
+    type(dp_params_t), intent(out) :: p
+    logical, intent(out) :: want_tangent
+    integer, intent(out) :: fault
+
+    call check_props(ndi, nshr, ntens, nstatv, nprops, props, dtime, p, want_tangent, fault)
+    if (fault /= 0) return
+    fault = fault_non_finite
+    if (.not. (all_finite(stress) .and. all_finite(dstran) .and. all_finite(stran) .and. &
+               all_finite(statev(1:nstatv_min)))) return
+    fault = 0
+  end subroutine check_inputs
+
+  !> The checks of check_inputs that concern a whole block of points: layout,
+  !> PROPS (fill_dp_params) and DTIME.
+  pure subroutine check_props(ndi, nshr, ntens, nstatv, nprops, props, dtime, p, want_tangent, &
+                              fault)
+    integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops
+    real(dp), intent(in) :: props(nprops), dtime
+    type(dp_params_t), intent(out) :: p
+    logical, intent(out) :: want_tangent
+    integer, intent(out) :: fault
+    real(dp) :: pr(nprops_known)
+    integer :: param_fault
+
+    want_tangent = .false.
+    fault = layout_fault(ndi, nshr, ntens, nstatv, nprops, props)
+    if (fault /= 0) return
+    if (nprops >= nprops_known) then
+      pr = props(1:nprops_known)
+    else
+      pr = 0.0_dp
+      pr(1:nprops) = props
+    end if
+    call fill_dp_params(p, pr(1:n_params), param_fault)
+    fault = fault_params
+    if (param_fault /= 0) return
+    fault = fault_explicit
+    want_tangent = pr(prop_explicit) == 0.0_dp
+    if (.not. want_tangent .and. pr(prop_explicit) /= 1.0_dp) return
+    fault = fault_dtime
+    if (.not. is_finite(dtime)) return
+    if (dtime < 0.0_dp) return
+    fault = 0
+  end subroutine check_props
+
+  !> 0 when the dimensions and array sizes are ones the contract supports
+  !> and PROPS past the known slots are 0, else the fault_* code.
+  pure function layout_fault(ndi, nshr, ntens, nstatv, nprops, props) result(fault)
     integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops
     real(dp), intent(in) :: props(nprops)
-    type(error_t), allocatable, intent(out) :: err
+    integer :: fault
     integer :: i
+    fault = fault_layout
     if (.not. ((ntens == 6 .and. ndi == 3 .and. nshr == 3) .or. &
-               (ntens == 4 .and. ndi == 3 .and. nshr == 1))) then
+               (ntens == 4 .and. ndi == 3 .and. nshr == 1))) return
+    fault = fault_nstatv
+    if (nstatv < nstatv_min) return
+    fault = fault_nprops
+    if (nprops < nprops_min) return
+    fault = fault_extra_prop
+    do i = nprops_known + 1, nprops
+      if (props(i) /= 0.0_dp) return
+    end do
+    fault = 0
+  end function layout_fault
+
+  !> The error of a fault found by check_inputs: status and message naming
+  !> the entry, its value and the valid range.
+  pure subroutine explain(fault, ndi, nshr, ntens, nstatv, nprops, props, dtime, err)
+    integer, intent(in) :: fault, ndi, nshr, ntens, nstatv, nprops
+    real(dp), intent(in) :: props(nprops), dtime
+    type(error_t), allocatable, intent(out) :: err
+    type(dp_params_t) :: p
+    real(dp) :: pr(nprops_known)
+    integer :: i
+
+    pr = 0.0_dp
+    pr(1:min(nprops, nprops_known)) = props(1:min(nprops, nprops_known))
+    select case (fault)
+    case (fault_layout)
       call new_error(err, status_invalid, '', 'NTENS = '//int_text(ntens)//' (NDI = '// &
         int_text(ndi)//', NSHR = '//int_text(nshr)//') is not supported: valid are NTENS = 6 '// &
         '(NDI = 3, NSHR = 3) and NTENS = 4 (plane strain or axisymmetric, NDI = 3, NSHR = 1); '// &
         'plane stress is not')
-      return
-    end if
-    if (nstatv < nstatv_min) then
+    case (fault_nstatv)
       call new_error(err, status_invalid, '', 'NSTATV = '//int_text(nstatv)// &
         ' is too small: the contract needs NSTATV >= '//int_text(nstatv_min))
-      return
-    end if
-    if (nprops < nprops_min) then
+    case (fault_nprops)
       call new_error(err, status_invalid, '', 'NPROPS = '//int_text(nprops)// &
         ' is too small: K, G, beta, beta_p and k0 (PROPS 1-5) are required')
-      return
-    end if
-    do i = nprops_known + 1, nprops
-      if (props(i) /= 0.0_dp) then
-        call new_error(err, status_invalid, '', 'PROPS('//int_text(i)//') = '// &
-          real_text(props(i))//' is not a wellposed slot: valid are PROPS 1-'// &
-          int_text(nprops_known)//'; extra entries must be 0')
-        return
-      end if
-    end do
-  end subroutine check_layout
+    case (fault_extra_prop)
+      do i = nprops_known + 1, nprops
+        if (props(i) /= 0.0_dp) exit
+      end do
+      call new_error(err, status_invalid, '', 'PROPS('//int_text(i)//') = '// &
+        real_text(props(i))//' is not a wellposed slot: valid are PROPS 1-'// &
+        int_text(nprops_known)//'; extra entries must be 0')
+    case (fault_params)
+      call new_dp_params(p, pr(prop_bulk), pr(prop_shear), pr(prop_beta), pr(prop_beta_p), &
+                         pr(prop_k0), pr(prop_h), pr(prop_k_lim), pr(prop_z_ref), pr(prop_p_v), &
+                         pr(prop_p_d), pr(prop_tau), pr(prop_h_zeta), pr(prop_length), err)
+      err%message = slot_text(err%key)//err%message
+    case (fault_explicit)
+      call new_error(err, status_invalid, 'explicit', slot_text('explicit')//'explicit = '// &
+        real_text(pr(prop_explicit))//' is out of range: valid is 0 (compute DDSDDE) or 1 '// &
+        '(explicit host: no tangent)')
+    case (fault_dtime)
+      call new_error(err, status_invalid, '', 'DTIME = '//real_text(dtime)// &
+        ' is out of range: valid is a finite time increment >= 0')
+    case default
+      call new_error(err, status_cutback, '', 'non-finite STRESS, STRAN, DSTRAN or STATEV '// &
+        'on input')
+    end select
+  end subroutine explain
 
   !> "PROPS(n) " for a parameter symbol, empty when it has no slot.
   pure function slot_text(key) result(text)

@@ -20,7 +20,7 @@ module wellposed_efr
   use wellposed_dense, only: solve_dense
   implicit none
   private
-  public :: efr_direction, efr_return
+  public :: efr_direction, efr_return, efr_has_direction
 
 contains
 
@@ -34,6 +34,16 @@ contains
     m = potential_direction(s_hat, p%beta_p)*norm(de_dev) + p%p_v*trace(deps)*identity2 &
         + p%p_d*de_dev
   end function efr_direction
+
+  !> True when the increment `deps` (Mandel or tensor components) gives the
+  !> EFR a direction: a deviatoric part, or a volumetric one with P_v /= 0.
+  !> Without one the regular flow rule applies.
+  pure function efr_has_direction(p, deps) result(yes)
+    type(dp_params_t), intent(in) :: p
+    real(dp), intent(in) :: deps(ntens6)
+    logical :: yes
+    yes = any(deviator(deps) /= 0.0_dp) .or. (p%p_v /= 0.0_dp .and. trace(deps) /= 0.0_dp)
+  end function efr_has_direction
 
   !> Return `sig_tr` onto the cone with the EFR direction of the strain
   !> increment `deps` (Mandel). Arguments as regular_return.
@@ -52,7 +62,7 @@ contains
     logical :: ok, flipped
 
     d_s = norm(deviator(deps))
-    if (d_s == 0.0_dp .and. (p%p_v == 0.0_dp .or. trace(deps) == 0.0_dp)) then
+    if (.not. efr_has_direction(p, deps)) then
       call regular_return(p, sig_tr, z_n, zeta, ret, tangent, err)
       return
     end if

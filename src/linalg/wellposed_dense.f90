@@ -1,6 +1,7 @@
 !> Small dense linear solves for local Newton iterations (a handful of
 !> unknowns, so no LAPACK call overhead and pure for use inside the models).
 module wellposed_dense
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
   implicit none
   private
@@ -21,13 +22,35 @@ contains
     real(dp), intent(inout) :: a(:, :)
     real(dp), intent(inout) :: b(:, :)
     logical, intent(out) :: ok
-    integer :: n, i, k, piv
-    real(dp) :: factor, big
-    real(dp), allocatable :: row(:), rhs(:), col_scale(:)
-
+    ! The column scales live in a fixed buffer up to max_fixed unknowns
+    ! (gfortran puts automatic arrays on the heap): no allocation on a
+    ! model's path.
+    integer, parameter :: max_fixed = 32
+    real(dp) :: scale_fixed(max_fixed)
+    real(dp), allocatable :: scale_heap(:)
+    integer :: n, m
     n = size(a, 1)
+    m = size(b, 2)
+    if (n <= max_fixed) then
+      call eliminate(n, m, a, b, scale_fixed, ok)
+    else
+      allocate (scale_heap(n))
+      call eliminate(n, m, a, b, scale_heap, ok)
+    end if
+  end subroutine solve_dense
+
+  !> solve_dense on explicit-shape arrays (contiguous: the compiler can
+  !> specialise it for a caller's fixed n), the column scales' storage given.
+  pure subroutine eliminate(n, m, a, b, col_scale, ok)
+    integer, intent(in) :: n, m
+    real(dp), intent(inout) :: a(n, n)
+    real(dp), intent(inout) :: b(n, m)
+    real(dp), intent(out) :: col_scale(*)
+    logical, intent(out) :: ok
+    integer :: i, j, k, piv
+    real(dp) :: factor, big, swap
+
     ok = .false.
-    allocate (row(n), rhs(size(b, 2)), col_scale(n))
     do k = 1, n
       big = maxval(abs(a(:, k)))
       if (.not. (big > 0.0_dp .and. big <= huge(big))) return
@@ -41,32 +64,59 @@ contains
       a(i, :) = a(i, :)/factor
       b(i, :) = b(i, :)/factor
     end do
+    ! Column-oriented elimination; the multipliers overwrite column k.
     do k = 1, n
-      piv = k - 1 + maxloc(abs(a(k:n, k)), dim=1)
-      if (.not. abs(a(piv, k)) > 1.0e3_dp*epsilon(1.0_dp)) return
+      piv = k
+      big = abs(a(k, k))
+      do i = k + 1, n
+        if (abs(a(i, k)) > big) then
+          piv = i
+          big = abs(a(i, k))
+        end if
+      end do
+      if (.not. big > 1.0e3_dp*epsilon(1.0_dp)) return
       if (piv /= k) then
-        row = a(k, :); a(k, :) = a(piv, :); a(piv, :) = row
-        rhs = b(k, :); b(k, :) = b(piv, :); b(piv, :) = rhs
+        do j = 1, n
+          swap = a(k, j); a(k, j) = a(piv, j); a(piv, j) = swap
+        end do
+        do j = 1, m
+          swap = b(k, j); b(k, j) = b(piv, j); b(piv, j) = swap
+        end do
       end if
       do i = k + 1, n
-        factor = a(i, k)/a(k, k)
-        a(i, k:n) = a(i, k:n) - factor*a(k, k:n)
-        b(i, :) = b(i, :) - factor*b(k, :)
+        a(i, k) = a(i, k)/a(k, k)
+      end do
+      do j = k + 1, n
+        do i = k + 1, n
+          a(i, j) = a(i, j) - a(i, k)*a(k, j)
+        end do
+      end do
+      do j = 1, m
+        do i = k + 1, n
+          b(i, j) = b(i, j) - a(i, k)*b(k, j)
+        end do
       end do
     end do
     do k = n, 1, -1
-      b(k, :) = (b(k, :) - matmul(a(k, k + 1:n), b(k + 1:n, :)))/a(k, k)
+      do i = k + 1, n
+        b(k, :) = b(k, :) - a(k, i)*b(i, :)
+      end do
+      b(k, :) = b(k, :)/a(k, k)
     end do
     do k = 1, n
       b(k, :) = b(k, :)/col_scale(k)
     end do
     ok = .true.
-  end subroutine solve_dense
+  end subroutine eliminate
 
-  !> The largest power of two not above `x` > 0 (dividing by it is exact).
+  !> The largest power of two not above `x` > 0 (dividing by it is exact):
+  !> x with its mantissa bits cleared, or by set_exponent when x is
+  !> subnormal (the bit form is then 0).
   elemental real(dp) function power_of_two(x) result(p)
     real(dp), intent(in) :: x
-    p = set_exponent(1.0_dp, exponent(x))
+    integer(int64), parameter :: exponent_bits = int(z'7FF0000000000000', int64)
+    p = transfer(iand(transfer(x, 0_int64), exponent_bits), 1.0_dp)
+    if (p == 0.0_dp) p = set_exponent(1.0_dp, exponent(x))
   end function power_of_two
 
 end module wellposed_dense

@@ -1,10 +1,12 @@
 !> Parameters of the Drucker-Prager family of wellposed (yield eq. 2.3/4.34,
 !> potential eq. 4.35, hardening eq. 2.6, extended flow rule eq. 2.7,
-!> Duvaut-Lions eq. 2.10, overlocal eq. 2.12-2.14), validated once by
-!> new_dp_params. A zero switches an optional feature off.
+!> Duvaut-Lions eq. 2.10, overlocal eq. 2.12-2.14), validated by
+!> fill_dp_params (no text: cheap enough for every UMAT call) or by
+!> new_dp_params (which also builds the message). A zero switches an
+!> optional feature off.
 module wellposed_dp_params
   use wellposed_kinds, only: dp
-  use wellposed_finite, only: is_finite
+  use wellposed_finite, only: is_finite, all_finite
   use wellposed_text, only: real_text
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_elasticity, only: elastic_t
@@ -13,7 +15,16 @@ module wellposed_dp_params
   use wellposed_tensor, only: sqrt3
   implicit none
   private
-  public :: dp_params_t, new_dp_params
+  public :: dp_params_t, new_dp_params, fill_dp_params, n_params
+
+  !> Number of material parameters (PROPS 1-13 of the UMAT contract).
+  integer, parameter :: n_params = 13
+  ! Faults of fill_dp_params past 1-13 (a non-finite parameter), in the
+  ! order the ranges are checked.
+  integer, parameter :: fault_bulk = 14, fault_shear = 15, fault_beta = 16, fault_k0 = 17, &
+                        fault_k_lim = 18, fault_z_ref_lim = 19, fault_z_ref = 20, &
+                        fault_tau = 21, fault_length = 22, fault_a_m = 23, &
+                        fault_softening = 24, fault_apex_softening = 25
 
   !> The validated material. Derived constants are filled by new_dp_params.
   type :: dp_params_t
@@ -42,80 +53,122 @@ contains
     real(dp), intent(in) :: bulk, shear, beta, beta_p, k0, h, k_lim, z_ref
     real(dp), intent(in) :: p_v, p_d, tau, h_zeta, length
     type(error_t), allocatable, intent(out) :: err
-    real(dp) :: values(13), slope
-    character(len=6), parameter :: names(13) = [character(len=6) :: 'K', 'G', 'beta', &
-      'beta_p', 'k0', 'h', 'k_lim', 'z_ref', 'P_v', 'P_d', 'tau', 'h_zeta', 'L']
-    integer :: i
+    real(dp) :: values(n_params)
+    integer :: fault
 
     values = [bulk, shear, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, h_zeta, length]
-    do i = 1, size(values)
-      if (.not. is_finite(values(i))) then
-        call new_error(err, status_invalid, trim(names(i)), trim(names(i))//' = '// &
-          real_text(values(i))//' is not a finite number')
-        return
-      end if
-    end do
-    if (.not. bulk > 0.0_dp) then
-      call out_of_range(err, 'K', bulk, '> 0'); return
-    end if
-    if (.not. shear > 0.0_dp) then
-      call out_of_range(err, 'G', shear, '> 0'); return
-    end if
-    if (beta < 0.0_dp) then
-      call out_of_range(err, 'beta', beta, '>= 0'); return
-    end if
-    if (.not. k0 > 0.0_dp) then
-      call out_of_range(err, 'k0', k0, '> 0'); return
-    end if
-    if (k_lim < 0.0_dp) then
-      call out_of_range(err, 'k_lim', k_lim, '> 0, or 0 for no exponential hardening'); return
-    end if
-    if (k_lim > 0.0_dp .and. .not. z_ref > 0.0_dp) then
-      call out_of_range(err, 'z_ref', z_ref, '> 0 when k_lim > 0'); return
-    end if
-    if (z_ref < 0.0_dp) then
-      call out_of_range(err, 'z_ref', z_ref, '>= 0'); return
-    end if
-    if (tau < 0.0_dp) then
-      call out_of_range(err, 'tau', tau, '>= 0 (0: rate-independent)'); return
-    end if
-    if (length < 0.0_dp .or. (h_zeta /= 0.0_dp .and. .not. length > 0.0_dp)) then
-      call out_of_range(err, 'L', length, '> 0 when h_zeta /= 0'); return
-    end if
+    call fill_dp_params(self, values, fault)
+    if (fault /= 0) call fault_error(self, values, fault, err)
+  end subroutine new_dp_params
 
-    self%el = elastic_t(bulk, shear)
-    self%beta = beta
-    self%beta_p = beta_p
-    self%hard = hardening_t(k0, h, k_lim, z_ref)
-    self%p_v = p_v
-    self%p_d = p_d
-    self%tau = tau
-    self%h_zeta = h_zeta
-    self%length = length
-    self%n_m = normal_norm(beta_p)
-    self%a_m = (shear + 9.0_dp*bulk*beta*beta_p)/self%n_m
-    self%efr = p_v /= 0.0_dp .or. p_d /= 0.0_dp
+  !> Store the 13 parameters (order of PROPS 1-13) with their derived
+  !> constants, and check every range: `fault` is 0 when all hold, else the
+  !> first check that fails (fault_error turns it into a message). No text
+  !> and no allocation, so a host may call it on every increment.
+  pure subroutine fill_dp_params(self, v, fault)
+    type(dp_params_t), intent(out) :: self
+    real(dp), intent(in) :: v(n_params)
+    integer, intent(out) :: fault
+    real(dp) :: slope
+    integer :: i
 
-    if (.not. self%a_m > 0.0_dp) then
-      call out_of_range(err, 'beta_p', beta_p, 'such that G + 9 K beta beta_p > 0 '// &
-        '(plastic flow must lower f)'); return
+    if (.not. all_finite(v)) then
+      do i = 1, n_params
+        if (.not. is_finite(v(i))) exit
+      end do
+      fault = i; return
     end if
+    fault = fault_bulk
+    if (.not. v(1) > 0.0_dp) return
+    fault = fault_shear
+    if (.not. v(2) > 0.0_dp) return
+    fault = fault_beta
+    if (v(3) < 0.0_dp) return
+    fault = fault_k0
+    if (.not. v(5) > 0.0_dp) return
+    fault = fault_k_lim
+    if (v(7) < 0.0_dp) return
+    fault = fault_z_ref_lim
+    if (v(7) > 0.0_dp .and. .not. v(8) > 0.0_dp) return
+    fault = fault_z_ref
+    if (v(8) < 0.0_dp) return
+    fault = fault_tau
+    if (v(11) < 0.0_dp) return
+    fault = fault_length
+    if (v(13) < 0.0_dp .or. (v(12) /= 0.0_dp .and. .not. v(13) > 0.0_dp)) return
+
+    self%el = elastic_t(v(1), v(2))
+    self%beta = v(3)
+    self%beta_p = v(4)
+    self%hard = hardening_t(v(5), v(6), v(7), v(8))
+    self%p_v = v(9)
+    self%p_d = v(10)
+    self%tau = v(11)
+    self%h_zeta = v(12)
+    self%length = v(13)
+    self%n_m = normal_norm(v(4))
+    self%a_m = (v(2) + 9.0_dp*v(1)*v(3)*v(4))/self%n_m
+    self%efr = v(9) /= 0.0_dp .or. v(10) /= 0.0_dp
+
+    fault = fault_a_m
+    if (.not. self%a_m > 0.0_dp) return
     slope = min_strength_slope(self%hard)
-    if (.not. self%a_m + slope > 0.0_dp) then
-      call new_error(err, status_invalid, 'h', 'h = '//real_text(h)//' softens too '// &
+    fault = fault_softening
+    if (.not. self%a_m + slope > 0.0_dp) return
+    fault = fault_apex_softening
+    if (v(3) > 0.0_dp .and. slope < 0.0_dp .and. .not. 9.0_dp*v(1)*v(3) + sqrt3*slope > 0.0_dp) &
+      return
+    fault = 0
+  end subroutine fill_dp_params
+
+  !> The message of a fault of fill_dp_params: symbol, value, valid range.
+  pure subroutine fault_error(self, v, fault, err)
+    type(dp_params_t), intent(in) :: self
+    real(dp), intent(in) :: v(n_params)
+    integer, intent(in) :: fault
+    type(error_t), allocatable, intent(out) :: err
+    character(len=6), parameter :: names(n_params) = [character(len=6) :: 'K', 'G', 'beta', &
+      'beta_p', 'k0', 'h', 'k_lim', 'z_ref', 'P_v', 'P_d', 'tau', 'h_zeta', 'L']
+    real(dp) :: slope
+
+    select case (fault)
+    case (1:n_params)
+      call new_error(err, status_invalid, trim(names(fault)), trim(names(fault))//' = '// &
+        real_text(v(fault))//' is not a finite number')
+    case (fault_bulk)
+      call out_of_range(err, 'K', v(1), '> 0')
+    case (fault_shear)
+      call out_of_range(err, 'G', v(2), '> 0')
+    case (fault_beta)
+      call out_of_range(err, 'beta', v(3), '>= 0')
+    case (fault_k0)
+      call out_of_range(err, 'k0', v(5), '> 0')
+    case (fault_k_lim)
+      call out_of_range(err, 'k_lim', v(7), '> 0, or 0 for no exponential hardening')
+    case (fault_z_ref_lim)
+      call out_of_range(err, 'z_ref', v(8), '> 0 when k_lim > 0')
+    case (fault_z_ref)
+      call out_of_range(err, 'z_ref', v(8), '>= 0')
+    case (fault_tau)
+      call out_of_range(err, 'tau', v(11), '>= 0 (0: rate-independent)')
+    case (fault_length)
+      call out_of_range(err, 'L', v(13), '> 0 when h_zeta /= 0')
+    case (fault_a_m)
+      call out_of_range(err, 'beta_p', v(4), 'such that G + 9 K beta beta_p > 0 '// &
+        '(plastic flow must lower f)')
+    case (fault_softening)
+      slope = min_strength_slope(self%hard)
+      call new_error(err, status_invalid, 'h', 'h = '//real_text(v(6))//' softens too '// &
         'strongly: the smallest dk/dz = '//real_text(slope)//' must exceed -(G + 9 K '// &
         'beta beta_p)/sqrt(1/2 + 3 beta_p^2) = '//real_text(-self%a_m)// &
         ' for a unique local return')
-      return
-    end if
-    if (beta > 0.0_dp .and. slope < 0.0_dp .and. &
-        .not. 9.0_dp*bulk*beta + sqrt3*slope > 0.0_dp) then
-      call new_error(err, status_invalid, 'h', 'h = '//real_text(h)//' softens too '// &
+    case default
+      slope = min_strength_slope(self%hard)
+      call new_error(err, status_invalid, 'h', 'h = '//real_text(v(6))//' softens too '// &
         'strongly for a unique return to the apex: the smallest dk/dz = '// &
         real_text(slope)//' must exceed -9 K beta/sqrt(3) = '// &
-        real_text(-9.0_dp*bulk*beta/sqrt3))
-      return
-    end if
+        real_text(-9.0_dp*v(1)*v(3)/sqrt3))
+    end select
 
   contains
 
@@ -127,6 +180,6 @@ contains
         ' is out of range: valid is '//range)
     end subroutine out_of_range
 
-  end subroutine new_dp_params
+  end subroutine fault_error
 
 end module wellposed_dp_params

@@ -1,0 +1,211 @@
+!> The Abaqus/Explicit VUMAT contract on typed arguments: a block of nblock
+!> points per call, PROPS, layout and DTIME checked once per block (the same
+!> checks and messages as the UMAT), every point's inputs checked for
+!> finiteness, then the same point update as the UMAT (wellposed_dp_point).
+!>
+!> Abaqus/Explicit layout: arrays (nblock, ndir + nshr), components
+!> 11, 22, 33, 12, 23, 31 (ndir = 3, nshr = 3) or 11, 22, 33, 12 (plane
+!> strain, nshr = 1), TENSOR shear strains. STATEV slots as the UMAT's, with
+!> the plastic strain (slots 5-10) in this same order and convention.
+!> Energies are per unit mass: the internal energy grows by the trapezoidal
+!> stress power (sigma_old + sigma_new) : d eps/(2 rho), the inelastic one
+!> by (sigma_old + sigma_new) : d eps^p/(2 rho). Contract: docs/umat.md.
+module wellposed_vumat_adapter
+  use wellposed_kinds, only: dp
+  use wellposed_finite, only: all_finite, is_finite
+  use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
+  use wellposed_text, only: int_text, real_text
+  use wellposed_tensor, only: ntens6
+  use wellposed_dp_params, only: dp_params_t
+  use wellposed_dp_point, only: point_update, point_closed_form, has_closed_form
+  use wellposed_hardening, only: hardening_t
+  use wellposed_umat_adapter, only: check_props, explain, fault_non_finite
+  use wellposed_umat_layout, only: sv_z, sv_dlambda, sv_avg_dlambda, sv_zeta, sv_eps_p, sv_f, &
+                                   sv_status, nstatv_min
+  implicit none
+  private
+  public :: vumat_update
+
+  !> Model component i (11, 22, 33, 12, 13, 23) is VUMAT component comp(i):
+  !> the model is isotropic, the order only keeps its arithmetic the UMAT's.
+  integer, parameter :: comp(ntens6) = [1, 2, 3, 4, 6, 5]
+
+contains
+
+  !> One VUMAT call on a block. Arguments as the Abaqus VUMAT's (the ones a
+  !> Drucker-Prager model reads). On failure `err` is allocated (status -1
+  !> invalid input, -2 non-finite input or no convergence), `point` names
+  !> the point of the block at fault (0: the block's PROPS, layout or DT),
+  !> STATENEW(point, 12) holds the status when it can, and the New arrays are
+  !> otherwise untouched when the inputs were at fault (a return that fails
+  !> to converge may leave earlier points of the block updated).
+  subroutine vumat_update(nblock, ndir, nshr, nstatev, nprops, step_time, total_time, dt, &
+                          props, density, strain_inc, stress_old, state_old, ener_intern_old, &
+                          ener_inelas_old, stress_new, state_new, ener_intern_new, &
+                          ener_inelas_new, err, point)
+    integer, intent(in) :: nblock, ndir, nshr, nstatev, nprops
+    real(dp), intent(in) :: step_time, total_time, dt, props(nprops), density(nblock)
+    real(dp), intent(in) :: strain_inc(nblock, ndir + nshr), stress_old(nblock, ndir + nshr)
+    real(dp), intent(in) :: state_old(nblock, nstatev), ener_intern_old(nblock)
+    real(dp), intent(in) :: ener_inelas_old(nblock)
+    real(dp), intent(inout) :: stress_new(nblock, ndir + nshr), state_new(nblock, nstatev)
+    real(dp), intent(inout) :: ener_intern_new(nblock), ener_inelas_new(nblock)
+    type(error_t), allocatable, intent(out) :: err
+    integer, intent(out) :: point
+    type(dp_params_t) :: p
+    real(dp) :: sig(ntens6), de(ntens6), eps_p(ntens6), z, zeta, dlambda, f, sig_sum(ntens6)
+    real(dp) :: dep(ntens6)
+    integer :: fault, ntens, k, i, status
+    logical :: want_tangent, closed, packaging
+
+    point = 0
+    ntens = ndir + nshr
+    call check_props(ndir, nshr, ntens, nstatev, nprops, props, dt, p, want_tangent, fault)
+    if (fault /= 0) then
+      call explain(fault, ndir, nshr, ntens, nstatev, nprops, props, dt, err)
+      return
+    end if
+    call check_points(nblock, ntens, nstatev, density, strain_inc, stress_old, state_old, &
+                      ener_intern_old, ener_inelas_old, err, point)
+    if (allocated(err)) then
+      state_new(point, sv_status) = real(err%status, dp)
+      return
+    end if
+
+    ! Abaqus/Explicit's packaging call (stepTime = totalTime = 0) asks for
+    ! the elastic response to fictitious strains: a strength no stress
+    ! reaches, no nonlocal or viscous part, the state kept.
+    packaging = step_time == 0.0_dp .and. total_time == 0.0_dp
+    if (packaging) then
+      p%hard = hardening_t(0.25_dp*huge(1.0_dp), 0.0_dp, 0.0_dp, 0.0_dp)
+      p%h_zeta = 0.0_dp
+      p%efr = .false.
+    end if
+    closed = has_closed_form(p)
+    ! One pass over the block, free of calls once point_closed_form is
+    ! inlined; points it cannot serve (status_cutback) and models without a
+    ! closed form go through point_update below.
+    if (closed) then
+      do k = 1, nblock
+        call load(k)
+        call point_closed_form(p, sig, eps_p, z, zeta, state_old(k, sv_avg_dlambda), de, dt, &
+                               dlambda, f, status, ntens)
+        call store(k)
+      end do
+    end if
+    do k = 1, nblock
+      if (closed) then
+        if (nint(state_new(k, sv_status)) /= status_cutback) cycle
+      end if
+      call load(k)
+      call point_update(p, sig, eps_p, z, zeta, state_old(k, sv_avg_dlambda), de, dt, dlambda, &
+                        f, status, ntens, err=err)
+      if (allocated(err)) then
+        point = k
+        state_new(k, sv_status) = real(err%status, dp)
+        return
+      end if
+      call store(k)
+    end do
+
+  contains
+
+    !> Point k's inputs in the model's order (tensor shears already).
+    subroutine load(k)
+      integer, intent(in) :: k
+      do i = 1, ntens6
+        if (comp(i) <= ntens) then
+          sig(i) = stress_old(k, comp(i))
+          de(i) = strain_inc(k, comp(i))
+        else
+          sig(i) = 0.0_dp
+          de(i) = 0.0_dp
+        end if
+        eps_p(i) = state_old(k, sv_eps_p - 1 + comp(i))
+      end do
+      z = state_old(k, sv_z)
+      zeta = state_old(k, sv_zeta)
+      sig_sum = sig
+      dep = eps_p
+    end subroutine load
+
+    !> Point k's results, STATEV slots past the contract's copied.
+    subroutine store(k)
+      integer, intent(in) :: k
+      if (status == status_cutback) then
+        state_new(k, sv_status) = real(status, dp)
+        return
+      end if
+      if (packaging) f = state_old(k, sv_f)
+      sig_sum = sig_sum + sig
+      dep = eps_p - dep
+      do i = 1, ntens6
+        if (comp(i) <= ntens) stress_new(k, comp(i)) = sig(i)
+        state_new(k, sv_eps_p - 1 + comp(i)) = eps_p(i)
+      end do
+      state_new(k, sv_z) = z
+      state_new(k, sv_dlambda) = dlambda
+      state_new(k, sv_avg_dlambda) = state_old(k, sv_avg_dlambda)
+      state_new(k, sv_zeta) = zeta
+      state_new(k, sv_f) = f
+      state_new(k, sv_status) = real(status, dp)
+      state_new(k, nstatv_min + 1:nstatev) = state_old(k, nstatv_min + 1:nstatev)
+      ener_intern_new(k) = ener_intern_old(k) + 0.5_dp*contract(sig_sum, de)/density(k)
+      ener_inelas_new(k) = ener_inelas_old(k) + 0.5_dp*contract(sig_sum, dep)/density(k)
+    end subroutine store
+
+  end subroutine vumat_update
+
+  !> a : b of two symmetric tensors in tensor components.
+  pure function contract(a, b) result(c)
+    real(dp), intent(in) :: a(ntens6), b(ntens6)
+    real(dp) :: c
+    c = a(1)*b(1) + a(2)*b(2) + a(3)*b(3) + 2.0_dp*(a(4)*b(4) + a(5)*b(5) + a(6)*b(6))
+  end function contract
+
+  !> Every point's inputs: finite stress, strain increment, contract STATEV
+  !> slots and energies (else status -2), density finite and > 0 (else -1).
+  !> `point` is the first point at fault.
+  pure subroutine check_points(nblock, ntens, nstatev, density, strain_inc, stress_old, &
+                               state_old, ener_intern_old, ener_inelas_old, err, point)
+    integer, intent(in) :: nblock, ntens, nstatev
+    real(dp), intent(in) :: density(nblock), strain_inc(nblock, ntens)
+    real(dp), intent(in) :: stress_old(nblock, ntens), state_old(nblock, nstatev)
+    real(dp), intent(in) :: ener_intern_old(nblock), ener_inelas_old(nblock)
+    type(error_t), allocatable, intent(out) :: err
+    integer, intent(out) :: point
+    character(len=*), parameter :: name = 'non-finite stressOld, strainInc, stateOld or energy '
+    logical :: finite
+    integer :: j
+    ! Column by column (contiguous, no temporaries): the usual all-valid
+    ! block costs a few vectorised passes.
+    finite = all_finite(density) .and. all_finite(ener_intern_old) .and. &
+             all_finite(ener_inelas_old)
+    do j = 1, ntens
+      finite = finite .and. all_finite(strain_inc(:, j)) .and. all_finite(stress_old(:, j))
+    end do
+    do j = 1, nstatv_min
+      finite = finite .and. all_finite(state_old(:, j))
+    end do
+    point = 0
+    if (finite) then
+      if (all(density > 0.0_dp)) return
+    end if
+    do point = 1, nblock
+      if (.not. (all_finite(strain_inc(point, :)) .and. all_finite(stress_old(point, :)) .and. &
+                 all_finite(state_old(point, 1:nstatv_min)) .and. &
+                 is_finite(ener_intern_old(point)) .and. is_finite(ener_inelas_old(point)))) then
+        call new_error(err, status_cutback, '', name//'on input (point '//int_text(point)// &
+          ' of the block)')
+        return
+      else if (.not. is_finite(density(point))) then
+        exit
+      else if (.not. density(point) > 0.0_dp) then
+        exit
+      end if
+    end do
+    call new_error(err, status_invalid, 'density', 'density = '//real_text(density(point))// &
+      ' (point '//int_text(point)//' of the block) is out of range: valid is > 0')
+  end subroutine check_points
+
+end module wellposed_vumat_adapter
