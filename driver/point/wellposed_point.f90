@@ -16,6 +16,7 @@ program wellposed_point
   use wellposed_h5, only: h5_file_t
   use wellposed_plot, only: run_plot
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
+  use wellposed_dense, only: solve_dense
   use wellposed_point_material, only: material_t, point_state_t, umat_increment, ntens
   use wellposed_point_path, only: history_t, run_leg
   use wellposed_point_probes, only: elastic_stiffness, lode_frame_t, find_lode_frame, &
@@ -175,6 +176,7 @@ contains
       saved(il) = s
     end do
     call write_path(mat, hist)
+    call write_plastic_strain(mat, hist)
     if (deck%probe%enabled) call run_probes(mat, saved(deck%probe%at_leg), &
                                             d_last(:, max(deck%probe%at_leg, 0)))
     if (deck%chapter3) call run_ch3(mat, s)
@@ -217,6 +219,50 @@ contains
       call summary%add(lab//'.path.final_statev_'//int_text(i), hist%statev(n, i))
     end do
   end subroutine write_path
+
+  !> Plastic strain accrued along the path, eps - eps_0 - C^-1 (sigma - sigma_0)
+  !> with C the UMAT's elastic stiffness at the virgin state: it needs no
+  !> knowledge of the UMAT's STATEV, so it holds for a user's UMAT with
+  !> linear elasticity too. Written as /<label>/path/plastic_strain; the
+  !> summary gives tr(eps^p), ||eps^p|| (tensor norm) and their ratio.
+  subroutine write_plastic_strain(mat, hist)
+    type(material_t), intent(in) :: mat
+    type(history_t), intent(in) :: hist
+    real(dp) :: c(ntens, ntens), tr, nrm
+    real(dp), allocatable :: ep(:, :)
+    logical :: ok
+    character(len=:), allocatable :: lab
+    integer :: n, i
+    lab = mat%label
+    n = hist%n
+    call elastic_stiffness(mat, deck%probe_strain, c, err)
+    call check(err)
+    allocate (ep(ntens, n))
+    do i = 1, n
+      ep(:, i) = hist%stress(i, :) - hist%stress(1, :)
+    end do
+    call solve_dense(c, ep, ok)
+    if (.not. ok) then
+      call summary%add(lab//'.path.plastic_volume_ratio', 'not applicable', &
+                       'the elastic stiffness at the virgin state is singular')
+      return
+    end if
+    do i = 1, n
+      ep(:, i) = hist%strain(i, :) - hist%strain(1, :) - ep(:, i)
+    end do
+    call h5%write(lab//'/path/plastic_strain', transpose(ep))
+    tr = sum(ep(1:3, n))
+    nrm = sqrt(sum(ep(1:3, n)**2) + 0.5_dp*sum(ep(4:6, n)**2))
+    call summary%add(lab//'.path.final_plastic_volume', tr, &
+                     'tr(eps^p) accrued along the path, eps^p = eps - C^-1 sigma')
+    call summary%add(lab//'.path.final_plastic_norm', nrm, '||eps^p||, tensor norm')
+    if (nrm > 1.0e-6_dp*max(maxval(abs(hist%strain(n, :) - hist%strain(1, :))), tiny(1.0_dp))) then
+      call summary%add(lab//'.path.plastic_volume_ratio', tr/nrm, 'tr(eps^p)/||eps^p||')
+    else
+      call summary%add(lab//'.path.plastic_volume_ratio', 'not applicable', &
+                       'plastic strain below 1e-6 of the strain: the path is elastic')
+    end if
+  end subroutine write_plastic_strain
 
   subroutine run_probes(mat, s, d_last)
     type(material_t), intent(in) :: mat

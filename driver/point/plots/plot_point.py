@@ -5,6 +5,7 @@ usage: plot_point.py RUN_DIR
 
 Writes, for what the run holds:
   path.png      stress paths (Lode plane) and sigma_11 against eps_11
+  plastic.png   plastic volume change tr(eps^p) against eps_11, when a path is plastic
   rtheta.png    directional stiffness ratio R(theta), eq. 2.5 (fig. 2.4, 2.5, 2.8 left)
   acoustic.png  smallest eigenvalue of sym(n.T.n) against the normal's angle to axis 1
   gudehus.png   strain-response envelopes, tail to tail (fig. 3.2)
@@ -58,6 +59,32 @@ def plot_path(f, labels):
         a.legend()
     fig.suptitle(title(f))
     fig.savefig(os.path.join(RUN, "path.png"))
+    plt.close(fig)
+
+
+def plot_plastic(f, labels):
+    """tr(eps^p) against eps_11 for every material whose path is plastic."""
+    rows = []
+    for l in labels:
+        if "path/plastic_strain" not in f[l]:
+            continue
+        ep = f[l]["path/plastic_strain"][:]
+        e = f[l]["path/strain"][:]
+        norm = np.sqrt((ep[-1, :3] ** 2).sum() + 0.5 * (ep[-1, 3:] ** 2).sum())
+        if norm > 1e-6 * max(np.abs(e[-1] - e[0]).max(), 1e-300):
+            rows.append((l, e[:, 0], ep[:, :3].sum(axis=1), ep[-1, :3].sum() / norm))
+    if not rows:
+        return
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for l, e11, tr, ratio in rows:
+        ax.plot(e11, tr, "-", lw=1.6, label=rf"{l}: tr/$\|\varepsilon^p\|$ = {ratio:.4f}")
+    ax.set_xlabel(r"$\varepsilon_{11}$")
+    ax.set_ylabel(r"$\mathrm{tr}\,\varepsilon^p$ (> 0: dilation)")
+    ax.ticklabel_format(style="sci", scilimits=(-3, 3))
+    ax.set_title("plastic volume change along the path")
+    ax.legend(fontsize=8)
+    fig.suptitle(title(f))
+    fig.savefig(os.path.join(RUN, "plastic.png"))
     plt.close(fig)
 
 
@@ -223,6 +250,7 @@ if __name__ == "__main__":
     with h5py.File(path, "r") as f:
         labels = [k for k in f.keys() if isinstance(f[k], h5py.Group)]
         plot_path(f, labels)
+        plot_plastic(f, labels)
         plot_rtheta(f, labels)
         plot_acoustic(f, labels)
         plot_gudehus(f, labels)
