@@ -19,7 +19,7 @@
 !>   &output   sample_dt (s), snapshot_dt (s), progress, plot
 !>   &nonlocal scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
 !>             max_iterations, stall_iterations, max_rounds, anderson_depth,
-!>             anderson_mixing, weight_cutoff (seed Algorithm 1; iterates only
+!>             anderson_mixing, weight_cutoff (Algorithm 1 of the dissertation; iterates only
 !>             when &material h_zeta /= 0)
 !> Overrides from the command line, `group.key=value`, are read after the
 !> deck as one-line namelists, so they obey the same rules.
@@ -53,6 +53,7 @@ contains
     ! namelist variables (defaults: the default scene)
     character(len=64) :: name
     character(len=200) :: title
+    character(len=16) :: kind   !< 'bar' (read by wellposed_mpm_scene_kind)
     real(dp) :: length, dx
     integer :: ppc, pad_cells
     character(len=16) :: shape, far_end, scheme
@@ -66,7 +67,7 @@ contains
     real(dp) :: first, spacing
     real(dp) :: sample_dt, snapshot_dt
     logical :: progress, plot
-    namelist /scene/ name, title
+    namelist /scene/ name, title, kind
     namelist /grid/ length, dx, ppc, pad_cells, shape, far_end
     namelist /time/ t_end, cfl, scheme
     namelist /material/ density, k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, &
@@ -82,6 +83,7 @@ contains
 
     name = 'sandler_rubin_default'
     title = 'Sandler-Rubin case study'
+    kind = 'bar'
     length = cfg%length; dx = cfg%dx; ppc = cfg%ppc; pad_cells = cfg%pad_cells
     shape = 'gimp'; far_end = 'fixed'; scheme = 'musl'
     t_end = cfg%t_end; cfl = cfg%cfl

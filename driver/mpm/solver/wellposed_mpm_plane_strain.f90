@@ -1,8 +1,8 @@
-!> The explicit MPM of seed section 4.3 in 2D plane strain (chapter 4's
+!> The explicit MPM of the dissertation's section 4.3 in 2D plane strain (chapter 4's
 !> plate, fig. 4.1): a rectangular body [0, width] x [0, height] on a
 !> uniform grid, 2D GIMP, CPDI or linear weights (wellposed_mpm_shape_2d),
 !> the material through the UMAT with NTENS = 4 (11, 22, 33, 12; engineering
-!> shear) and the seed's nonlocal Algorithm 1 (wellposed_mpm_nonlocal, the
+!> shear) and the dissertation's nonlocal Algorithm 1 (wellposed_mpm_nonlocal, the
 !> same code as in 1D). Update: MUSL (as the 1D driver), Jaumann rotation of
 !> the stress before the UMAT, F_{n+1} = (I + L dt) F_n, V = det F V0.
 !>
@@ -19,7 +19,7 @@
 !> Time step dt = cfl * dx / c_max, c_max = sqrt(M/rho) with the
 !> constrained modulus M probed through the UMAT. SI units, tension +.
 !>
-!> Ranks (issue 7): the scene carries a communicator and a domain
+!> Ranks: the scene carries a communicator and a domain
 !> decomposition (wellposed_mpm_decomposition): strips of whole cell rows
 !> (node g = i + nx*j, so a strip is one range of node numbers), each rank
 !> holding the nodes its cells touch plus ghost rows as wide as the shape's
@@ -49,6 +49,7 @@ module wellposed_mpm_plane_strain
   use wellposed_umat_interface, only: umat
   use wellposed_umat_layout, only: prop_k0
   use wellposed_mpm_particles, only: particles_t, new_particles
+  use wellposed_mpm_config, only: scheme_musl
   use wellposed_mpm_shape_2d, only: shape_2d, support_size_2d, shape2d_cpdi, shape2d_gimp, &
                                     shape2d_linear, shape2d_reach, shape2d_names
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nonlocal_t, nonlocal_host_t, &
@@ -87,6 +88,7 @@ module wellposed_mpm_plane_strain
     integer :: pad_cells = 2
     integer :: shape = shape2d_cpdi
     real(dp) :: t_end = 0.02_dp, cfl = 0.2_dp      !< s, fraction of the CFL step
+    integer :: scheme = scheme_musl                !< USL or MUSL (wellposed_mpm_config)
     real(dp) :: density = 1000.0_dp                !< kg/m^3
     integer :: nprops = 14
     real(dp) :: props(max_props2) = 0.0_dp
@@ -98,7 +100,7 @@ module wellposed_mpm_plane_strain
     integer :: bottom = bc_roller, top = bc_velocity, sides = bc_free2
     real(dp) :: top_velocity = -7.5_dp             !< v_y of the top (m/s, < 0 compresses)
     real(dp) :: ramp_time = 0.0_dp                 !< s, linear ramp of the top velocity
-    logical :: top_lateral_fixed = .true.          !< v_x = 0 on the top too (the seed's)
+    logical :: top_lateral_fixed = .true.          !< v_x = 0 on the top too (the dissertation's)
     ! initial state
     real(dp) :: velocity_gradient0(2, 2) = 0.0_dp  !< initial v = L0 x (patch test), 1/s
     ! artificial viscosity
@@ -449,24 +451,27 @@ contains
           pt%x(:, p) = pt%x(:, p) + dt*pt%phi(k, p)*self%gvel(:, i)
         end do
       end do
-      ! --- MUSL: grid velocity from the updated particle momentum
-      self%gmom = 0.0_dp
-      do p = 1, n
-        do k = 1, ns
-          i = pt%node(k, p)
-          self%gmom(:, i) = self%gmom(:, i) + pt%phi(k, p)*pt%mass(p)*pt%v(:, p)
+      ! --- MUSL: grid velocity from the updated particle momentum (USL
+      ! keeps the updated grid velocity v_i^{n+1}, eq. 4.10-4.11)
+      if (cfg%scheme == scheme_musl) then
+        self%gmom = 0.0_dp
+        do p = 1, n
+          do k = 1, ns
+            i = pt%node(k, p)
+            self%gmom(:, i) = self%gmom(:, i) + pt%phi(k, p)*pt%mass(p)*pt%v(:, p)
+          end do
         end do
-      end do
-      if (self%dec%nnb > 0) call sum_ghost_values(self%dec, self%comm, self%gmom)
-      do i = self%glo, self%ghi
-        if (self%gmass(i) > mmin) then
-          self%gvel(:, i) = self%gmom(:, i)/self%gmass(i)
-        else
-          self%gvel(:, i) = 0.0_dp
-        end if
-        self%gacc(:, i) = 0.0_dp
-        call apply_bc(i)
-      end do
+        if (self%dec%nnb > 0) call sum_ghost_values(self%dec, self%comm, self%gmom)
+        do i = self%glo, self%ghi
+          if (self%gmass(i) > mmin) then
+            self%gvel(:, i) = self%gmom(:, i)/self%gmass(i)
+          else
+            self%gvel(:, i) = 0.0_dp
+          end if
+          self%gacc(:, i) = 0.0_dp
+          call apply_bc(i)
+        end do
+      end if
       ! --- velocity gradient (eq. 4.11), F, volume, viscosity, rotation
       c = sqrt(self%bulk/cfg%density)
       do p = 1, n
