@@ -4,7 +4,7 @@
 !> 5600 particles, plastic Drucker-Prager UMAT), for GIMP and linear
 !> weights; bytes per particle; the shares of the step spent in the UMAT,
 !> the transfers (shape weights, P2G, G2P, MUSL) and the grid update.
-!> Prints the ratio to the issue's target of 150 ns (the UMAT alone costs
+!> Prints the ratio to the target of 150 ns (the UMAT alone costs
 !> about 85 ns); never a pass/fail on wall time. Timed over `nsteps` steps
 !> after `nwarm` warm-up steps (the pulse is then inside the body);
 !> usage: bench_mpm1d [NSTEPS] (default 2000; 50 is enough under callgrind).

@@ -2,7 +2,7 @@
 !> (wellposed_mpm_plane_strain) with the plastic UMAT, for linear, GIMP and
 !> CPDI weights, and the cost of one nonlocal sweep (Algorithm 1) against a
 !> local stress update of the same particles. Prints measures and their
-!> ratios to the issue's targets (linear 150, GIMP 250, CPDI 450 ns; sweep
+!> ratios to the targets (linear 150, GIMP 250, CPDI 450 ns; sweep
 !> 1.5x); never a pass/fail on wall time.
 !>
 !> Scene: the 4 m x 5 m plate at h = 0.25 m (1280 particles), von Mises with

@@ -1,27 +1,10 @@
-!> bench_scaling: strong and weak scaling of the plane-strain MPM over
-!> ranks (issue 7) and the cost of a checkpoint, measured in one run:
-!>
+!> bench_scaling: strong and weak scaling of the plane-strain MPM over ranks
+!> and the cost of a checkpoint, measured in one run:
 !>   mpirun -np 2 bench_scaling [CHECKPOINT_DIR]
-!>
-!> Scene: the 4 m x 5 m plate in CPDI, 2 x 2 particles per cell at
-!> h = 0.02 m (200 000 particles), von Mises with k0 = 40 MPa, free edges and
-!> an initial pure shear v = (-100 x, 100 y) 1/s, so that every particle is
-!> plastic after a few steps and the work is even over the plate (a loaded
-!> top would leave one strip elastic and measure load balance, not
-!> scaling). Three scenes live side by side:
-!>   S1  200 000 particles on rank 0 alone (the other rank waits);
-!>   W1  the lower half, 4 m x 2.5 m, 100 000 particles, on rank 0 alone;
-!>   P   200 000 particles on all ranks (100 000 per rank on 2).
-!> After `nwarm` steps of each, `nrounds` rounds time `nsteps` steps of S1,
-!> of W1 and of P in turn (P: the slowest rank), so that all three sample
-!> the same load of a shared machine; a phase's time per step is its
-!> fastest round (the median is printed beside it). Strong efficiency
-!> T(S1) / (N T(P)); weak efficiency T(W1) / T(P) (on 2 ranks each holds as
-!> many particles as W1). Then the checkpoint of P (and of S1): ps_save
-!> (gather to rank 0) + write_checkpoint (HDF5 through a temporary name,
-!> rename, keep two), as time and as a share of a step. Prints measures
-!> and ratios (target: strong >= 85 % on 2 ranks); never a pass/fail on
-!> wall time. On one rank only S1, W1 and the checkpoint run.
+!> A 200 000-particle CPDI plate in pure shear (every particle plastic): S1 on
+!> rank 0 alone, W1 its lower half on rank 0, P on all ranks, timed in
+!> interleaved rounds. Prints measures and ratios (target: strong >= 85 % on
+!> 2 ranks), never a pass/fail on wall time. Scene and method: docs/performance.md.
 program bench_scaling
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp

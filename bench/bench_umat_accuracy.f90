@@ -1,14 +1,9 @@
 !> bench_umat_accuracy: the speed/accuracy trade of the UMAT's time
-!> integration. A non-proportional strain path (uniaxial-strain extension
-!> from the case-study state, then shear at constant axial strain) is cut into
-!> N increments per leg; the end stress is compared with N = 65536 (error
-!> relative to the stress change along the path), and the cost of the whole
-!> path is timed in the same run. Backward Euler is first
-!> order on non-radial paths and exact on radial ones, so the error falls as
-!> 1/N while the cost grows as N: the table says how many increments buy a
-!> given accuracy, for the regular flow rule, eq. 2.6 and the EFR.
-!>
-!> Usage: bench_umat_accuracy [csv file]  (writes the table as CSV too)
+!> integration. A non-proportional strain path (uniaxial-strain extension,
+!> then shear) cut into N increments per leg, its end stress compared with
+!> N = 65536 and its cost timed in the same run, for the regular flow rule,
+!> eq. 2.6 and the EFR (backward Euler: error ~ 1/N on non-radial paths).
+!> Usage: bench_umat_accuracy [csv file]. Results: docs/performance.md.
 program bench_umat_accuracy
   use, intrinsic :: iso_fortran_env, only: int64, output_unit
   use wellposed_kinds, only: dp

@@ -1,19 +1,10 @@
 # WellposedPfunit.cmake: register pFUnit 4 .pf test files as CTest tests.
-#
 #   wellposed_add_pf_test(NAME <name> SOURCES <file.pf>... [<helper.f90>...]
 #                         [LINK_LIBRARIES <lib>...] [LABELS <label>...]
 #                         [WORKING_DIRECTORY <dir>])
-#
-# Builds an executable target <name> from the .pf files (plus any plain
-# Fortran helper sources) and adds a test <name>. The module in each .pf must
-# be named after the file (pFUnit rule). Relative paths are relative to
-# CMAKE_CURRENT_SOURCE_DIR; the test runs in CMAKE_CURRENT_BINARY_DIR unless
-# WORKING_DIRECTORY is given (both as add_pfunit_ctest does).
-#
-# With pFUnit (the caller ran `find_package(PFUNIT 4 QUIET)` first and
-# PFUNIT_FOUND is true) this is add_pfunit_ctest(). Without it, pfunit_lite
-# (tests/pfunit_lite) translates the .pf files with pf2f90.py at build time and
-# links them with the `wellposed_funit` library, a small module named `funit`.
+# With pFUnit found (find_package(PFUNIT 4 QUIET)) this is add_pfunit_ctest();
+# without it, tests/pfunit_lite translates the .pf files at build time.
+# The module in each .pf is named after the file. See docs/testing.md.
 
 include_guard(GLOBAL)
 

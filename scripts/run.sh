@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: install what is missing, build build/ (Release), and run the
 # default scene: `wellposed-mpm` with no deck, i.e. the Sandler-Rubin wave of
-# inputs/sandler_rubin_default.nml (seed fig. 2.3 left). The run is made from
+# inputs/sandler_rubin_default.nml (fig. 2.3 left). The run is made from
 # the repository root, so its results land in out/sandler_rubin_default/
 # of the repository (summary.txt, run.h5, stations.png) wherever this script
 # is called from. Extra arguments go to wellposed-mpm (a deck, overrides

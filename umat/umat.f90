@@ -1,5 +1,5 @@
-!> The Abaqus/Standard UMAT entry point of wellposed (shared design:
-!> UMAT_CONTRACT.md): an external subroutine with the exact Abaqus signature,
+!> The Abaqus/Standard UMAT entry point of wellposed (contract:
+!> docs/umat.md): an external subroutine with the exact Abaqus signature,
 !> callable from free- or fixed-form Fortran without any module. All work is
 !> done by wellposed_umat_adapter; this routine forwards and, for invalid
 !> input (status -1), writes one line to standard error.

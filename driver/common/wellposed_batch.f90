@@ -1,28 +1,10 @@
-!> Batch runs of a driver (issue 7): a batch file names one job per line,
-!> the way legacy batch systems write job lists,
-!>
-!>     # Sandler-Rubin mesh study          <- comments start with # or !
-!>     sandler_rubin_fig2_3_dx0.25.nml
-!>     sandler_rubin_fig2_3_dx0.25.nml grid.dx=0.125 scene.name=dx0125
-!>
-!> a deck path (relative paths are taken from the batch file's folder when
-!> the deck is there, else from the working folder) optionally followed by
-!> arguments for the driver (blank-separated, no quoting: the overrides of
-!> wellposed-mpm, say).
-!>
-!> Every job runs as its own process (`execute_command_line` of the driver
-!> executable), so a job that fails, crashes or aborts cannot take the
-!> batch with it: its exit status and the last error line of its log are
-!> recorded and the next job starts. Job k writes into `<dir>/jobs/k/`
-!> (through the driver's `--out`), its terminal output into
-!> `<dir>/jobs/k.log` and its outcome into `<dir>/jobs/k.result`
-!> (key = value lines, written through a temporary name and renamed).
-!> The jobs are shared over ranks round-robin (job k on rank mod(k-1, N)):
-!> this module knows nothing of MPI, the caller passes its rank and the
-!> number of ranks and, once every rank is done, one rank calls
-!> `write_batch_summary`, which reads the result files and the jobs'
-!> summary.txt and writes `batch_summary.txt` and `batch_summary.csv`.
-!> A job with no result file (its rank died) counts as failed ('lost').
+!> Batch runs of a driver: a batch file names one job per line (a deck path
+!> and optional driver arguments; `#` or `!` comments). Every job runs as its
+!> own process, so a failing job cannot take the batch with it; job k writes
+!> into `<dir>/jobs/k/`, `k.log` and `k.result`. Jobs are shared over ranks
+!> round-robin (the caller passes rank and size; no MPI here), and
+!> `write_batch_summary` writes batch_summary.txt and .csv.
+!> File format and outcomes: docs/parallel.md.
 module wellposed_batch
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp

@@ -1,24 +1,9 @@
-!> Checkpoints of a run (issue 7): a set of named 1-D arrays (real(dp) or
-!> integer) that a driver fills with whatever it needs to continue, written
-!> as one HDF5 file and read back whole or not at all. A text (a deck, a
-!> summary) is kept as an integer array: a leading 0, then its character
-!> codes (`put_text`, `get_text`).
-!>
-!> Writing: `write_checkpoint` stores every array as dataset `data/<name>`
-!> with the root attributes `format` ("wellposed-checkpoint 1"),
-!> `manifest` (one "name kind length" line per array, in order),
-!> `checksum` (Fletcher-64 over names, lengths and the bits of the data, as
-!> 16 hex digits) and, last, `complete` = "yes". The file goes through a
-!> temporary name (wellposed_h5) and is renamed when closed, so a run
-!> killed while writing leaves no file that looks like a checkpoint. Then
-!> all but the newest `keep` checkpoints of the folder are removed.
-!> Files are `<dir>/checkpoint_<step, 10 digits>.h5`, newest = highest step.
-!>
-!> Reading: `read_checkpoint` checks the format, the complete flag, the
-!> manifest against the datasets' lengths and the checksum over everything
-!> it read, and only then hands the arrays over; a damaged or truncated
-!> file gives an error naming the file and what is wrong, and an empty
-!> checkpoint. Nothing is ever used half-read.
+!> Checkpoints of a run: a set of named 1-D arrays (real(dp) or integer; a
+!> text as its character codes) written as one HDF5 file with a manifest, a
+!> Fletcher-64 checksum and a `complete` flag, through a temporary name, and
+!> read back whole or not at all: a damaged file gives an error naming it and
+!> what is wrong. Files `<dir>/checkpoint_<step, 10 digits>.h5`, the newest
+!> `keep` kept. File layout: docs/parallel.md.
 module wellposed_checkpoint
   use, intrinsic :: iso_fortran_env, only: int32, int64
   use wellposed_kinds, only: dp

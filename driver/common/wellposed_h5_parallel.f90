@@ -1,41 +1,11 @@
-!> One HDF5 file written by every rank of a communicator, with the layout
-!> of the serial writer wellposed_h5 (same dataset names, shapes, types,
-!> attributes), so the XDMF files and the plot scripts read it unchanged.
-!>
-!> With parallel HDF5 (Debian's libhdf5-openmpi-dev) and more than one
-!> rank, the file is opened on the communicator through MPI-IO: every call
-!> below is collective, metadata (groups, datasets, attributes) is created
-!> by all ranks with the same arguments and written collectively, and data
-!> goes through H5FD_MPIO_COLLECTIVE transfers. With serial HDF5, or on one
-!> rank, rank 0 writes the file through wellposed_h5 and the other ranks
-!> send it their rows (gather), so one rank gives exactly the file of the
-!> serial program; `h5_uses_mpio(comm)` says which applies.
-!>
-!> Particle fields are written by rows: row i of a dataset is particle i.
-!>  - `write_rows(name, mine)`: each rank holds a contiguous block of rows,
-!>    the blocks in rank order (rank q's first row is the sum of the row
-!>    counts of ranks 0 .. q-1, an exclusive prefix sum);
-!>  - `write_rows(name, mine, order)`: each rank holds any rows, named by
-!>    global ids 1..N (a permutation over the ranks); row gid lands at
-!>    [gid-1]. `new_row_order` prepares that once per particle
-!>    distribution (e.g. per snapshot) for any number of fields. By default
-!>    the rows are first redistributed (one all-to-all) into contiguous id
-!>    blocks, one per rank, then written as in the contiguous case; the
-!>    alternatives (each rank writing its rows in place by a point
-!>    selection, or by a union of hyperslabs over runs of consecutive ids)
-!>    are kept for measurement and are slower (see the README).
-!> A 2-D `mine(n_mine, n_cols)` is stored as the serial writer stores an
-!> a(n_rows, n_cols): C and Python readers see f['x'][i, j] == a(i+1, j+1).
-!>
-!> `write(name, data)` and `write_attr(name, value)` write what rank 0
-!> holds (the other ranks' arguments are ignored; they may pass empty
-!> arrays): station histories, energies, metadata.
-!>
-!> The file is written under `<path>.tmp.<pid of rank 0>` and renamed by
-!> `close`. A failure on any rank (a dataset or attribute that cannot be
-!> written) is shared with every rank at once, so all ranks skip the rest
-!> together; `close` then removes the temporary file and returns the same
-!> error on every rank: nothing that looks like a finished file is left.
+!> One HDF5 file written by every rank of a communicator, with the layout of
+!> the serial writer wellposed_h5, so XDMF files and plot scripts read it
+!> unchanged. Through MPI-IO with parallel HDF5 on more than one rank (every
+!> call collective), else gathered to rank 0 (`h5_uses_mpio` says which).
+!> `write_rows` writes particle rows (contiguous blocks, or rows named by
+!> global id through `new_row_order`); `write`/`write_attr` write rank 0's data.
+!> A failure on any rank fails every rank and leaves no finished-looking file.
+!> Row orders, redistribution and error sharing: docs/parallel.md.
 module wellposed_h5_parallel
   use, intrinsic :: iso_c_binding, only: c_ptr, c_loc
   use hdf5

@@ -1,5 +1,5 @@
 !> wellposed-demo: one material point of the Sandler-Rubin case study
-!> (seed section 2.3) strained in uniaxial-strain extension through the UMAT,
+!> (section 2.3) strained in uniaxial-strain extension through the UMAT,
 !> for the regular nonassociative flow rule and the extended flow rule
 !> (eq. 2.7, P_v = 0.5), printed as a table: the axial stress rises faster
 !> than elastic for the nonassociative model (the Sandler-Rubin stiffening)

@@ -1,17 +1,10 @@
 !> wellposed-batch: run a batch file of decks through a driver, the jobs
-!> shared over the ranks of an MPI run (wellposed_batch_run).
-!>
+!> shared over the ranks of an MPI run (wellposed_batch_run):
 !>   [mpirun -np N] wellposed-batch [--out ROOT] [--figures K1,K2,...]
 !>                                  DRIVER BATCHFILE [DRIVER_OPTION ...]
-!>
-!> DRIVER is the driver executable (wellposed-mpm, wellposed-point or any
-!> program taking `--out ROOT DECK [ARGS]`); the options after BATCHFILE go
-!> to every job (e.g. --no-plot). Writes ROOT/<batch name>/ (ROOT = out):
-!> batch_summary.txt and .csv with each job's status, wall time and the
-!> summary.txt figures K1, K2, ... (defaults per driver). Exit status 0 when
-!> every job succeeded, 1 when any failed, 2 when the batch itself could
-!> not run. `wellposed-mpm --batch FILE` and `wellposed-point --batch FILE`
-!> do the same with themselves as DRIVER.
+!> Writes ROOT/<batch name>/batch_summary.txt and .csv. Exit status 0 when
+!> every job succeeded, 1 when any failed, 2 when the batch could not run.
+!> Details: docs/parallel.md.
 program wellposed_batch_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use wellposed_error, only: error_t

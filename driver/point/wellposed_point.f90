@@ -1,14 +1,10 @@
-!> wellposed-point DECK [--no-plot] [--out ROOT]: the single-element driver. Reads a
-!> namelist deck (driver/point: wellposed_point_deck; keys in the README),
-!> drives every &material of it through the UMAT along the deck's legs,
-!> probes the state (R(theta), acoustic tensor, wave speeds, Gudehus
-!> envelopes) and runs the Chapter 3 virtual experiment when asked, and
-!> writes <out_dir>/<name>/: the deck, CSV files, results.h5 (data and
-!> metadata), summary.txt and PNG plots. Errors go to standard error with
-!> exit status 1, and leave only <name>.partial/ behind. `--out ROOT`
-!> replaces the deck's out_dir. `wellposed-point --batch FILE` runs the
-!> decks of a batch file, one process per deck, shared over the ranks of
-!> an mpirun (wellposed_batch_run), into ROOT/<batch name>/.
+!> wellposed-point DECK [--no-plot] [--out ROOT]: the single-element driver.
+!> Drives every &material of a namelist deck (keys in docs/decks.md) through
+!> the UMAT along the deck's legs, probes the state and runs the chapter 3
+!> virtual experiment when asked, and writes <out_dir>/<name>/ (deck, CSV,
+!> results.h5, summary.txt, PNGs). Errors go to standard error with exit
+!> status 1 and leave only <name>.partial/ behind. `--batch FILE` runs a
+!> batch file, one process per deck, over the ranks of an mpirun.
 program wellposed_point
   use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use wellposed_kinds, only: dp

@@ -1,20 +1,9 @@
-!> The virtual experiment of seed chapter 3 (section 3.4-3.5) on any UMAT:
-!> cyclic stress probing of one specimen, interpolation of repeated
-!> stimulus-response pairs to a common state (fig. 3.3), the best-fit
-!> tangent compliance L = R S^+ (Moore-Penrose pseudo-inverse), and the
-!> directions of the flow M and the yield normal N by the polar
-!> decomposition of A = C - T (eq. 3.19-3.25), as table 3.2.
-!>
-!> Each cycle applies the eight stress increments of table 3.1 and their
-!> reverses: legs A-D at phi (degrees from the hydrostatic compression axis,
-!> eq. 3.5) and A'-D' at phi + 180. Every leg starts with a drift
-!> increment of axial stress (lateral stresses held) that brings the
-!> specimen back onto its yield surface and moves it along the monotonic
-!> path, as the loading path of the tests does; the leg is then applied
-!> and fully reversed (the residual strain is the plastic strain).
-!> Vectors are compression-positive axisymmetric Lode components
-!> (z: hydrostatic, r: deviatoric; eq. 3.10-3.11 with the sign of 3.5);
-!> angles theta_M, theta_N are measured from the hydrostatic compression axis.
+!> The virtual experiment of chapter 3 (sections 3.4-3.5) on any UMAT: cyclic
+!> stress probing of one specimen (table 3.1), interpolation of repeated
+!> stimulus-response pairs to a common state (fig. 3.3), the best-fit tangent
+!> compliance L = R S^+, and the flow direction M and yield normal N by the
+!> polar decomposition of A = C - T (eq. 3.19-3.25), as table 3.2.
+!> Legs, drift increments and sign conventions: docs/theory.md.
 module wellposed_point_chapter3
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

@@ -1,18 +1,8 @@
-!> The deck of `wellposed-point`: Fortran namelist groups in a plain text
-!> file (driver/common: wellposed_deck). Groups, each documented key by
-!> key in the README ("The single-element driver"):
-!>   &run       name, out_dir, plot, probe_strain, stress_tol, stress_floor,
-!>              max_iter, max_cutbacks, verbose                  (optional)
-!>   &material  label, props, nstatv, density           (one or more)
-!>   &initial   stress, strain, statev                          (optional)
-!>   &leg       duration, n_inc, control, target         (zero or more, in order)
-!>   &probe     at_leg, rtheta, n_theta, acoustic, n_polar, n_azimuth, wave,
-!>              wave_sign, gudehus, gudehus_size, n_gudehus, n_sub (optional)
-!>   &chapter3  magnitude, phi, n_cycles, analysis_cycle, drift_axial,
-!>              n_sub                                           (optional)
-!> Any other group name is an error (a misspelt group would otherwise be
-!> skipped silently by the namelist READ); a group may end with "/" or with
-!> the legacy "&end".
+!> The deck of `wellposed-point`: Fortran namelist groups &run, &material,
+!> &initial, &leg, &probe and &chapter3 in a plain text file (driver/common:
+!> wellposed_deck), each key documented in docs/decks.md. Any other group
+!> name is an error (the namelist READ would skip a misspelt group
+!> silently); a group may end with "/" or with "&end".
 module wellposed_point_deck
   use, intrinsic :: iso_fortran_env, only: iostat_end
   use wellposed_kinds, only: dp

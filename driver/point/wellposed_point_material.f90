@@ -1,6 +1,6 @@
 !> The single-element driver's view of a material: a PROPS array, an
-!> STATEV length and the external `umat` (Abaqus signature, shared design
-!> UMAT_CONTRACT.md). The driver reaches materials only through here, so a
+!> STATEV length and the external `umat` (Abaqus signature,
+!> docs/umat.md). The driver reaches materials only through here, so a
 !> user's own UMAT linked instead of ours is driven the same way.
 !> Vectors are in Abaqus order (11, 22, 33, 12, 13, 23) with engineering
 !> shear strains; NDI = 3, NSHR = 3, NTENS = 6; tension positive.

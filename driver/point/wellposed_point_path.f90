@@ -1,15 +1,10 @@
-!> Strain-, stress- and mixed-controlled paths of the single element.
-!> A leg runs from the current state over `duration` in `n_inc` equal
-!> increments; per component it prescribes either the total strain or the
-!> stress reached at its end, interpolated linearly in between. The strain
-!> increments of stress-controlled components are found by Newton
-!> iteration on the UMAT's DDSDDE with a backtracking line search, and a
-!> finite-difference Jacobian (extra UMAT calls from the same start state)
-!> when DDSDDE is not finite, is singular or its step cannot lower the
-!> residual (a direction-dependent tangent, as the extended flow rule's). An increment the UMAT refuses (PNEWDT < 1)
-!> or Newton cannot solve is cut back (by PNEWDT, at most by 1/10, at least
-!> by half) and re-attempted; after `max_cutbacks` consecutive cut-backs the
-!> path cannot be followed and an error says where and why.
+!> Strain-, stress- and mixed-controlled paths of the single element. A leg
+!> prescribes per component the total strain or the stress at its end,
+!> reached in `n_inc` equal increments. Stress-controlled components are
+!> found by Newton on DDSDDE with a line search, falling back to a
+!> finite-difference Jacobian (a direction-dependent tangent, as the EFR's).
+!> A refused or unsolved increment is cut back (by PNEWDT, between 1/10 and
+!> 1/2); after `max_cutbacks` in a row an error says where and why.
 module wellposed_point_path
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp

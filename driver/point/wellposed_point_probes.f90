@@ -1,24 +1,10 @@
-!> Probes of a saved state of the single element, all through UMAT calls
-!> from copies of the state (the state itself is never changed):
-!> - the directional stiffness ratio R(theta) = d:dsig/(d:C:d) (seed
-!>   eq. 2.5) over the axisymmetric strain-rate directions d(theta) of the
-!>   Lode plane (E_z = I/sqrt(3), E_r = unit stress deviator), with theta = 0
-!>   tangent to the yield surface (N:d = 0) on the compressive side and
-!>   theta growing towards the outward normal N (seed section 2.4, fig. 2.4);
-!> - the acoustic tensor A = n.T.n (seed eq. 1.7), its symmetric part's
-!>   eigenvalues (loss of ellipticity when the smallest is <= 0) and flutter
-!>   (complex eigenvalues of A), over unit normals n;
-!> - elastic and plastic uniaxial-strain wave speeds (Sandler-Rubin: plastic
-!>   faster than elastic);
-!> - Gudehus strain-response envelopes (seed fig. 3.2): stress increments of
-!>   equal size around the (sigma_z, sigma_r) Lode plane (eq. 3.5, 3.10-3.11).
-!> The yield normal is not asked of the material: the loading/unloading
-!> boundary of the Lode plane is located by bisection on probe responses
-!> (a direction loads plastically when its response differs from the
-!> elastic one), which for a regular or extended flow rule is the line
-!> N:C:d = 0, so N = C^-1 (C:N) follows from the elastic stiffness C.
-!> C is the DDSDDE of a small increment from the stress-free virgin state.
-!> Stresses and strains: Abaqus order, engineering shears, tension positive.
+!> Probes of a saved state of the single element, all through UMAT calls from
+!> copies of the state: the directional stiffness ratio R(theta) (eq. 2.5,
+!> section 2.4, fig. 2.4), the acoustic tensor n.T.n (eq. 1.7) with loss of
+!> ellipticity and flutter, elastic and plastic uniaxial-strain wave speeds,
+!> and Gudehus strain-response envelopes (fig. 3.2). The yield normal is found
+!> by bisection on probe responses, not asked of the material.
+!> Conventions and method: docs/theory.md. Abaqus order, tension positive.
 module wellposed_point_probes
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
@@ -96,7 +82,7 @@ contains
     dsig = (s1%stress - s%stress)/eps
   end subroutine probe
 
-  !> Axisymmetric Lode components (compression positive, seed chapter 3:
+  !> Axisymmetric Lode components (compression positive, chapter 3:
   !> sigma_z = -tr/sqrt(3), sigma_r = -sqrt(2/3) (sigma_A - sigma_L)), axis 1
   !> axial, lateral the mean of 22 and 33.
   pure function lode2(v) result(w)
@@ -292,7 +278,7 @@ contains
   !> Uniaxial-strain wave speeds along axis 1 from `s`: the elastic speed
   !> from C_1111 and the plastic one from the probe response
   !> dsig_11/deps_11 of a strain increment `sign_`*eps*e_1 (sign_ = +1:
-  !> extension, as the seed's tensile pulse).
+  !> extension, as the dissertation's tensile pulse).
   subroutine wave_speeds(mat, s, c, eps, sign_, c_e, c_p, mod_p, err)
     type(material_t), intent(in) :: mat
     type(point_state_t), intent(in) :: s

@@ -1,14 +1,9 @@
 !> Tangent analysis at a plastic state: the continuum elastic-plastic tangent
 !> (eq. 3.14), the continuum stress rate of the regular and extended flow
 !> rules, and the directional stiffness ratio R (eq. 2.5) over axisymmetric
-!> strain-rate directions.
-!>
-!> Axisymmetric directions live in the Lode plane of the state: the unit
-!> tensors E_z = I/sqrt(3) and E_r = S_hat (the unit stress deviator), and
-!> d eps(theta) = cos(phi) E_z + sin(phi) E_r. The angle theta is measured
-!> from the direction tangent to the yield surface (N : d eps = 0) whose trace
-!> is negative (compressive), towards the outward normal: theta = pi/2 is
-!> d eps along N's projection on the plane (seed section 2.4).
+!> strain-rate directions d eps = cos(phi) E_z + sin(phi) E_r of the state's
+!> Lode plane, theta measured from the compressive tangent to the yield
+!> surface towards the outward normal (section 2.4; docs/theory.md).
 module wellposed_tangent_analysis
   use wellposed_kinds, only: dp
   use wellposed_tensor, only: ntens6, sqrt2, sqrt3, identity2, trace, deviator, norm, outer
@@ -145,8 +140,8 @@ contains
   !> and Bazant: a harmonic perturbation of dlambda is averaged by the
   !> normalised Gaussian, whose Fourier transform is exp(-kappa^2 L^2/(4 k^2)),
   !> so the linearised equations are the local ones with the effective modulus
-  !> h_eff(kappa) = h_eta + h_zeta exp(-kappa^2 L^2/(4 k^2)) (reference
-  !> cases.md: h((1 - m) + m exp(...)) with h_eta = (1 - m) h, h_zeta = m h).
+  !> h_eff(kappa) = h_eta + h_zeta exp(-kappa^2 L^2/(4 k^2)) (docs/cases.md,
+  !> case A: h((1 - m) + m exp(...)) with h_eta = (1 - m) h, h_zeta = m h).
   !> Returns rho c(kappa)^2; kappa -> 0 is the local model with h_eta + h_zeta,
   !> kappa -> infinity the local model with h_eta.
   pure function overlocal_uniaxial_modulus(p, sig, z, sign, kappa) result(rho_c2)

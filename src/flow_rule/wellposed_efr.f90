@@ -1,28 +1,10 @@
 !> Hashiguchi's extended flow rule (EFR, eq. 2.7): the plastic strain
-!> direction turns with the direction of this increment's total strain de,
-!>
-!>   M = N_hat ||de*|| + P_v de_v I + P_d de*,   M_hat = M/||M||,
-!>
-!> de_v = tr(de), de* = de - de_v/3 I, N_hat the unit normal of the plastic
-!> potential (eq. 4.35, slope beta_p). P_v = P_d = 0 is the regular flow rule.
-!>
-!> Backward Euler with N_hat at the end of the increment gives seven
-!> equations in (sigma, dlambda):
-!>   R_sigma = sigma - sigma_trial + dlambda C:M_hat(sigma, de) = 0,
-!>   R_f     = f(sigma, z_n + dlambda) = 0,
-!> solved by Newton. With P_d = 0 the deviator keeps the trial direction and
-!> the first Newton step is already the exact answer for linear hardening.
-!> The tangent is the implicit-function derivative d sigma/d de of this
-!> system, so it includes how M_hat turns with de: it is the derivative of
-!> this increment's stress with respect to this increment's strain, not an
-!> incremental stiffness valid for other directions.
-!>
-!> Where the increment has no direction (de = 0, or only a volumetric part
-!> with P_v = 0) the regular flow rule applies; so it does where the EFR
-!> direction cannot lower f (N:C:M_hat + dk/dz <= 0 at the trial state, e.g.
-!> a purely volumetric increment on a pressure-insensitive cone). When the
-!> return would carry the deviator through zero the stress returns to the
-!> apex (beta > 0) as in the regular model.
+!> direction M = N_hat ||de*|| + P_v de_v I + P_d de* turns with this
+!> increment's total strain de. Backward Euler with N_hat at the end of the
+!> increment gives seven equations in (sigma, dlambda), solved by Newton; the
+!> tangent is their implicit-function derivative d sigma/d de (it includes how
+!> M_hat turns with de). No direction, or a direction that cannot lower f:
+!> the regular flow rule. Derivation and edge cases: docs/theory.md.
 module wellposed_efr
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_cutback

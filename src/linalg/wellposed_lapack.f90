@@ -2,7 +2,7 @@
 !> DGEEV and DGESVD, and three small wrappers with errors as values:
 !> symmetric eigenpairs, eigenvalues of a general matrix (real and
 !> imaginary parts), and the Moore-Penrose pseudo-inverse by the SVD (the
-!> best-fit map L = R S^+ of seed section 3.5). Work arrays are queried
+!> best-fit map L = R S^+ of section 3.5). Work arrays are queried
 !> from LAPACK and allocated per call (no saved state).
 module wellposed_lapack
   use wellposed_kinds, only: dp

@@ -1,16 +1,10 @@
 !> One strain increment of the wellposed Drucker-Prager model: the typed
 !> entry point behind the UMAT, usable directly by Fortran hosts.
-!>
-!> Order of work: the nonlocal strength zeta += h_zeta <dlambda> (eq. 4.24,
-!> <dlambda> supplied by the host), the elastic trial, the rate-independent
-!> return (regular flow rule, or the extended flow rule of eq. 2.7 when P_v or
-!> P_d is non-zero), and, when tau > 0, the Duvaut-Lions relaxation (eq. 2.10)
-!> integrated by backward Euler:
-!>   sigma = sigma_qs + w (sigma_trial - sigma_qs),  w = tau/(tau + dt),
-!> with z and eps^p relaxing alike and tangent T = T_qs + w (C - T_qs).
-!> dt/tau -> 0 gives the elastic trial, tau = 0 the rate-independent answer
-!> exactly (the relaxation is skipped). A feature whose parameter is zero costs
-!> nothing.
+!> Order: nonlocal strength zeta += h_zeta <dlambda> (eq. 4.24), elastic
+!> trial, rate-independent return (regular, or the EFR of eq. 2.7), and when
+!> tau > 0 the Duvaut-Lions relaxation (eq. 2.10) by backward Euler,
+!> sigma = sigma_qs + w (sigma_trial - sigma_qs), w = tau/(tau + dt).
+!> A feature whose parameter is zero costs nothing. See docs/theory.md.
 module wellposed_dp_model
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t

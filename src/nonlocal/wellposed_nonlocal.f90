@@ -1,4 +1,4 @@
-!> Nonlocal (overlocal) plasticity helpers for hosts (seed section 2.5.4,
+!> Nonlocal (overlocal) plasticity helpers for hosts (section 2.5.4,
 !> 4.4-4.5): the Gaussian weight of the nonlocal average and the Lipschitz
 !> bounds of the two fixed-point schemes, so a host can warn before its
 !> iteration diverges.

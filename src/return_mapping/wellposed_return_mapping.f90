@@ -1,16 +1,10 @@
 !> Backward-Euler return mapping of the Drucker-Prager cone with the regular
-!> (associative or nonassociative) flow rule d eps^p = dlambda M_hat
-!> (eq. 1.6, 4.35), and its algorithmic (consistent) tangent.
-!>
-!> With isotropic elasticity the deviatoric stress keeps the trial direction,
-!> so the return reduces to one scalar equation in dlambda (eq. 4.36):
-!>   f_trial - a dlambda - (k(z_n + dlambda) - k(z_n)) = 0,
-!>   a = (G + 9 K beta beta_p)/sqrt(1/2 + 3 beta_p^2),
-!> solved in closed form for linear hardening (eq. 4.39 with h_zeta = 0) and
-!> by a safeguarded Newton iteration for the exponential law (eq. 2.6).
-!> When no point of the cone is reachable along the potential's normals the
-!> stress returns to the apex I1 = k/beta with plastic strain
-!> C^-1:(sigma_trial - sigma_apex); z grows by that strain's norm.
+!> flow rule d eps^p = dlambda M_hat (eq. 1.6, 4.35), and its consistent
+!> tangent. With isotropic elasticity the deviator keeps the trial direction,
+!> so the return is one scalar equation in dlambda (eq. 4.36), closed form
+!> for linear hardening (eq. 4.39 with h_zeta = 0), safeguarded Newton for
+!> eq. 2.6. When no point of the cone is reachable along the potential's
+!> normals the stress returns to the apex I1 = k/beta. See docs/theory.md.
 module wellposed_return_mapping
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_cutback

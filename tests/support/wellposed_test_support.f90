@@ -1,6 +1,6 @@
 !> Helpers shared by the unit tests: a UMAT call with the contract's
 !> defaults, a central-difference tangent of the UMAT itself, and the
-!> case-study properties (shared reference: cases.md, A).
+!> case-study properties (docs/cases.md, case A).
 module wellposed_test_support
   use wellposed_kinds, only: dp
   use wellposed_umat_interface, only: umat
@@ -13,7 +13,7 @@ module wellposed_test_support
 
 contains
 
-  !> Sandler-Rubin case study (seed 2.3, reference defaults for K and G):
+  !> Sandler-Rubin case study (section 2.3, reference defaults for K and G):
   !> K = 4 GPa, G = 1.5 GPa, beta = 0.315, beta_p = 0, k0 = 5.066 MPa.
   pure function seed_props() result(props)
     real(dp) :: props(14)

@@ -9,7 +9,7 @@ Writes, for what the run holds:
   acoustic.png  smallest eigenvalue of sym(n.T.n) against the normal's angle to axis 1
   gudehus.png   strain-response envelopes, tail to tail (fig. 3.2)
   chapter3.png  envelopes of the virtual experiment with the best fits (fig. 3.4)
-Lode components are compression positive (seed chapter 3): z hydrostatic, r deviatoric.
+Lode components are compression positive (chapter 3): z hydrostatic, r deviatoric.
 Run by wellposed-point with matplotlib's Agg backend (python3-matplotlib, python3-h5py).
 """
 import os

@@ -1,24 +1,11 @@
 !> The library's dispersion relation of the overlocal model in uniaxial strain
-!> (seed section 2.5.4, fig. 2.10 left) at given frequencies, for the
-!> regression test and the figure script driver/mpm/plots/mpm_dispersion.py.
-!>
-!>   mpm_dispersion_oracle DENSITY S11 S22 S33 S12 S13 S23 K G beta beta_p k0 h
-!>                         k_lim z_ref P_v P_d tau h_zeta L F1 [F2 ...]
-!>
-!> (kg/m^3, Pa, Pa, -, -, Pa, Pa, Pa, -, -, -, s, Pa, m, Hz; the stress and
-!> the 13 material parameters of an MPM deck: PROPS 1-13 of the UMAT
-!> contract). For each frequency f it solves omega = kappa c(kappa),
-!> omega = 2 pi f, with rho c(kappa)^2 = overlocal_uniaxial_modulus (Di Luzio
-!> and Bazant's perturbation: the local uniaxial-strain plastic modulus with
-!> h_eff(kappa) = h_eta + h_zeta exp(-kappa^2 L^2/(4 k^2)), the Fourier
-!> transform of the normalised Gaussian of eq. 2.15/4.27), by bisection on
-!> [omega/c_max, omega/c_min], c between the two local bounds. Prints
-!>   bounds C_ELASTIC C_LOW_FREQUENCY C_HIGH_FREQUENCY
-!> (C_E from the unloading modulus; the local models with h_eta + h_zeta and
-!> with h_eta) and one line per frequency:
-!>   f F omega OMEGA kappa KAPPA c_phase C c_group CG
-!> with the group velocity d omega/d kappa by a central difference.
-!> Exit status 1 with a message on bad arguments.
+!> (section 2.5.4, fig. 2.10 left) at given frequencies, for the regression
+!> test and driver/mpm/plots/mpm_dispersion.py:
+!>   mpm_dispersion_oracle DENSITY S11 .. S23 PROPS(1:13) F1 [F2 ...]
+!> Solves omega = kappa c(kappa) by bisection, rho c^2 from
+!> overlocal_uniaxial_modulus (Fourier transform of eq. 2.15/4.27); prints
+!> the bounds and phase and group velocities. Arguments and output:
+!> docs/verification.md. Exit status 1 with a message on bad arguments.
 program mpm_dispersion_oracle
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use wellposed_kinds, only: dp

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """A damaged checkpoint is refused by wellposed-mpm or wellposed-mpm2d, never
-half-read (issue 7).
+half-read.
 
 check_bad_checkpoint.py --program wellposed-mpm --deck DECK --out DIR [--launcher L]
                         [--name NAME] [--every STEPS] [--downgrade HELPER] -- [ARGS]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Serial = parallel for wellposed-mpm (issue 7).
+"""Serial = parallel for wellposed-mpm.
 
 check_ranks.py --launcher "mpirun -np 4 --oversubscribe" --program wellposed-mpm
                --deck DECK --name NAME --reference DIR --out DIR

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Kill -9 + --restart equals the uninterrupted run (issue 7).
+"""Kill -9 + --restart equals the uninterrupted run.
 
 check_restart.py --launcher "mpirun -np 2 --oversubscribe" --restart-launcher "..."
                  --program wellposed-mpm --deck DECK --out DIR [--tolerance T]

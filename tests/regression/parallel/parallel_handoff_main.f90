@@ -1,15 +1,8 @@
-!> mpirun -np N parallel_handoff_main: the domain decomposition of the MPM
-!> grid (wellposed_mpm_decomposition) on a 1D bar of GIMP particles that
-!> slosh back and forth across the rank boundaries for many steps.
-!> Checks, on any N (1 included):
-!>  - hand-offs lose, duplicate and alter no particle: after every step the
-!>    particles gathered by global id have bitwise the initial masses and
-!>    the positions and velocities the kinematics prescribe, so total mass
-!>    and momentum are conserved exactly;
-!>  - every particle's support stays inside its rank's patch;
-!>  - the ghost-summed nodal mass and momentum equal a serial particle-to-
-!>    grid pass over all particles within 1e-14 relative (only the order of
-!>    the additions differs) and every holder of a node has the same value.
+!> mpirun -np N parallel_handoff_main: the MPM domain decomposition on a 1D
+!> bar of GIMP particles sloshing across rank boundaries for many steps.
+!> Checks that hand-offs lose, duplicate and alter no particle (mass and
+!> momentum exact), that supports stay in their patch, and that ghost-summed
+!> nodal mass and momentum match a serial pass within 1e-14 relative.
 !> Prints one line per check and exits non-zero on any failure.
 program parallel_handoff_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit

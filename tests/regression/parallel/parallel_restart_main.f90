@@ -1,18 +1,8 @@
 !> mpirun -np N parallel_restart_main write|read DIR: checkpoints of an MPM
-!> scene spread over ranks (wellposed_mpm_restart: save_scene_ranks,
-!> restore_scene_ranks) and read back on the same or another number of
-!> ranks.
-!>  write: every rank runs the 60 m Sandler-Rubin bar 40 steps (the same
-!>         serial run everywhere), keeps the particles of its cells, sets
-!>         rank-specific partial sums, and the ranks write one checkpoint
-!>         into DIR (rank 0 writes, keep the last two).
-!>  read:  every rank restores DIR's newest checkpoint into a fresh scene
-!>         and checks: it holds exactly the particles of its cells, each
-!>         bit for bit the reference particle of its id, in increasing id
-!>         order; time and step are the saved ones; written on as many
-!>         ranks, every rank has its own partial sums back, else rank 0
-!>         holds their totals.
-!> Exits non-zero on any failure.
+!> scene spread over ranks (save_scene_ranks, restore_scene_ranks) written
+!> and read back on the same or another number of ranks; every rank must get
+!> exactly its particles back, bit for bit, in id order, with time, step and
+!> partial sums. Cases: docs/verification.md. Exits non-zero on any failure.
 program parallel_restart_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use wellposed_kinds, only: dp

@@ -1,27 +1,9 @@
 !> [mpirun -np N] parallel_snapshots_main MODE DIR [ARG]: the snapshot store
-!> of the MPM programs (wellposed_mpm_snapshots) on its own, with rows
-!> scattered over the ranks as particles are, against the file the serial
-!> writer gives.
-!>  reference DIR      one process: DIR/reference.h5, the three snapshots
-!>                     below written by the serial writer (wellposed_h5)
-!>  write DIR          the store on N ranks, each holding the ids g with
-!>                     mod(7 g + k, N) = rank of snapshot k, in descending
-!>                     order (so the last, of 3 rows, leaves a rank empty
-!>                     on 4): DIR/written_npN.h5, and a checkpoint of it
-!>                     in DIR/ck_npN/
-!>  read DIR SRC       the newest checkpoint of DIR/SRC/ restored on N ranks:
-!>                     every rank must hold its contiguous block of ids of
-!>                     each snapshot with the values of those ids;
-!>                     DIR/restored_SRC_npN.h5 written from them (by case:
-!>                     the `prefix` filter)
-!>  old DIR            checkpoints without the store's entries, and with
-!>                     another version of them, are refused with a message
-!>  downgrade CK OUT   one process: checkpoint file CK without the store's
-!>                     entries, as the programs before the store wrote
-!>                     their checkpoints, into folder OUT
-!> Values: row g of snapshot k holds k*1000 + g + c/8 in value c (exact).
-!> Exits non-zero on any failure; tests/regression/parallel_h5/
-!> check_parallel_h5.py compares the files.
+!> of the MPM programs (wellposed_mpm_snapshots) on its own, rows scattered
+!> over the ranks as particles are, against the serial writer's file. Modes
+!> reference, write, read, old, downgrade: docs/verification.md.
+!> Row g of snapshot k holds k*1000 + g + c/8 in value c (exact).
+!> Exits non-zero on any failure.
 program parallel_snapshots_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use wellposed_kinds, only: dp

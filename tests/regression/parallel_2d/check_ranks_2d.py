@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Serial = parallel for wellposed-mpm2d (issue 7).
+"""Serial = parallel for wellposed-mpm2d.
 
 check_ranks_2d.py --program wellposed-mpm2d --deck DECK --out DIR
                   [--launcher "mpirun --oversubscribe"] [--np-flag -np]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Kill -9 + --restart equals the uninterrupted run, for wellposed-mpm2d (issue 7).
+"""Kill -9 + --restart equals the uninterrupted run, for wellposed-mpm2d.
 
 check_restart_2d.py --program wellposed-mpm2d --deck DECK --out DIR
                     [--launcher "mpirun --oversubscribe -np 2"]

@@ -1,27 +1,9 @@
-!> Test program of wellposed_h5_parallel (one HDF5 file written by every
-!> rank). The same particle fields (known functions of the global id) and
-!> the same rank-0 data and attributes are written in several ways:
-!>
-!>   parallel_h5_main serial DIR [N]  DIR/reference.h5 by the serial writer
-!>                                    (wellposed_h5), the file of a serial run
-!>   parallel_h5_main write DIR [N]   on every rank of the job:
-!>                                    DIR/contiguous.h5   rows in uneven contiguous
-!>                                                        blocks (a rank with none)
-!>                                    DIR/redistribute.h5 rows scattered over the
-!>                                    DIR/points.h5       ranks in runs, each rank's
-!>                                    DIR/hyperslabs.h5   in reverse id order, written
-!>                                                        in id order, three ways
-!>   parallel_h5_main error DIR       error paths; prints one line per rank
-!>                                    "rank R error: ..." per case, exit 1 when
-!>                                    a case did not fail on every rank with
-!>                                    the same message or left a file behind
-!>   parallel_h5_main bench DIR N [REPS]  wall times of a snapshot of N rows
-!>                                    per rank (a 2-column and six 1-column
-!>                                    fields) in each way, against rank 0
-!>                                    gathering and writing alone (points and
-!>                                    hyperslabs up to N = 20000; -1: skipped)
-!>
-!> check_parallel_h5.py compares the files with the reference (bitwise).
+!> Test program of wellposed_h5_parallel: the same particle fields (known
+!> functions of the global id) and rank-0 data written by the serial writer
+!> (`serial DIR`), on every rank in each row order (`write DIR`), through the
+!> error paths (`error DIR`) and timed (`bench DIR N`).
+!> check_parallel_h5.py compares the files with the reference bitwise.
+!> Modes and files: docs/verification.md.
 program parallel_h5_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
   use wellposed_kinds, only: dp
