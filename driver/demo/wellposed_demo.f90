@@ -1,13 +1,16 @@
 !> wellposed-demo: one material point of the Sandler-Rubin case study
-!> (section 2.3) strained in uniaxial-strain extension through the UMAT,
-!> for the regular nonassociative flow rule and the extended flow rule
+!> (section 2.3) strained in uniaxial-strain extension through the UMAT
+!> host (driver/host), for the regular nonassociative flow rule and the
+!> extended flow rule
 !> (eq. 2.7, P_v = 0.5), printed as a table: the axial stress rises faster
 !> than elastic for the nonassociative model (the Sandler-Rubin stiffening)
 !> and never does for the EFR.
 program wellposed_demo
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use wellposed_kinds, only: dp
-  use wellposed_umat_interface, only: umat
+  use wellposed_error, only: error_t
+  use wellposed_text, only: int_text
+  use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_error, verdict_ok
   implicit none
   integer, parameter :: nsteps = 10
   real(dp), parameter :: bulk = 4.0e9_dp, shear = 1.5e9_dp, deps = 2.0e-5_dp
@@ -35,18 +38,17 @@ contains
   subroutine run(props, model)
     real(dp), intent(in) :: props(14)
     integer, intent(in) :: model
-    real(dp) :: stress(6), statev(12), ddsdde(6, 6), dstran(6), stran(6), time(2), pnewdt
-    real(dp) :: sse, spd, scd, rpl, ddsddt(6), drplde(6), drpldt, predef(1), coords(3)
-    real(dp) :: drot(3, 3), f33(3, 3), sig_prev
-    character(len=80) :: cmname
+    real(dp) :: stress(6), statev(12), dstran(6), stran(6), energy(3), sig_prev
     character(len=*), parameter :: status_name(0:2) = ['elastic', 'plastic', 'apex   ']
-    integer :: step
+    type(umat_host_t) :: h
+    type(error_t), allocatable :: err
+    integer :: step, verdict
+    call new_umat_host(h, 6, 12, err, cmname='WELLPOSED', what='element')
+    if (allocated(err)) call fail(err)
     stress = [-100.0e6_dp, -17.55e6_dp, -17.55e6_dp, 0.0_dp, 0.0_dp, 0.0_dp]
-    statev = 0.0_dp; stran = 0.0_dp; time = 0.0_dp; sse = 0.0_dp; spd = 0.0_dp
-    scd = 0.0_dp; rpl = 0.0_dp; ddsddt = 0.0_dp; drplde = 0.0_dp; drpldt = 0.0_dp
-    predef = 0.0_dp; coords = 0.0_dp; drot = 0.0_dp; f33 = 0.0_dp
+    statev = 0.0_dp; stran = 0.0_dp; energy = 0.0_dp
     dstran = [deps, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp]
-    cmname = 'WELLPOSED'
+    h%dtime = 1.0e-3_dp
     write (output_unit, '(/,a)') merge('regular nonassociative flow rule (beta_p = 0)  ', &
                                        'extended flow rule (beta_p = beta, P_v = 0.5)  ', &
                                        model == 1)
@@ -54,13 +56,15 @@ contains
       'd sigma_11/d eps_11 GPa     z         status'
     do step = 1, nsteps
       sig_prev = stress(1)
-      pnewdt = 1.0_dp
-      call umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, &
-                dstran, time, 1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, 3, 6, &
-                12, props, 14, coords, drot, pnewdt, 1.0_dp, f33, f33, 1, 1, 0, 0, 1, step)
-      if (pnewdt < 1.0_dp) then
-        write (error_unit, '(a,i0)') 'wellposed-demo: the UMAT refused increment ', step
-        error stop 1
+      ! uniaxial strain along 1 without rotation: F = I + eps
+      h%kinc = step
+      h%time = (step - 1)*h%dtime
+      h%dfgrd0(1, 1) = 1.0_dp + stran(1)
+      h%dfgrd1(1, 1) = 1.0_dp + stran(1) + dstran(1)
+      call host_call(h, props, stress, statev, stran, dstran, verdict, energy)
+      if (verdict /= verdict_ok) then
+        call host_error(h, verdict, err, 'increment '//int_text(step))
+        call fail(err)
       end if
       stran = stran + dstran
       write (output_unit, '(i6,es11.3,2f14.4,f20.3,es15.4,3x,a)') step, stran(1), &
@@ -68,5 +72,11 @@ contains
         trim(status_name(nint(statev(12))))
     end do
   end subroutine run
+
+  subroutine fail(e)
+    type(error_t), intent(in) :: e
+    write (error_unit, '(a)') 'wellposed-demo: '//e%message
+    error stop 1
+  end subroutine fail
 
 end program wellposed_demo

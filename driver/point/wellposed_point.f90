@@ -25,6 +25,7 @@ program wellposed_point
   use wellposed_point_config, only: plot_script
   use wellposed_mpi, only: comm_t, comm_start, comm_stop
   use wellposed_batch_run, only: run_batch, default_figures
+  use wellposed_abaqus_job, only: abaqus_set_job
   implicit none
 
   type(point_deck_t) :: deck
@@ -86,6 +87,8 @@ program wellposed_point
   plot = plot .and. deck%plot
   call run%create(deck%out_dir, deck%name, deck_path, err)
   call check(err)
+  ! GETOUTDIR and GETJOBNAME of a user's UMAT: the run folder being written
+  call abaqus_set_job(run%partial, deck%name)
   write (output_unit, '(a)') 'wellposed-point '//wellposed_version//': deck '//deck_path// &
     ' -> '//run%final//' ('//int_text(size(deck%materials))//' material(s), '// &
     int_text(size(deck%legs))//' leg(s))'
@@ -267,7 +270,8 @@ contains
       write (output_unit, '(a)') '  ['//lab//'] acoustic tensor over '// &
         int_text(deck%probe%n_polar*deck%probe%n_azimuth)//' normals'
       call umat_increment(mat, s, deck%probe_strain*d_last/max(norm2(d_last), tiny(1.0_dp)), &
-                          1.0_dp, s1, t, pnewdt)
+                          1.0_dp, s1, t, pnewdt, err)
+      call check(err)
       call acoustic_probe(t, c, deck%probe%n_polar, deck%probe%n_azimuth, ac, err)
       call check(err)
       call h5%write(lab//'/acoustic/polar_deg', ac%polar_deg)

@@ -1,12 +1,17 @@
 !> The single-element driver's view of a material: a PROPS array, an
-!> STATEV length and the external `umat` (Abaqus signature,
-!> docs/umat.md). The driver reaches materials only through here, so a
-!> user's own UMAT linked instead of ours is driven the same way.
+!> STATEV length, reached only through the UMAT host (driver/host:
+!> wellposed_umat_host; docs/umat.md), so a user's own UMAT linked instead
+!> of ours is driven the same way. The element is a unit cube at the origin
+!> (CELENT = 1, COORDS = 0), strained homogeneously without rotation
+!> (DROT = I, F = I + eps); KSTEP is the leg, KINC the increment within it,
+!> TIME(1) the time since the leg began and TIME(2) the total time.
 !> Vectors are in Abaqus order (11, 22, 33, 12, 13, 23) with engineering
 !> shear strains; NDI = 3, NSHR = 3, NTENS = 6; tension positive.
 module wellposed_point_material
   use wellposed_kinds, only: dp
-  use wellposed_umat_interface, only: umat
+  use wellposed_error, only: error_t
+  use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_error, &
+                                 host_tangent, verdict_ok, verdict_cutback
   implicit none
   private
   public :: material_t, point_state_t, umat_increment, ntens
@@ -28,42 +33,59 @@ module wellposed_point_material
     real(dp) :: strain(ntens) = 0.0_dp   !< total STRAN (engineering shears)
     real(dp), allocatable :: statev(:)   !< STATEV(1:NSTATV)
     real(dp) :: time = 0.0_dp            !< total time at the state
+    real(dp) :: energy(3) = 0.0_dp       !< SSE, SPD, SCD of the UMAT
+    integer :: kstep = 1                 !< leg (Abaqus step) of the state
+    integer :: kinc = 0                  !< increments done in that leg
+    real(dp) :: step_start = 0.0_dp      !< total time at which the leg began
   end type point_state_t
 
 contains
 
   !> One UMAT call from `s0` with the strain increment `dstran` over
-  !> `dtime`: returns the end state `s1`, DDSDDE and PNEWDT (1 unless the
-  !> UMAT asks for a cut-back). `s0` is not changed (probes rely on it).
-  subroutine umat_increment(mat, s0, dstran, dtime, s1, ddsdde, pnewdt, noel)
+  !> `dtime`: returns the end state `s1`, DDSDDE and PNEWDT. `err` is
+  !> allocated when the run must stop (the UMAT refused its input, or
+  !> returned a non-finite STRESS or STATEV); otherwise PNEWDT < 1 asks for
+  !> a smaller increment. `s0` is not changed (probes rely on it).
+  subroutine umat_increment(mat, s0, dstran, dtime, s1, ddsdde, pnewdt, err, noel)
     type(material_t), intent(in) :: mat
     type(point_state_t), intent(in) :: s0
     real(dp), intent(in) :: dstran(ntens), dtime
     type(point_state_t), intent(out) :: s1
     real(dp), intent(out) :: ddsdde(ntens, ntens), pnewdt
+    type(error_t), allocatable, intent(out) :: err
     integer, intent(in), optional :: noel
-    real(dp) :: sse, spd, scd, rpl, ddsddt(ntens), drplde(ntens), drpldt
-    real(dp) :: time(2), predef(1), dpred(1), coords(3), drot(3, 3), f(3, 3)
-    character(len=80) :: cmname
-    integer :: el
+    type(umat_host_t) :: h
+    integer :: verdict
+    call new_umat_host(h, ntens, mat%nstatv, err, cmname=mat%label, what='element')
+    if (allocated(err)) return
+    if (present(noel)) h%noel = noel
+    h%kstep = s0%kstep
+    h%kinc = s0%kinc + 1
+    h%time = [s0%time - s0%step_start, s0%time]
+    h%dtime = dtime
+    h%dfgrd0 = small_strain_f(s0%strain)
+    h%dfgrd1 = small_strain_f(s0%strain + dstran)
     s1 = s0
-    sse = 0.0_dp; spd = 0.0_dp; scd = 0.0_dp; rpl = 0.0_dp; drpldt = 0.0_dp
-    ddsddt = 0.0_dp; drplde = 0.0_dp
-    time = s0%time
-    predef = 0.0_dp; dpred = 0.0_dp; coords = 0.0_dp
-    drot = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp], [3, 3])
-    f = drot
-    ddsdde = 0.0_dp
-    pnewdt = 1.0_dp
-    cmname = mat%label
-    el = 1
-    if (present(noel)) el = noel
-    call umat(s1%stress, s1%statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, &
-              s0%strain, dstran, time, dtime, 0.0_dp, 0.0_dp, predef, dpred, cmname, &
-              3, 3, ntens, mat%nstatv, mat%props, size(mat%props), coords, drot, pnewdt, &
-              1.0_dp, f, f, el, 1, 1, 1, 1, 1)
+    call host_call(h, mat%props, s1%stress, s1%statev, s0%strain, dstran, verdict, s1%energy)
+    ddsdde = host_tangent(h)
+    pnewdt = h%pnewdt
+    if (verdict /= verdict_ok .and. verdict /= verdict_cutback) then
+      call host_error(h, verdict, err)
+      pnewdt = -1.0_dp
+      return
+    end if
     s1%strain = s0%strain + dstran
     s1%time = s0%time + dtime
+    s1%kinc = s0%kinc + 1
   end subroutine umat_increment
+
+  !> F = I + eps of a homogeneous small strain without rotation
+  !> (engineering shears halved).
+  pure function small_strain_f(e) result(f)
+    real(dp), intent(in) :: e(ntens)
+    real(dp) :: f(3, 3)
+    f = reshape([1.0_dp + e(1), 0.5_dp*e(4), 0.5_dp*e(5), 0.5_dp*e(4), 1.0_dp + e(2), &
+                 0.5_dp*e(6), 0.5_dp*e(5), 0.5_dp*e(6), 1.0_dp + e(3)], [3, 3])
+  end function small_strain_f
 
 end module wellposed_point_material

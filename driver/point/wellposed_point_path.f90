@@ -8,7 +8,7 @@
 module wellposed_point_path
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
-  use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
+  use wellposed_error, only: error_t, new_error, status_cutback
   use wellposed_dense, only: solve_dense
   use wellposed_point_material, only: material_t, point_state_t, umat_increment, ntens
   use wellposed_fs, only: int_text
@@ -97,7 +97,14 @@ contains
     logical :: ok, used_fd
     character(len=:), allocatable :: why
     start = s
-    call virgin_stiffness(mat, c_el)
+    s%kstep = ileg
+    s%kinc = 0
+    s%step_start = s%time
+    call virgin_stiffness(mat, c_el, err)
+    if (allocated(err)) then
+      call rejected()
+      return
+    end if
     step = 1.0_dp/leg%n_inc
     frac = 0.0_dp
     dfrac = step
@@ -110,15 +117,14 @@ contains
       eps_t = start%strain + (frac + dfrac)*(leg%target - start%strain)
       sig_t = start%stress + (frac + dfrac)*(leg%target - start%stress)
       call solve_increment(mat, s, eps_t, sig_t, leg%stress_control, dfrac*leg%duration, &
-                           solver, guess*dfrac, c_el, s1, dd, pnewdt, ok, iters, used_fd, why)
+                           solver, guess*dfrac, c_el, s1, dd, pnewdt, ok, iters, used_fd, why, &
+                           err)
       if (present(hist)) then
         hist%newton_iterations = hist%newton_iterations + iters
         if (used_fd) hist%fd_jacobians = hist%fd_jacobians + 1
       end if
-      if (pnewdt <= 0.0_dp) then
-        call new_error(err, status_invalid, 'props', 'leg '//int_text(ileg)//': the UMAT '// &
-          'rejected its input (PNEWDT = '//real_str(pnewdt)//'; its message is above): '// &
-          'check the PROPS of material "'//mat%label//'"')
+      if (allocated(err)) then
+        call rejected()
         return
       end if
       if (.not. ok) then
@@ -154,19 +160,30 @@ contains
       write (*, '(a)') '  ['//label//'] leg '//int_text(ileg)//' done: '// &
         int_text(leg%n_inc)//' increments, time '//real_str(s%time)
     end if
+
+  contains
+
+    subroutine rejected()
+      err%message = 'leg '//int_text(ileg)//': the UMAT rejected its input: '// &
+        err%message//'; check the PROPS of material "'//mat%label//'"'
+    end subroutine rejected
+
   end subroutine run_leg
 
   !> DDSDDE of a small strain increment from the stress-free virgin state:
   !> the elastic stiffness for the elastic predictor.
-  subroutine virgin_stiffness(mat, c)
+  subroutine virgin_stiffness(mat, c, err)
     type(material_t), intent(in) :: mat
     real(dp), intent(out) :: c(ntens, ntens)
+    type(error_t), allocatable, intent(out) :: err
     type(point_state_t) :: s0, s1
     real(dp) :: pnewdt
     allocate (s0%statev(mat%nstatv))
     s0%statev = 0.0_dp
     call umat_increment(mat, s0, [1.0e-9_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], 1.0_dp, &
-                        s1, c, pnewdt)
+                        s1, c, pnewdt, err)
+    if (allocated(err)) err%message = 'the elastic stiffness at the virgin state: '// &
+      err%message
   end subroutine virgin_stiffness
 
   !> Solve one increment from `s0`: strain-controlled components reach
@@ -174,9 +191,10 @@ contains
   !> elastic stiffness (elastic-predictor Jacobian). `guess` is the
   !> strain increment used as the first guess of the
   !> unknown strains. `ok` false: cut back (`why` says why); `dd` returns
-  !> the DDSDDE of the converged call.
+  !> the DDSDDE of the converged call. `err`: the UMAT host's verdict that
+  !> the run must stop (refused input, non-finite STRESS or STATEV).
   subroutine solve_increment(mat, s0, eps_t, sig_t, mask, dtime, solver, guess, c_el, s1, &
-                             dd, pnewdt, ok, iters, used_fd, why)
+                             dd, pnewdt, ok, iters, used_fd, why, err)
     type(material_t), intent(in) :: mat
     type(point_state_t), intent(in) :: s0
     real(dp), intent(in) :: eps_t(ntens), sig_t(ntens), dtime, guess(ntens)
@@ -189,6 +207,7 @@ contains
     logical, intent(out) :: ok, used_fd
     integer, intent(out) :: iters
     character(len=:), allocatable, intent(out) :: why
+    type(error_t), allocatable, intent(out) :: err
     real(dp) :: de(ntens), r(ntens), tol, jac(ntens, ntens), x(ntens, 1), rnorm
     real(dp) :: ddn(ntens, ntens), hstep, de_try(ntens), dd_try(ntens, ntens), r_try(ntens)
     real(dp) :: rnorm_try, alpha, merit, merit_try
@@ -267,7 +286,8 @@ contains
         do j = 1, nu
           de_try = de
           de_try(u(j)) = de_try(u(j)) + hstep
-          call umat_increment(mat, s0, de_try, dtime, sp, dd_try, pnewdt)
+          call umat_increment(mat, s0, de_try, dtime, sp, dd_try, pnewdt, err)
+          if (allocated(err)) return
           jac(1:nu, j) = (sp%stress(u(1:nu)) - s1%stress(u(1:nu)))/hstep
         end do
         pnewdt = 1.0_dp
@@ -334,17 +354,12 @@ contains
       real(dp), intent(in) :: d(ntens)
       type(point_state_t), intent(out) :: st
       real(dp), intent(out) :: ddt(ntens, ntens), rt(ntens), rn, rm
-      call umat_increment(mat, s0, d, dtime, st, ddt, pnewdt)
+      call umat_increment(mat, s0, d, dtime, st, ddt, pnewdt, err)
       rt = 0.0_dp
       rn = huge(1.0_dp)
       rm = huge(1.0_dp)
       if (pnewdt < 1.0_dp) then
         why = 'the UMAT asked for a smaller increment (PNEWDT = '//real_str(pnewdt)//')'
-        return
-      end if
-      if (.not. all(ieee_is_finite(st%stress))) then
-        why = 'the UMAT returned a non-finite stress'
-        pnewdt = 0.5_dp
         return
       end if
       if (nu > 0) then

@@ -55,7 +55,11 @@ contains
     allocate (s0%statev(mat%nstatv))
     s0%statev = 0.0_dp
     call umat_increment(mat, s0, [eps, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp], 1.0_dp, s1, &
-                        c, pnewdt)
+                        c, pnewdt, err)
+    if (allocated(err)) then
+      err%message = 'material "'//mat%label//'": '//err%message
+      return
+    end if
     if (pnewdt <= 0.0_dp .or. .not. all(ieee_is_finite(c))) then
       call new_error(err, status_invalid, 'props', 'material "'//mat%label//'": no '// &
         'elastic stiffness from the UMAT at the virgin state (PNEWDT = '//real_str(pnewdt)//')')
@@ -72,8 +76,12 @@ contains
     type(error_t), allocatable, intent(out) :: err
     type(point_state_t) :: s1
     real(dp) :: dd(ntens, ntens), pnewdt
-    call umat_increment(mat, s, eps*d, 1.0_dp, s1, dd, pnewdt)
-    if (pnewdt < 1.0_dp .or. .not. all(ieee_is_finite(s1%stress))) then
+    call umat_increment(mat, s, eps*d, 1.0_dp, s1, dd, pnewdt, err)
+    if (allocated(err)) then
+      err%message = 'material "'//mat%label//'": '//err%message
+      return
+    end if
+    if (pnewdt < 1.0_dp) then
       call new_error(err, status_invalid, 'probe_strain', 'material "'//mat%label// &
         '": the UMAT refused a probe increment of size probe_strain = '//real_str(eps)// &
         ' (PNEWDT = '//real_str(pnewdt)//')')
