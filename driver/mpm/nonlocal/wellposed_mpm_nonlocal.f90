@@ -91,6 +91,7 @@ module wellposed_mpm_nonlocal
                                 lipschitz_local_implicit, lipschitz_local_explicit
   use wellposed_anderson, only: anderson_t, new_anderson, anderson_step
   use wellposed_dp_params, only: dp_params_t, new_dp_params
+  use wellposed_umat_host, only: umat_is_ours
   use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
                                    prop_h, prop_k_lim, prop_z_ref, prop_p_v, prop_p_d, &
                                    prop_tau, prop_h_zeta, prop_length, nprops_known
@@ -333,7 +334,10 @@ contains
     self%field = 0.0_dp
 
     pr = 0.0_dp
-    pr(1:min(size(props), nprops_known)) = props(1:min(size(props), nprops_known))
+    ! PROPS(12), PROPS(13) are wellposed's nonlocal slots: a user's own UMAT
+    ! has other PROPS and runs local
+    if (umat_is_ours()) pr(1:min(size(props), nprops_known)) = &
+      props(1:min(size(props), nprops_known))
     self%h_zeta = pr(prop_h_zeta)
     self%length = pr(prop_length)
     self%active = self%h_zeta /= 0.0_dp
