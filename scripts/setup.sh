@@ -18,7 +18,7 @@ WELLPOSED_BUILD="${WELLPOSED_ROOT}/build"
 # python3-h5py-mpi) reads the files with, and what a build with
 # WELLPOSED_WITH_MPI=OFF uses.
 WELLPOSED_PACKAGES=(
-  gfortran cmake make
+  gfortran g++ cmake make
   liblapack-dev libblas-dev
   libhdf5-dev libhdf5-openmpi-dev
   libopenmpi-dev openmpi-bin

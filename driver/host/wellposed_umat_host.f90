@@ -1,5 +1,5 @@
-!> The one caller of a UMAT in wellposed's drivers (shared design:
-!> UMAT_CONTRACT.md; Abaqus/Standard UMAT interface). Every driver (point,
+!> The one caller of a UMAT in wellposed's drivers (the contract:
+!> docs/umat.md; docs/hosting.md). Every driver (point,
 !> MPM, demo) reaches a material only through here, so ours and a user's own
 !> Abaqus UMAT are driven alike.
 !>

@@ -1,8 +1,8 @@
 !> The single-element driver's view of a material: a PROPS array, an
-!> STATEV length, reached only through the UMAT host (driver/host:
-!> wellposed_umat_host; docs/umat.md), so a user's own UMAT linked instead
-!> of ours is driven the same way. The element is a unit cube at the origin
-!> (CELENT = 1, COORDS = 0), strained homogeneously without rotation
+!> STATEV length (Abaqus signature, docs/umat.md), reached only through the
+!> UMAT host (driver/host: wellposed_umat_host), so a user's own UMAT linked
+!> instead of ours is driven the same way. The element is a unit cube at the
+!> origin (CELENT = 1, COORDS = 0), strained homogeneously without rotation
 !> (DROT = I, F = I + eps); KSTEP is the leg, KINC the increment within it,
 !> TIME(1) the time since the leg began and TIME(2) the total time.
 !> Vectors are in Abaqus order (11, 22, 33, 12, 13, 23) with engineering

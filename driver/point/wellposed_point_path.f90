@@ -27,7 +27,9 @@ module wellposed_point_path
 
   !> Solver settings (deck group &run).
   type :: solver_t
-    real(dp) :: stress_tol = 1.0e-9_dp   !< relative tolerance on controlled stresses
+    !> relative tolerance on controlled stresses: of the largest of the
+    !> controlled targets, the increment's start and current stress
+    real(dp) :: stress_tol = 1.0e-9_dp
     real(dp) :: stress_floor = 1.0_dp    !< stress scale for the tolerance near zero stress
     integer :: max_iter = 25             !< Newton iterations per increment
     integer :: max_cutbacks = 12         !< consecutive cut-backs before giving up
@@ -208,7 +210,7 @@ contains
     integer, intent(out) :: iters
     character(len=:), allocatable, intent(out) :: why
     type(error_t), allocatable, intent(out) :: err
-    real(dp) :: de(ntens), r(ntens), tol, jac(ntens, ntens), x(ntens, 1), rnorm
+    real(dp) :: de(ntens), r(ntens), tol, tol0, jac(ntens, ntens), x(ntens, 1), rnorm
     real(dp) :: ddn(ntens, ntens), hstep, de_try(ntens), dd_try(ntens, ntens), r_try(ntens)
     real(dp) :: rnorm_try, alpha, merit, merit_try
     type(point_state_t) :: sp
@@ -227,7 +229,12 @@ contains
     iters = 0
     ok = .false.
     why = 'no convergence'
-    tol = solver%stress_tol*max(maxval(abs(sig_t)), maxval(abs(s0%stress)), solver%stress_floor)
+    ! the stress scale of the residual: the controlled targets, the stress at
+    ! the start of the increment and (below, per iterate) the current stress,
+    ! whose round-off bounds how well the controlled components can be met
+    tol0 = solver%stress_floor
+    if (nu > 0) tol0 = max(tol0, maxval(abs(sig_t(u(1:nu)))))
+    tol0 = solver%stress_tol*max(tol0, maxval(abs(s0%stress)))
     ! first guess of the unknown strains: elastic-like prediction with the
     ! last tangent when it is usable, else the previous increment's rate
     if (nu > 0) then
@@ -247,6 +254,7 @@ contains
     call trial(de, s1, ddn, r, rnorm, merit)
     if (pnewdt < 1.0_dp) return
     do
+      tol = max(tol0, solver%stress_tol*maxval(abs(s1%stress)))
       if (nu == 0 .or. rnorm <= tol) then
         ok = .true.
         dd = ddn

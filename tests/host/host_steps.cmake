@@ -2,6 +2,7 @@
 #   STEP=install     BUILD_DIR, PREFIX, CONFIG, LIBDIR, MODDIR
 #   STEP=cmake_host  SOURCE, WORK, PREFIX, CONFIG, FC, GENERATOR, MAKE_PROGRAM
 #   STEP=f77_host    SOURCE, WORK, PREFIX, LIBDIR, FC
+#   STEP=cxx_host    SOURCE, WORK, PREFIX, CONFIG, CXX, GENERATOR, MAKE_PROGRAM
 cmake_minimum_required(VERSION 3.25)
 
 # Run a command; stop the test with its output when it fails.
@@ -74,6 +75,22 @@ elseif(STEP STREQUAL "cmake_host")
     host_run(_out "${WORK}/bin/${_exe}")
     host_check("${_exe}" "${_out}")
   endforeach()
+
+elseif(STEP STREQUAL "cxx_host")
+  # A C++-only project: no Fortran compiler is named or enabled, so the
+  # Fortran runtime must come with wellposed::wellposed.
+  file(REMOVE_RECURSE "${WORK}")
+  set(_gen -G "${GENERATOR}")
+  if(MAKE_PROGRAM)
+    list(APPEND _gen "-DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM}")
+  endif()
+  host_run(_out "${CMAKE_COMMAND}" -S "${SOURCE}" -B "${WORK}" ${_gen}
+    "-DCMAKE_PREFIX_PATH=${PREFIX}"
+    "-DCMAKE_CXX_COMPILER=${CXX}"
+    "-DCMAKE_BUILD_TYPE=${CONFIG}")
+  host_run(_out "${CMAKE_COMMAND}" --build "${WORK}" --config "${CONFIG}")
+  host_run(_out "${WORK}/bin/host_cxx")
+  host_check(host_cxx "${_out}")
 
 elseif(STEP STREQUAL "f77_host")
   file(REMOVE_RECURSE "${WORK}")
