@@ -26,9 +26,11 @@
 module wellposed_mpm_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: read_text_file, namelist_error, check_range, check_finite, &
+  use wellposed_deck, only: namelist_error, check_range, check_finite, &
                             unset, is_set, has_group, real_str, lower, check_word
   use wellposed_mpm_material_deck, only: material_props
+  use wellposed_mpm_deck_file, only: open_deck, override_line
+  use wellposed_mpm_scene_kind, only: check_scene_name
   use wellposed_mpm_config
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nl_scheme_id
   implicit none
@@ -77,7 +79,7 @@ contains
     namelist /stations/ first, spacing, count
     namelist /output/ sample_dt, snapshot_dt, progress, plot
     character(len=16) :: pulse
-    integer :: unit, ios, i, dot, eq
+    integer :: unit, ios, i
     character(len=512) :: msg
     character(len=:), allocatable :: line, group
 
@@ -101,13 +103,8 @@ contains
     sample_dt = cfg%sample_dt; snapshot_dt = cfg%snapshot_dt
     progress = .true.; plot = .true.
 
-    call read_text_file(path, text, err)
+    call open_deck(path, text, unit, err)
     if (allocated(err)) return
-    open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
-      return
-    end if
     pulse = 'triangle'
     if (has_group(text, 'scene')) then
       rewind (unit); read (unit, nml=scene, iostat=ios, iomsg=msg)
@@ -150,15 +147,8 @@ contains
 
     ! command-line overrides: group.key=value
     do i = 1, size(overrides)
-      dot = index(overrides(i), '.')
-      eq = index(overrides(i), '=')
-      if (dot < 2 .or. eq < dot + 2) then
-        call new_error(err, status_invalid, trim(overrides(i)), 'override "'// &
-          trim(overrides(i))//'" is not of the form group.key=value')
-        return
-      end if
-      group = overrides(i)(1:dot - 1)
-      line = '&'//group//' '//trim(overrides(i)(dot + 1:))//' /'
+      call override_line(overrides(i), group, line, err)
+      if (allocated(err)) return
       select case (group)
       case ('scene'); read (line, nml=scene, iostat=ios, iomsg=msg)
       case ('grid'); read (line, nml=grid, iostat=ios, iomsg=msg)
@@ -181,12 +171,8 @@ contains
     ! ---- into the config, validating the words and the numbers' kinds
     cfg%name = trim(name)
     cfg%title = trim(title)
-    if (len(cfg%name) == 0 .or. verify(cfg%name, &
-        'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-') /= 0) then
-      call new_error(err, status_invalid, 'name', path//': &scene: name = "'//cfg%name// &
-        '" must be non-empty letters, digits, "_", "." or "-" (it names the output folder)')
-      return
-    end if
+    call check_scene_name(path, cfg%name, err)
+    if (allocated(err)) return
     cfg%length = length; cfg%dx = dx; cfg%ppc = ppc; cfg%pad_cells = pad_cells
     cfg%shape = word(shape, shape_names, 'grid', 'shape'); if (allocated(err)) return
     cfg%bc_far = word(far_end, bc_names, 'grid', 'far_end'); if (allocated(err)) return

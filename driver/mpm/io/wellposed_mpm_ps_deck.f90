@@ -31,9 +31,11 @@ module wellposed_mpm_ps_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
-  use wellposed_deck, only: read_text_file, namelist_error, check_finite, has_group, unset, &
+  use wellposed_deck, only: namelist_error, check_finite, has_group, unset, &
                             is_set, lower, check_word
   use wellposed_mpm_material_deck, only: material_props
+  use wellposed_mpm_deck_file, only: open_deck, override_line
+  use wellposed_mpm_scene_kind, only: check_scene_name
   use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
                                         bc_velocity
   use wellposed_mpm_shape_2d, only: shape2d_names
@@ -102,7 +104,7 @@ contains
     namelist /study/ dx, scale, label
     namelist /output/ snapshot_dt, sample_dt, band_y, band_x, band_axis, band_time, &
       progress, plot
-    integer :: unit, ios, i, dot, eq, nc
+    integer :: unit, ios, i, nc
     character(len=512) :: msg
     character(len=:), allocatable :: line, group
     character(len=9), parameter :: groups(10) = [character(len=9) :: 'scene', 'plate', 'grid', &
@@ -137,13 +139,8 @@ contains
     band_axis = 'x'
     progress = .true.; plot = .true.
 
-    call read_text_file(path, text, err)
+    call open_deck(path, text, unit, err)
     if (allocated(err)) return
-    open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
-      return
-    end if
     do i = 1, size(groups)
       if (.not. has_group(text, trim(groups(i)))) cycle
       rewind (unit)
@@ -156,20 +153,13 @@ contains
     end do
     close (unit)
     do i = 1, size(overrides)
-      dot = index(overrides(i), '.')
-      eq = index(overrides(i), '=')
-      if (dot < 2 .or. eq < dot + 2) then
-        call new_error(err, status_invalid, trim(overrides(i)), 'override "'// &
-          trim(overrides(i))//'" is not of the form group.key=value')
-        return
-      end if
-      group = overrides(i)(1:dot - 1)
+      call override_line(overrides(i), group, line, err)
+      if (allocated(err)) return
       if (.not. any(groups == group)) then
         call new_error(err, status_invalid, group, 'override "'//trim(overrides(i))// &
           '": no group &'//group)
         return
       end if
-      line = '&'//group//' '//trim(overrides(i)(dot + 1:))//' /'
       call read_group(group, text=line)
       if (ios /= 0) then
         err = namelist_error('command line', group, ios, msg, line)
@@ -179,12 +169,8 @@ contains
 
     cfg%name = trim(name)
     cfg%title = trim(title)
-    if (len(cfg%name) == 0 .or. verify(cfg%name, &
-        'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-') /= 0) then
-      call new_error(err, status_invalid, 'name', path//': &scene: name = "'//cfg%name// &
-        '" must be non-empty letters, digits, "_", "." or "-" (it names the output folder)')
-      return
-    end if
+    call check_scene_name(path, cfg%name, err)
+    if (allocated(err)) return
     call check_finite(path, 'plate', 'width', [width, height, weak_k0], err)
     if (allocated(err)) return
     cfg%width = width; cfg%height = height

@@ -2,14 +2,15 @@
 !> bar of the dissertation's chapter 2) or 'plate' (the plane-strain plate of
 !> chapter 4). Without the key, a deck with a group only plates have
 !> (&plate, &boundary, &study, &viscosity) is a plate and any other a bar.
-!> An override scene.kind=... on the command line wins.
+!> An override scene.kind=... on the command line wins. Also the check of
+!> &scene name, which every kind's reader makes.
 module wellposed_mpm_scene_kind
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: read_text_file, has_group, lower
   implicit none
   private
   public :: scene_kind_bar, scene_kind_plate, scene_kind_names, deck_scene_kind, &
-            check_scene_kind
+            check_scene_kind, check_scene_name
 
   integer, parameter :: scene_kind_bar = 1, scene_kind_plate = 2
   character(len=5), parameter :: scene_kind_names(2) = [character(len=5) :: 'bar', 'plate']
@@ -72,5 +73,16 @@ contains
     if (kind == 0) call new_error(err, status_invalid, 'kind', path//': &scene: kind = '''// &
       trim(word)//''' is not one of ''bar'' (the 1D bar) or ''plate'' (the plane-strain plate)')
   end subroutine check_scene_kind
+
+  !> &scene name of deck `path`: it names the output folder, so letters,
+  !> digits, '_', '.' or '-' only, and not empty.
+  subroutine check_scene_name(path, name, err)
+    character(len=*), intent(in) :: path, name
+    type(error_t), allocatable, intent(out) :: err
+    if (len(name) == 0 .or. verify(name, &
+        'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-') /= 0) &
+      call new_error(err, status_invalid, 'name', path//': &scene: name = "'//name// &
+        '" must be non-empty letters, digits, "_", "." or "-" (it names the output folder)')
+  end subroutine check_scene_name
 
 end module wellposed_mpm_scene_kind

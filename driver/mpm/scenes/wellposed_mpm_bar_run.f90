@@ -34,7 +34,7 @@ module wellposed_mpm_bar_run
   use wellposed_mpm_paths, only: find_data, stations_plot_name
   use wellposed_mpm_particles, only: particle_bytes, particles_t
   use wellposed_mpm_nonlocal, only: nl_scheme_names
-  use wellposed_mpi, only: comm_t, comm_stop, comm_abort, allreduce_sum, &
+  use wellposed_mpi, only: comm_t, comm_stop, allreduce_sum, &
                            allreduce_max, broadcast
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpm_decomposition, only: decomposition_t
@@ -51,6 +51,7 @@ module wellposed_mpm_bar_run
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
   use wellposed_fs, only: path_exists, shell_quote, remove_tree
   use wellposed_mpm_cli, only: mpm_cli_t
+  use wellposed_mpm_stop, only: stop_alone
   implicit none
   private
   public :: run_bar
@@ -557,11 +558,7 @@ contains
     !> every rank of the job, which would otherwise wait for this one.
     subroutine die_alone(e)
       type(error_t), intent(in) :: e
-      write (error_unit, '(a)') 'wellposed-mpm: error: '//e%message
-      if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did not '// &
-        'finish; its partial output is in '//rd%partial
-      if (comm%size > 1) call comm_abort(comm, 1)
-      error stop 1
+      call stop_alone(comm, rd, e%message)
     end subroutine die_alone
 
   end subroutine run_bar

@@ -38,9 +38,10 @@ module wellposed_mpm_plate_run
                                        get_case_out, band_width, curve_difference, &
                                        write_csv_curve, write_csv_iterations
   use wellposed_mpm_cli, only: mpm_cli_t
+  use wellposed_mpm_stop, only: stop_alone
   use wellposed_mpm_decomposition, only: gather_by_gid
   use wellposed_mpm_snapshots, only: snapshot_store_t, new_snapshot_store
-  use wellposed_mpi, only: comm_t, comm_stop, comm_abort, allreduce_max, &
+  use wellposed_mpi, only: comm_t, comm_stop, allreduce_max, &
                            allreduce_sum, broadcast
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint
   use wellposed_mpm_resume, only: open_restart_checkpoint
@@ -564,11 +565,7 @@ contains
     !> ranks are aborted.
     subroutine die_root(message)
       character(len=*), intent(in) :: message
-      write (error_unit, '(a)') 'wellposed-mpm: error: '//message
-      if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did '// &
-        'not finish; its partial output is in '//rd%partial
-      if (comm%size > 1) call comm_abort(comm, 1)
-      error stop 1
+      call stop_alone(comm, rd, message)
     end subroutine die_root
 
   end subroutine run_plate

@@ -1,11 +1,11 @@
-!> The explicit MPM of seed section 4.3 for the 1D uniaxial-strain scenes:
-!> lumped mass (eq. 4.4), internal force (eq. 4.5), grid acceleration and
+!> The explicit MPM of the dissertation's section 4.3 for the 1D
+!> uniaxial-strain scenes: lumped mass (eq. 4.4), internal force (eq. 4.5), grid acceleration and
 !> forward-Euler velocity (eq. 4.9-4.10), velocity gradient (eq. 4.11),
 !> FLIP particle velocity and position update (eq. 4.12-4.13), and the
 !> stress update through the UMAT for every particle.
 !>
 !> Update variant: MUSL by default (deck: scheme = 'musl' or 'usl'). USL is
-!> eq. 4.10-4.13 as the seed writes them: the strain rate comes from the
+!> eq. 4.10-4.13 as the dissertation writes them: the strain rate comes from the
 !> updated grid velocity v_i^{n+1}. MUSL rebuilds the grid velocity from the
 !> updated particle velocities (v_i = sum_p phi_ip m_p v_p / m_i) before the
 !> strain rate. Both are first-order-in-time variants of the same scheme;
@@ -21,7 +21,7 @@
 !> velocity] -> strain increment, F and volume -> UMAT (Algorithm 1).
 !> Units SI, tension positive.
 !>
-!> Ranks (issue 7): the scene talks to other ranks only through its
+!> Ranks: the scene talks to other ranks only through its
 !> exchange (wellposed_mpm_exchange): every rank builds the whole scene,
 !> keeps its strip of cells with ghost layers as wide as the shape support
 !> or the nonlocal Gaussian's (whichever is wider), and the step above runs
@@ -80,7 +80,7 @@ module wellposed_mpm_solver
     real(dp) :: mass_floor = 0.0_dp       !< grid nodes below it count as empty (kg/m^2)
     ! workspace
     real(dp), allocatable :: dstrain(:)   !< axial strain increment of the step, per particle
-    ! nonlocal Algorithm 1 (seed chapter 4): solver state, start-of-step copies
+    ! nonlocal Algorithm 1 (the dissertation's chapter 4): solver state, start-of-step copies
     type(nonlocal_t) :: nl
     real(dp), allocatable :: s0(:, :), sv0(:, :), e0(:, :)
     type(umat_host_t) :: host             !< the UMAT host (NTENS = 6), one per scene
@@ -462,7 +462,7 @@ contains
       self%ticks(timer_transfer) = self%ticks(timer_transfer) + (t1 - t0)
       t0 = t1
       ! --- stress update through the UMAT (uniaxial strain: d eps_xx only),
-      ! by the seed's Algorithm 1: with h_zeta = 0 one call per particle,
+      ! by the dissertation's Algorithm 1: with h_zeta = 0 one call per particle,
       ! exactly the local update; otherwise the fixed point on the grid
       do p = 1, n
         self%s0(:, p) = pt%stress(:, p)
