@@ -126,7 +126,7 @@ contains
       if (len(key) > 0) then
         hint = ' (key '//key//': a value of the wrong type or a malformed number)'
       else if (is_name(token)) then
-        hint = ' (unknown key "'//token//'": see the README for the keys of &'//group//')'
+        hint = ' (unknown key "'//token//'": see docs/decks.md for the keys of &'//group//')'
       else
         hint = ' (a value of the wrong type or a malformed number)'
       end if

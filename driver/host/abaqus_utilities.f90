@@ -120,20 +120,18 @@ end subroutine rotsig
 
 !> GETOUTDIR: the run's output folder and its length.
 subroutine getoutdir(outdir, lenoutdir)
-  use wellposed_abaqus_job, only: abaqus_outdir
+  use wellposed_abaqus_job, only: abaqus_outdir, abaqus_put
   implicit none
   character(len=*), intent(out) :: outdir
   integer, intent(out) :: lenoutdir
-  outdir = abaqus_outdir()
-  lenoutdir = min(len(abaqus_outdir()), len(outdir))
+  call abaqus_put(abaqus_outdir(), outdir, lenoutdir)
 end subroutine getoutdir
 
 !> GETJOBNAME: the run's name and its length.
 subroutine getjobname(jobname, lenjobname)
-  use wellposed_abaqus_job, only: abaqus_jobname
+  use wellposed_abaqus_job, only: abaqus_jobname, abaqus_put
   implicit none
   character(len=*), intent(out) :: jobname
   integer, intent(out) :: lenjobname
-  jobname = abaqus_jobname()
-  lenjobname = min(len(abaqus_jobname()), len(jobname))
+  call abaqus_put(abaqus_jobname(), jobname, lenjobname)
 end subroutine getjobname

@@ -6,7 +6,7 @@ module wellposed_abaqus_job
   use, intrinsic :: iso_fortran_env, only: error_unit
   implicit none
   private
-  public :: abaqus_abort, abaqus_set_job, abaqus_outdir, abaqus_jobname, abaqus_raise, abaqus_take_error
+  public :: abaqus_abort, abaqus_put, abaqus_set_job, abaqus_outdir, abaqus_jobname, abaqus_raise, abaqus_take_error
 
   character(len=:), allocatable :: outdir_  ! output folder of the running job
   character(len=:), allocatable :: jobname_ ! name of the running job
@@ -36,16 +36,33 @@ contains
   !> The output folder ('.' before a driver sets one).
   function abaqus_outdir() result(dir)
     character(len=:), allocatable :: dir
-    dir = '.'
-    if (allocated(outdir_)) dir = outdir_
+    dir = set_or(outdir_, '.')
   end function abaqus_outdir
 
   !> The job name ('wellposed' before a driver sets one).
   function abaqus_jobname() result(name)
     character(len=:), allocatable :: name
-    name = 'wellposed'
-    if (allocated(jobname_)) name = jobname_
+    name = set_or(jobname_, 'wellposed')
   end function abaqus_jobname
+
+  !> `text` into the caller's fixed-length `out` and its length `n` (cut
+  !> to len(out)), as GETOUTDIR and GETJOBNAME return them.
+  pure subroutine abaqus_put(text, out, n)
+    character(len=*), intent(in) :: text
+    character(len=*), intent(out) :: out
+    integer, intent(out) :: n
+    out = text
+    n = min(len(text), len(out))
+  end subroutine abaqus_put
+
+  !> `value` when set, else `default`.
+  pure function set_or(value, default) result(text)
+    character(len=:), allocatable, intent(in) :: value
+    character(len=*), intent(in) :: default
+    character(len=:), allocatable :: text
+    text = default
+    if (allocated(value)) text = value
+  end function set_or
 
   !> Record an error of the UMAT being called (the first one of a call wins).
   subroutine abaqus_raise(message)

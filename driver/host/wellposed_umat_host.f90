@@ -130,29 +130,21 @@ contains
     real(dp), intent(inout), contiguous :: stress(:), statev(:)
     integer, intent(out) :: verdict
     real(dp), intent(inout), optional :: energy(3)
+    procedure(umat), pointer :: fn
     if (present(energy)) then
       self%sse = energy(1); self%spd = energy(2); self%scd = energy(3)
     else
       self%sse = 0.0_dp; self%spd = 0.0_dp; self%scd = 0.0_dp
     end if
     self%pnewdt = 1.0_dp
-    if (associated(self%fn)) then
-      call self%fn(stress, statev, self%ddsdde, self%sse, self%spd, self%scd, self%rpl, &
-                   self%ddsddt, self%drplde, self%drpldt, stran, dstran, self%time, &
-                   self%dtime, self%temp, self%dtemp, self%predef, self%dpred, self%cmname, &
-                   self%ndi, self%nshr, self%ntens, self%nstatv, props, size(props), &
-                   self%coords, self%drot, self%pnewdt, self%celent, self%dfgrd0, &
-                   self%dfgrd1, self%noel, self%npt, self%layer, self%kspt, self%kstep, &
-                   self%kinc)
-    else
-      call umat(stress, statev, self%ddsdde, self%sse, self%spd, self%scd, self%rpl, &
-                self%ddsddt, self%drplde, self%drpldt, stran, dstran, self%time, &
-                self%dtime, self%temp, self%dtemp, self%predef, self%dpred, self%cmname, &
-                self%ndi, self%nshr, self%ntens, self%nstatv, props, size(props), &
-                self%coords, self%drot, self%pnewdt, self%celent, self%dfgrd0, &
-                self%dfgrd1, self%noel, self%npt, self%layer, self%kspt, self%kstep, &
-                self%kinc)
-    end if
+    fn => umat
+    if (associated(self%fn)) fn => self%fn
+    call fn(stress, statev, self%ddsdde, self%sse, self%spd, self%scd, self%rpl, self%ddsddt, &
+            self%drplde, self%drpldt, stran, dstran, self%time, self%dtime, self%temp, &
+            self%dtemp, self%predef, self%dpred, self%cmname, self%ndi, self%nshr, self%ntens, &
+            self%nstatv, props, size(props), self%coords, self%drot, self%pnewdt, self%celent, &
+            self%dfgrd0, self%dfgrd1, self%noel, self%npt, self%layer, self%kspt, self%kstep, &
+            self%kinc)
     if (present(energy)) energy = [self%sse, self%spd, self%scd]
     call abaqus_take_error(self%message)
     if (allocated(self%message) .or. .not. is_finite(self%pnewdt) .or. &

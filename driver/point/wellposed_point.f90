@@ -65,7 +65,7 @@ program wellposed_point
     case ('-h', '--help')
       write (output_unit, '(a)') 'usage: wellposed-point DECK [--no-plot] [--out ROOT]', &
         '       [mpirun -np N] wellposed-point --batch FILE [--out ROOT] [--no-plot]', &
-        '  DECK: namelist deck (see README, "The single-element driver")', &
+        '  DECK: namelist deck (groups and keys: docs/decks.md)', &
         '  --no-plot: skip the PNG plots (same as plot = .false. in &run)', &
         '  --out ROOT: write ROOT/<name>/ instead of the deck''s out_dir', &
         '  --batch FILE: one deck per line (# comments); summary in ROOT/<FILE name>/'

@@ -45,6 +45,19 @@ function(host_check name output)
   endforeach()
 endfunction()
 
+# Configure and build the host project SOURCE in WORK against PREFIX with
+# the given compiler setting.
+function(host_project compiler)
+  file(REMOVE_RECURSE "${WORK}")
+  set(_gen -G "${GENERATOR}")
+  if(MAKE_PROGRAM)
+    list(APPEND _gen "-DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM}")
+  endif()
+  host_run(_out "${CMAKE_COMMAND}" -S "${SOURCE}" -B "${WORK}" ${_gen}
+    "-DCMAKE_PREFIX_PATH=${PREFIX}" "${compiler}" "-DCMAKE_BUILD_TYPE=${CONFIG}")
+  host_run(_out "${CMAKE_COMMAND}" --build "${WORK}" --config "${CONFIG}")
+endfunction()
+
 if(STEP STREQUAL "install")
   file(REMOVE_RECURSE "${PREFIX}")
   host_run(_out "${CMAKE_COMMAND}" --install "${BUILD_DIR}" --prefix "${PREFIX}" --config "${CONFIG}")
@@ -61,16 +74,7 @@ if(STEP STREQUAL "install")
   endforeach()
 
 elseif(STEP STREQUAL "cmake_host")
-  file(REMOVE_RECURSE "${WORK}")
-  set(_gen -G "${GENERATOR}")
-  if(MAKE_PROGRAM)
-    list(APPEND _gen "-DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM}")
-  endif()
-  host_run(_out "${CMAKE_COMMAND}" -S "${SOURCE}" -B "${WORK}" ${_gen}
-    "-DCMAKE_PREFIX_PATH=${PREFIX}"
-    "-DCMAKE_Fortran_COMPILER=${FC}"
-    "-DCMAKE_BUILD_TYPE=${CONFIG}")
-  host_run(_out "${CMAKE_COMMAND}" --build "${WORK}" --config "${CONFIG}")
+  host_project("-DCMAKE_Fortran_COMPILER=${FC}")
   foreach(_exe IN ITEMS host_static host_shared)
     host_run(_out "${WORK}/bin/${_exe}")
     host_check("${_exe}" "${_out}")
@@ -79,16 +83,7 @@ elseif(STEP STREQUAL "cmake_host")
 elseif(STEP STREQUAL "cxx_host")
   # A C++-only project: no Fortran compiler is named or enabled, so the
   # Fortran runtime must come with wellposed::wellposed.
-  file(REMOVE_RECURSE "${WORK}")
-  set(_gen -G "${GENERATOR}")
-  if(MAKE_PROGRAM)
-    list(APPEND _gen "-DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM}")
-  endif()
-  host_run(_out "${CMAKE_COMMAND}" -S "${SOURCE}" -B "${WORK}" ${_gen}
-    "-DCMAKE_PREFIX_PATH=${PREFIX}"
-    "-DCMAKE_CXX_COMPILER=${CXX}"
-    "-DCMAKE_BUILD_TYPE=${CONFIG}")
-  host_run(_out "${CMAKE_COMMAND}" --build "${WORK}" --config "${CONFIG}")
+  host_project("-DCMAKE_CXX_COMPILER=${CXX}")
   host_run(_out "${WORK}/bin/host_cxx")
   host_check(host_cxx "${_out}")
 
