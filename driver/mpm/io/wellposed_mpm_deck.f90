@@ -19,16 +19,18 @@
 !>   &output   sample_dt (s), snapshot_dt (s), progress, plot
 !>   &nonlocal scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
 !>             max_iterations, stall_iterations, max_rounds, anderson_depth,
-!>             anderson_mixing, weight_cutoff (seed Algorithm 1; iterates only
+!>             anderson_mixing, weight_cutoff (Algorithm 1 of the dissertation; iterates only
 !>             when &material h_zeta /= 0)
 !> Overrides from the command line, `group.key=value`, are read after the
 !> deck as one-line namelists, so they obey the same rules.
 module wellposed_mpm_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: read_text_file, namelist_error, check_range, check_finite, &
+  use wellposed_deck, only: namelist_error, check_range, check_finite, &
                             unset, is_set, has_group, real_str, lower, check_word
   use wellposed_mpm_material_deck, only: material_props
+  use wellposed_mpm_deck_file, only: open_deck, override_line
+  use wellposed_mpm_scene_kind, only: check_scene_name
   use wellposed_mpm_config
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nl_scheme_id
   implicit none
@@ -53,6 +55,7 @@ contains
     ! namelist variables (defaults: the default scene)
     character(len=64) :: name
     character(len=200) :: title
+    character(len=16) :: kind   !< 'bar' (read by wellposed_mpm_scene_kind)
     real(dp) :: length, dx
     integer :: ppc, pad_cells
     character(len=16) :: shape, far_end, scheme
@@ -66,7 +69,7 @@ contains
     real(dp) :: first, spacing
     real(dp) :: sample_dt, snapshot_dt
     logical :: progress, plot
-    namelist /scene/ name, title
+    namelist /scene/ name, title, kind
     namelist /grid/ length, dx, ppc, pad_cells, shape, far_end
     namelist /time/ t_end, cfl, scheme
     namelist /material/ density, k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, &
@@ -76,12 +79,13 @@ contains
     namelist /stations/ first, spacing, count
     namelist /output/ sample_dt, snapshot_dt, progress, plot
     character(len=16) :: pulse
-    integer :: unit, ios, i, dot, eq
+    integer :: unit, ios, i
     character(len=512) :: msg
     character(len=:), allocatable :: line, group
 
     name = 'sandler_rubin_default'
     title = 'Sandler-Rubin case study'
+    kind = 'bar'
     length = cfg%length; dx = cfg%dx; ppc = cfg%ppc; pad_cells = cfg%pad_cells
     shape = 'gimp'; far_end = 'fixed'; scheme = 'musl'
     t_end = cfg%t_end; cfl = cfg%cfl
@@ -99,13 +103,8 @@ contains
     sample_dt = cfg%sample_dt; snapshot_dt = cfg%snapshot_dt
     progress = .true.; plot = .true.
 
-    call read_text_file(path, text, err)
+    call open_deck(path, text, unit, err)
     if (allocated(err)) return
-    open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
-      return
-    end if
     pulse = 'triangle'
     if (has_group(text, 'scene')) then
       rewind (unit); read (unit, nml=scene, iostat=ios, iomsg=msg)
@@ -148,15 +147,8 @@ contains
 
     ! command-line overrides: group.key=value
     do i = 1, size(overrides)
-      dot = index(overrides(i), '.')
-      eq = index(overrides(i), '=')
-      if (dot < 2 .or. eq < dot + 2) then
-        call new_error(err, status_invalid, trim(overrides(i)), 'override "'// &
-          trim(overrides(i))//'" is not of the form group.key=value')
-        return
-      end if
-      group = overrides(i)(1:dot - 1)
-      line = '&'//group//' '//trim(overrides(i)(dot + 1:))//' /'
+      call override_line(overrides(i), group, line, err)
+      if (allocated(err)) return
       select case (group)
       case ('scene'); read (line, nml=scene, iostat=ios, iomsg=msg)
       case ('grid'); read (line, nml=grid, iostat=ios, iomsg=msg)
@@ -179,12 +171,8 @@ contains
     ! ---- into the config, validating the words and the numbers' kinds
     cfg%name = trim(name)
     cfg%title = trim(title)
-    if (len(cfg%name) == 0 .or. verify(cfg%name, &
-        'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-') /= 0) then
-      call new_error(err, status_invalid, 'name', path//': &scene: name = "'//cfg%name// &
-        '" must be non-empty letters, digits, "_", "." or "-" (it names the output folder)')
-      return
-    end if
+    call check_scene_name(path, cfg%name, err)
+    if (allocated(err)) return
     cfg%length = length; cfg%dx = dx; cfg%ppc = ppc; cfg%pad_cells = pad_cells
     cfg%shape = word(shape, shape_names, 'grid', 'shape'); if (allocated(err)) return
     cfg%bc_far = word(far_end, bc_names, 'grid', 'far_end'); if (allocated(err)) return

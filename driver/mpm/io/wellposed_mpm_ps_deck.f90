@@ -4,14 +4,15 @@
 !>   &scene     name, title
 !>   &plate     width, height (m), weak_x(2), weak_y(2) (m), weak_k0 (Pa; 0: none)
 !>   &grid      dx (m), ppc (per direction), pad_cells, shape ('cpdi'|'gimp'|'linear')
-!>   &time      t_end (s), cfl, stop_on_cutback (end a case cleanly when a
-!>              particle has softened to zero strength: the UMAT's cut-back)
+!>   &time      t_end (s), cfl, scheme ('musl'|'usl'), stop_on_cutback (end a
+!>              case cleanly when a particle has softened to zero strength:
+!>              the UMAT's cut-back)
 !>   &material  density (kg/m^3), nstatv, K, G, beta, beta_p, k0, h, h_zeta, L
 !>              (Pa, m: PROPS 1-6, 12, 13 of the UMAT contract; PROPS(14) = 1)
 !>              OR props = <list> (a user's UMAT, passed as given)
 !>   &boundary  bottom ('roller'|'fixed'|'free'), top ('velocity'|'free'),
 !>              sides ('free'|'roller'), top_velocity (m/s), ramp_time (s),
-!>              top_lateral ('fixed': v_x = 0 on the top as the seed; 'free')
+!>              top_lateral ('fixed': v_x = 0 on the top as the dissertation; 'free')
 !>   &viscosity a1, a2 (shared reference B; 0 switches a term off)
 !>   &nonlocal  scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
 !>              max_iterations, stall_iterations, max_rounds, anderson_depth,
@@ -30,13 +31,16 @@ module wellposed_mpm_ps_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
-  use wellposed_deck, only: read_text_file, namelist_error, check_finite, has_group, unset, &
+  use wellposed_deck, only: namelist_error, check_finite, has_group, unset, &
                             is_set, lower, check_word
   use wellposed_mpm_material_deck, only: material_props
+  use wellposed_mpm_deck_file, only: open_deck, override_line
+  use wellposed_mpm_scene_kind, only: check_scene_name
   use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
                                         bc_velocity
   use wellposed_mpm_shape_2d, only: shape2d_names
   use wellposed_mpm_nonlocal, only: nl_scheme_names, nl_scheme_id
+  use wellposed_mpm_config, only: scheme_names
   implicit none
   private
   public :: read_ps_deck, ps_study_t
@@ -77,20 +81,21 @@ contains
     type(error_t), allocatable, intent(out) :: err
     character(len=64) :: name
     character(len=200) :: title
+    character(len=16) :: kind   !< 'plate' (read by wellposed_mpm_scene_kind)
     real(dp) :: width, height, weak_x(2), weak_y(2), weak_k0
     real(dp) :: dx(max_cases), scale(max_cases)
     character(len=32) :: label(max_cases)
     integer :: ppc, pad_cells, nstatv, max_iterations, stall_iterations, max_rounds, &
                anderson_depth
-    character(len=16) :: shape, bottom, top, sides, scheme, top_lateral, band_axis
+    character(len=16) :: shape, bottom, top, sides, scheme, top_lateral, band_axis, time_scheme
     real(dp) :: t_end, cfl, density, k, g, beta, beta_p, k0, h, h_zeta, l, props(40)
     real(dp) :: top_velocity, ramp_time, a1, a2, tolerance, rel_tolerance, anderson_mixing, &
                 weight_cutoff, snapshot_dt, sample_dt, band_y, band_x, band_time
     logical :: progress, plot, stop_on_cutback
-    namelist /scene/ name, title
+    namelist /scene/ name, title, kind
     namelist /plate/ width, height, weak_x, weak_y, weak_k0
     namelist /grid/ dx, ppc, pad_cells, shape
-    namelist /time/ t_end, cfl, stop_on_cutback
+    namelist /time/ t_end, cfl, scheme, stop_on_cutback
     namelist /material/ density, nstatv, k, g, beta, beta_p, k0, h, h_zeta, l, props
     namelist /boundary/ bottom, top, sides, top_velocity, ramp_time, top_lateral
     namelist /viscosity/ a1, a2
@@ -99,14 +104,15 @@ contains
     namelist /study/ dx, scale, label
     namelist /output/ snapshot_dt, sample_dt, band_y, band_x, band_axis, band_time, &
       progress, plot
-    integer :: unit, ios, i, dot, eq, nc
+    integer :: unit, ios, i, nc
     character(len=512) :: msg
     character(len=:), allocatable :: line, group
     character(len=9), parameter :: groups(10) = [character(len=9) :: 'scene', 'plate', 'grid', &
       'time', 'material', 'boundary', 'viscosity', 'nonlocal', 'study', 'output']
 
     name = 'plate'
-    title = 'plane-strain plate (seed fig. 4.1)'
+    title = 'plane-strain plate (fig. 4.1 of the dissertation)'
+    kind = 'plate'
     width = cfg%width; height = cfg%height
     weak_x = cfg%weak_x; weak_y = cfg%weak_y; weak_k0 = 375.0e6_dp
     dx = unset; dx(1) = cfg%dx
@@ -122,6 +128,7 @@ contains
     top_velocity = cfg%top_velocity; ramp_time = cfg%ramp_time
     a1 = cfg%visc_a1; a2 = cfg%visc_a2
     scheme = 'fixed_point'
+    time_scheme = 'musl'
     tolerance = cfg%nonlocal%tolerance; rel_tolerance = cfg%nonlocal%rel_tolerance
     max_iterations = cfg%nonlocal%max_iterations
     stall_iterations = cfg%nonlocal%stall_iterations
@@ -132,13 +139,8 @@ contains
     band_axis = 'x'
     progress = .true.; plot = .true.
 
-    call read_text_file(path, text, err)
+    call open_deck(path, text, unit, err)
     if (allocated(err)) return
-    open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
-      return
-    end if
     do i = 1, size(groups)
       if (.not. has_group(text, trim(groups(i)))) cycle
       rewind (unit)
@@ -151,20 +153,13 @@ contains
     end do
     close (unit)
     do i = 1, size(overrides)
-      dot = index(overrides(i), '.')
-      eq = index(overrides(i), '=')
-      if (dot < 2 .or. eq < dot + 2) then
-        call new_error(err, status_invalid, trim(overrides(i)), 'override "'// &
-          trim(overrides(i))//'" is not of the form group.key=value')
-        return
-      end if
-      group = overrides(i)(1:dot - 1)
+      call override_line(overrides(i), group, line, err)
+      if (allocated(err)) return
       if (.not. any(groups == group)) then
         call new_error(err, status_invalid, group, 'override "'//trim(overrides(i))// &
           '": no group &'//group)
         return
       end if
-      line = '&'//group//' '//trim(overrides(i)(dot + 1:))//' /'
       call read_group(group, text=line)
       if (ios /= 0) then
         err = namelist_error('command line', group, ios, msg, line)
@@ -174,12 +169,8 @@ contains
 
     cfg%name = trim(name)
     cfg%title = trim(title)
-    if (len(cfg%name) == 0 .or. verify(cfg%name, &
-        'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-') /= 0) then
-      call new_error(err, status_invalid, 'name', path//': &scene: name = "'//cfg%name// &
-        '" must be non-empty letters, digits, "_", "." or "-" (it names the output folder)')
-      return
-    end if
+    call check_scene_name(path, cfg%name, err)
+    if (allocated(err)) return
     call check_finite(path, 'plate', 'width', [width, height, weak_k0], err)
     if (allocated(err)) return
     cfg%width = width; cfg%height = height
@@ -187,6 +178,7 @@ contains
     cfg%ppc = ppc; cfg%pad_cells = pad_cells
     cfg%shape = word(shape, shape2d_names, 'grid', 'shape'); if (allocated(err)) return
     cfg%t_end = t_end; cfg%cfl = cfl
+    cfg%scheme = word(time_scheme, scheme_names, 'time', 'scheme'); if (allocated(err)) return
     call check_finite(path, 'time', 'cfl', [t_end, cfl], err); if (allocated(err)) return
     cfg%density = density; cfg%nstatv = nstatv
     call material_props(path, props, [k, g, beta, beta_p, k0, h, 0.0_dp, 0.0_dp, 0.0_dp, &
@@ -209,7 +201,7 @@ contains
       cfg%top_lateral_fixed = .false.
     case default
       call new_error(err, status_invalid, 'top_lateral', path//": &boundary: top_lateral = '"// &
-        trim(top_lateral)//"' is not one of 'fixed' (v_x = 0 on the top, the seed's), 'free'")
+        trim(top_lateral)//"' is not one of 'fixed' (v_x = 0 on the top, the dissertation's), 'free'")
       return
     end select
     call check_finite(path, 'boundary', 'top_velocity', [top_velocity, ramp_time], err)
@@ -263,6 +255,7 @@ contains
       character(len=*), intent(in) :: grp
       integer, intent(in), optional :: unit
       character(len=*), intent(in), optional :: text
+      character(len=16) :: nl_word
       select case (grp)
       case ('scene')
         if (present(unit)) read (unit, nml=scene, iostat=ios, iomsg=msg)
@@ -274,8 +267,14 @@ contains
         if (present(unit)) read (unit, nml=grid, iostat=ios, iomsg=msg)
         if (present(text)) read (text, nml=grid, iostat=ios, iomsg=msg)
       case ('time')
+        ! &time and &nonlocal both have a key `scheme`: the one variable
+        ! holds &time's while &time is read
+        nl_word = scheme
+        scheme = time_scheme
         if (present(unit)) read (unit, nml=time, iostat=ios, iomsg=msg)
         if (present(text)) read (text, nml=time, iostat=ios, iomsg=msg)
+        time_scheme = scheme
+        scheme = nl_word
       case ('material')
         if (present(unit)) read (unit, nml=material, iostat=ios, iomsg=msg)
         if (present(text)) read (text, nml=material, iostat=ios, iomsg=msg)

@@ -1,4 +1,4 @@
-!> The seed's nonlocal algorithm for the MPM (Algorithm 1, eq. 4.46-4.50),
+!> The dissertation's nonlocal algorithm for the MPM (Algorithm 1, eq. 4.46-4.50),
 !> the same code for 1D and 2D grids, talking to the material through the
 !> UMAT's nonlocal slots only (shared design: UMAT_CONTRACT.md): the host
 !> keeps each particle's start-of-step STRESS and STATEV, and for a given
@@ -15,7 +15,7 @@
 !> field averages to itself exactly, also next to a free boundary. On the
 !> uniform grid the Gaussian factorises, alpha = alpha_x(i) alpha_y(j), so a
 !> particle's weights cost 2 (2R+1) exponentials, not (2R+1)^2, and nothing
-!> is stored between sweeps: no neighbour lists, as the seed intends.
+!> is stored between sweeps: no neighbour lists, as the dissertation intends.
 !>
 !> Steps per time step (Algorithm 1):
 !>  1. every particle once with <dlambda> = 0 (the local estimate, eq. 4.41
@@ -27,7 +27,7 @@
 !>     corrected at once by (m_p/m_i) phi_ip (dlambda^{k+1} - dlambda^k)
 !>     (eq. 4.49-4.50): Gauss-Seidel. Converged when
 !>     max_p |dlambda^{k+1} - dlambda^k| <= tolerance + rel_tolerance *
-!>     max_p dlambda. Scheme 'anderson' (beyond the seed, section 5.2's open
+!>     max_p dlambda. Scheme 'anderson' (beyond the dissertation, section 5.2's open
 !>     problem) treats one Gauss-Seidel sweep as the map G of a fixed point
 !>     x = G(x) on the plastic particles' dlambda and accelerates it
 !>     (wellposed_anderson: Anderson type II, depth m), which converges where
@@ -36,27 +36,27 @@
 !>     called once with it (its zeta takes h_zeta <dlambda>); one that now
 !>     yields (dlambda > 0) joins the plastic set and step 2 runs again.
 !>
-!> Convergence bounds (eq. 4.43, 4.45): the seed's bound is N_alpha times
+!> Convergence bounds (eq. 4.43, 4.45): the dissertation's bound is N_alpha times
 !> |h_zeta/(a + h_eta)|. Since the weights of eq. 4.47 are normalised (they
 !> sum to 1 over the nodes, and the projection of eq. 4.46 too), the sup-norm
 !> of the sweep's Jacobian is at most |h_zeta/(a + h_eta)| itself: that
-!> "sharp" factor bounds a Jacobi sweep, the seed's N_alpha bound is reported
+!> "sharp" factor bounds a Jacobi sweep, the dissertation's N_alpha bound is reported
 !> beside it. Measured (tests/unit/mpm/test_mpm_nonlocal.pf): with a sharp
 !> factor of 5.9 (h_eta = -30 GPa, h_zeta = +40 GPa) a Jacobi sweep diverges
-!> at once, while the seed's Gauss-Seidel sweep creeps for ~150 sweeps and
+!> at once, while the dissertation's Gauss-Seidel sweep creeps for ~150 sweeps and
 !> then stalls (Gauss-Seidel converges on symmetric positive definite
 !> systems whatever their diagonal dominance, and the clamp dlambda >= 0
 !> spoils it); Anderson on the Gauss-Seidel sweep (depth 16) converges in
-!> ~40, and in 6 instead of 7 on the seed's plate values. A sweep that stops
+!> ~40, and in 6 instead of 7 on the dissertation's plate values. A sweep that stops
 !> reducing the error for `stall_iterations` sweeps, or exceeds
 !> `max_iterations`, is an error value: the host stops.
 !>
-!> Across ranks (issue 7): the nodal mass and field are patch arrays
+!> Across ranks: the nodal mass and field are patch arrays
 !> [glo, ghi] whose ghost layers cover the Gaussian's support around every
 !> particle of the patch (nonlocal_ghost_nodes). A decomposed run passes
 !> `ranks` (a nonlocal_ranks_t: its neighbour exchanges and reductions) and
 !> `key` (each local particle's place in the sweep order) to
-!> nonlocal_solve, which then keeps the seed's Gauss-Seidel sweep in the
+!> nonlocal_solve, which then keeps the dissertation's Gauss-Seidel sweep in the
 !> serial order across ranks by pipelining every pass that updates the
 !> nodal field as it goes (projection, sweep, plastic diffusion): rank r
 !> takes the values of the nodes it shares with rank r-1 as r-1 left them,
@@ -91,6 +91,7 @@ module wellposed_mpm_nonlocal
                                 lipschitz_local_implicit, lipschitz_local_explicit
   use wellposed_anderson, only: anderson_t, new_anderson, anderson_step
   use wellposed_dp_params, only: dp_params_t, new_dp_params
+  use wellposed_umat_host, only: umat_is_ours
   use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
                                    prop_h, prop_k_lim, prop_z_ref, prop_p_v, prop_p_d, &
                                    prop_tau, prop_h_zeta, prop_length, nprops_known
@@ -101,7 +102,7 @@ module wellposed_mpm_nonlocal
   public :: nl_fixed_point, nl_anderson, nl_scheme_names, nl_scheme_id
   public :: nonlocal_ranks_t, nonlocal_ghost_nodes, sweep_key
 
-  !> Iteration schemes: the seed's Gauss-Seidel fixed point of eq. 4.39,
+  !> Iteration schemes: the dissertation's Gauss-Seidel fixed point of eq. 4.39,
   !> and Anderson acceleration of the same sweep.
   integer, parameter :: nl_fixed_point = 1, nl_anderson = 2
   character(len=11), parameter :: nl_scheme_names(2) = [character(len=11) :: 'fixed_point', &
@@ -153,7 +154,7 @@ module wellposed_mpm_nonlocal
     end subroutine host_update
   end interface
 
-  !> What Algorithm 1 needs from a run spread over ranks (issue 7). Node
+  !> What Algorithm 1 needs from a run spread over ranks. Node
   !> arrays are a patch's nodal values, values(1) at its first node; the
   !> pipeline calls are collective in rank order (see the module comment).
   type, abstract :: nonlocal_ranks_t
@@ -333,7 +334,10 @@ contains
     self%field = 0.0_dp
 
     pr = 0.0_dp
-    pr(1:min(size(props), nprops_known)) = props(1:min(size(props), nprops_known))
+    ! PROPS(12), PROPS(13) are wellposed's nonlocal slots: a user's own UMAT
+    ! has other PROPS and runs local
+    if (umat_is_ours()) pr(1:min(size(props), nprops_known)) = &
+      props(1:min(size(props), nprops_known))
     self%h_zeta = pr(prop_h_zeta)
     self%length = pr(prop_length)
     self%active = self%h_zeta /= 0.0_dp
@@ -395,7 +399,7 @@ contains
   end subroutine nonlocal_project
 
   !> <dlambda> at position xp (m) from the nodal field, eq. 4.47-4.48; also
-  !> the mass in the support (kg, optional: the seed's N_alpha times the
+  !> the mass in the support (kg, optional: the dissertation's N_alpha times the
   !> particle mass). Zero where no node with mass lies in the support.
   pure subroutine nonlocal_average(self, xp, avg, support_mass)
     type(nonlocal_t), intent(in) :: self
@@ -847,11 +851,11 @@ contains
       if (self%bound_43 > 1.0_dp .and. .not. self%warned_sharp) then
         write (unit, '(a)') 'warning: nonlocal contraction factor |h_zeta/(a + h_eta)| '// &
           '(eq. 4.43 with normalised weights) = '//real_text(self%bound_43)//' > 1: the '// &
-          'seed''s fixed point (scheme fixed_point) is not a contraction and may diverge'
+          'dissertation''s fixed point (scheme fixed_point) is not a contraction and may diverge'
         self%warned_sharp = .true.
       end if
       if (self%last%bound_seed > 1.0_dp .and. .not. self%warned_seed) then
-        write (unit, '(a)') 'note: the seed''s Lipschitz bound of eq. 4.43, N_alpha |h_zeta/'// &
+        write (unit, '(a)') 'note: the dissertation''s Lipschitz bound of eq. 4.43, N_alpha |h_zeta/'// &
           '(a + h_eta)| with N_alpha = '//real_text(self%last%n_alpha)//', is '// &
           real_text(self%last%bound_seed)//' > 1 (eq. 4.45: '// &
           real_text(self%last%n_alpha*self%bound_45)//'); it counts every particle in the '// &

@@ -1,8 +1,8 @@
-!> The explicit MPM of seed section 4.3 in 2D plane strain (chapter 4's
+!> The explicit MPM of the dissertation's section 4.3 in 2D plane strain (chapter 4's
 !> plate, fig. 4.1): a rectangular body [0, width] x [0, height] on a
 !> uniform grid, 2D GIMP, CPDI or linear weights (wellposed_mpm_shape_2d),
 !> the material through the UMAT with NTENS = 4 (11, 22, 33, 12; engineering
-!> shear) and the seed's nonlocal Algorithm 1 (wellposed_mpm_nonlocal, the
+!> shear) and the dissertation's nonlocal Algorithm 1 (wellposed_mpm_nonlocal, the
 !> same code as in 1D). Update: MUSL (as the 1D driver), Jaumann rotation of
 !> the stress before the UMAT, F_{n+1} = (I + L dt) F_n, V = det F V0.
 !>
@@ -19,7 +19,7 @@
 !> Time step dt = cfl * dx / c_max, c_max = sqrt(M/rho) with the
 !> constrained modulus M probed through the UMAT. SI units, tension +.
 !>
-!> Ranks (issue 7): the scene carries a communicator and a domain
+!> Ranks: the scene carries a communicator and a domain
 !> decomposition (wellposed_mpm_decomposition): strips of whole cell rows
 !> (node g = i + nx*j, so a strip is one range of node numbers), each rank
 !> holding the nodes its cells touch plus ghost rows as wide as the shape's
@@ -46,9 +46,11 @@ module wellposed_mpm_plane_strain
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_text, only: int_text, real_text
-  use wellposed_umat_interface, only: umat
+  use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_update, &
+                                host_error, verdict_ok, verdict_cutback
   use wellposed_umat_layout, only: prop_k0
   use wellposed_mpm_particles, only: particles_t, new_particles
+  use wellposed_mpm_config, only: scheme_musl
   use wellposed_mpm_shape_2d, only: shape_2d, support_size_2d, shape2d_cpdi, shape2d_gimp, &
                                     shape2d_linear, shape2d_reach, shape2d_names
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nonlocal_t, nonlocal_host_t, &
@@ -87,6 +89,7 @@ module wellposed_mpm_plane_strain
     integer :: pad_cells = 2
     integer :: shape = shape2d_cpdi
     real(dp) :: t_end = 0.02_dp, cfl = 0.2_dp      !< s, fraction of the CFL step
+    integer :: scheme = scheme_musl                !< USL or MUSL (wellposed_mpm_config)
     real(dp) :: density = 1000.0_dp                !< kg/m^3
     integer :: nprops = 14
     real(dp) :: props(max_props2) = 0.0_dp
@@ -98,7 +101,7 @@ module wellposed_mpm_plane_strain
     integer :: bottom = bc_roller, top = bc_velocity, sides = bc_free2
     real(dp) :: top_velocity = -7.5_dp             !< v_y of the top (m/s, < 0 compresses)
     real(dp) :: ramp_time = 0.0_dp                 !< s, linear ramp of the top velocity
-    logical :: top_lateral_fixed = .true.          !< v_x = 0 on the top too (the seed's)
+    logical :: top_lateral_fixed = .true.          !< v_x = 0 on the top too (the dissertation's)
     ! initial state
     real(dp) :: velocity_gradient0(2, 2) = 0.0_dp  !< initial v = L0 x (patch test), 1/s
     ! artificial viscosity
@@ -135,6 +138,7 @@ module wellposed_mpm_plane_strain
     integer :: moved = 0                      !< particles this rank handed to others, so far
     real(dp) :: mass_floor = 0.0_dp           !< nodes lighter than this have no velocity (kg/m)
     type(mpm_ranks_t) :: nl_ranks             !< Algorithm 1's pipeline over the strips
+    type(umat_host_t) :: host                 !< the UMAT host (NTENS = 4), one per scene
   contains
     procedure :: update => ps_update
   end type ps_scene_t
@@ -156,6 +160,9 @@ contains
     call check(cfg, err)
     if (allocated(err)) return
     self%cfg = cfg
+    call new_umat_host(self%host, 4, cfg%nstatv, err, what='particle')
+    if (allocated(err)) return
+    self%host%celent = cfg%dx
     if (present(comm)) self%comm = comm
     ncx = nint(cfg%width/cfg%dx)
     ncy = nint(cfg%height/cfg%dx)
@@ -259,8 +266,10 @@ contains
 
     ! moduli through the UMAT: uniaxial strain (M) and isotropic (3K)
     ds = probe([-1.0e-7_dp, 0.0_dp, 0.0_dp, 0.0_dp])
+    if (allocated(err)) return
     self%modulus = -ds(1)/1.0e-7_dp
     ds = probe([-1.0e-7_dp, -1.0e-7_dp, -1.0e-7_dp, 0.0_dp])
+    if (allocated(err)) return
     self%bulk = -ds(1)/3.0e-7_dp
     if (.not. (self%modulus > 0.0_dp .and. self%bulk > 0.0_dp)) then
       call new_error(err, status_invalid, 'material', 'the UMAT answers no positive '// &
@@ -281,15 +290,24 @@ contains
 
   contains
 
+    !> The stress of one UMAT call from the natural state (0 when the UMAT
+    !> asks to cut back; a refusal or a non-finite answer is the error err).
     function probe(d) result(dsig)
       real(dp), intent(in) :: d(4)
-      real(dp) :: dsig(4), s(4), sv(cfg%nstatv), pnew
+      real(dp) :: dsig(4), s(4), sv(cfg%nstatv), e(4)
+      integer :: verdict
       s = 0.0_dp
       sv = 0.0_dp
-      call call_umat4(self%props_p(:, 1), s, sv, d, 1.0e-6_dp, 1.0e-6_dp, [0.0_dp, 0.0_dp], &
-                      cfg%dx, 0, pnew)
+      e = 0.0_dp
+      self%host%time = 0.0_dp
+      self%host%dtime = 1.0e-6_dp
+      self%host%noel = 1
+      self%host%coords = 0.0_dp
+      call host_call(self%host, self%props_p(:, 1), s, sv, e, d, verdict)
       dsig = s
-      if (pnew < 1.0_dp) dsig = 0.0_dp
+      if (verdict /= verdict_ok) dsig = 0.0_dp
+      if (verdict /= verdict_ok .and. verdict /= verdict_cutback) &
+        call host_error(self%host, verdict, err, 'probing the moduli')
     end function probe
 
   end subroutine new_ps_scene
@@ -449,24 +467,27 @@ contains
           pt%x(:, p) = pt%x(:, p) + dt*pt%phi(k, p)*self%gvel(:, i)
         end do
       end do
-      ! --- MUSL: grid velocity from the updated particle momentum
-      self%gmom = 0.0_dp
-      do p = 1, n
-        do k = 1, ns
-          i = pt%node(k, p)
-          self%gmom(:, i) = self%gmom(:, i) + pt%phi(k, p)*pt%mass(p)*pt%v(:, p)
+      ! --- MUSL: grid velocity from the updated particle momentum (USL
+      ! keeps the updated grid velocity v_i^{n+1}, eq. 4.10-4.11)
+      if (cfg%scheme == scheme_musl) then
+        self%gmom = 0.0_dp
+        do p = 1, n
+          do k = 1, ns
+            i = pt%node(k, p)
+            self%gmom(:, i) = self%gmom(:, i) + pt%phi(k, p)*pt%mass(p)*pt%v(:, p)
+          end do
         end do
-      end do
-      if (self%dec%nnb > 0) call sum_ghost_values(self%dec, self%comm, self%gmom)
-      do i = self%glo, self%ghi
-        if (self%gmass(i) > mmin) then
-          self%gvel(:, i) = self%gmom(:, i)/self%gmass(i)
-        else
-          self%gvel(:, i) = 0.0_dp
-        end if
-        self%gacc(:, i) = 0.0_dp
-        call apply_bc(i)
-      end do
+        if (self%dec%nnb > 0) call sum_ghost_values(self%dec, self%comm, self%gmom)
+        do i = self%glo, self%ghi
+          if (self%gmass(i) > mmin) then
+            self%gvel(:, i) = self%gmom(:, i)/self%gmass(i)
+          else
+            self%gvel(:, i) = 0.0_dp
+          end if
+          self%gacc(:, i) = 0.0_dp
+          call apply_bc(i)
+        end do
+      end if
       ! --- velocity gradient (eq. 4.11), F, volume, viscosity, rotation
       c = sqrt(self%bulk/cfg%density)
       do p = 1, n
@@ -632,91 +653,39 @@ contains
   end subroutine sync_error
 
   !> The host side of Algorithm 1: particle p from its start-of-step copies
-  !> with STATEV(3) = avg, through the UMAT (NTENS = 4); dlambda = STATEV(2).
-  !> A cut-back request splits the increment (2, 4, ... 64 parts, each with
-  !> the same average share); invalid input is an error.
+  !> with STATEV(3) = avg, through the UMAT host (NTENS = 4, STRAN = 0: the
+  !> model is incremental); dlambda = STATEV(2). The host's rules apply:
+  !> PNEWDT < 0 or a non-finite result stops the run naming the particle, a
+  !> cut-back splits the increment (2, 4, ... 64 parts, each with its share
+  !> of the average).
   subroutine ps_update(self, p, avg, dlambda, err)
     class(ps_scene_t), intent(inout) :: self
     integer, intent(in) :: p
     real(dp), intent(in) :: avg
     real(dp), intent(out) :: dlambda
     type(error_t), allocatable, intent(out) :: err
-    real(dp) :: s(4), sv(self%cfg%nstatv), pnew, dl
-    integer :: level, nsub, k
-    logical :: ok
-    associate (pt => self%parts)
+    real(dp) :: s(4), sv(self%cfg%nstatv), e(4)
+    integer :: nsub
+    associate (pt => self%parts, h => self%host)
       s = self%s0(:, p)
       sv = self%sv0(:, p)
-      sv(3) = avg
-      call call_umat4(self%props_p(:, self%mat(p)), s, sv, self%de(:, p), self%dt, &
-                      self%t + self%dt, pt%x(:, p), self%cfg%dx, pt%gid(p), pnew)
-      if (pnew >= 1.0_dp) then
-        pt%stress(1:4, p) = s
-        pt%statev(:, p) = sv
-        dlambda = sv(2)
-        return
-      end if
-      if (pnew < 0.0_dp) then
-        call new_error(err, status_invalid, '', 'the UMAT refused the input of particle '// &
-          int_text(pt%gid(p))//' (PNEWDT = '//real_text(pnew)//'; its message is on '// &
-          'standard error above)')
-        return
-      end if
-      do level = 1, 6
-        nsub = 2**level
-        s = self%s0(:, p)
-        sv = self%sv0(:, p)
-        ok = .true.
-        dl = 0.0_dp
-        do k = 1, nsub
-          sv(3) = avg/nsub
-          call call_umat4(self%props_p(:, self%mat(p)), s, sv, self%de(:, p)/nsub, &
-                          self%dt/nsub, self%t + self%dt*k/nsub, pt%x(:, p), self%cfg%dx, &
-                          pt%gid(p), pnew)
-          if (pnew < 1.0_dp) then
-            ok = .false.
-            exit
-          end if
-          dl = dl + sv(2)
-        end do
-        if (ok) then
-          pt%stress(1:4, p) = s
-          sv(2) = dl
-          sv(3) = avg
-          pt%statev(:, p) = sv
-          dlambda = dl
-          self%max_substeps = max(self%max_substeps, nsub)
-          return
-        end if
-      end do
-      call new_error(err, status_cutback, '', 'the UMAT asked to cut back the increment of '// &
-        'particle '//int_text(pt%gid(p))//' and still did with 64 sub-increments; a '// &
-        'smaller &time cfl may help')
+      ! the nonlocal slots (STATEV 2 in, 3 out) only for a UMAT that has them
+      if (h%ours) sv(3) = avg
+      e = 0.0_dp
+      h%time = self%t
+      h%dtime = self%dt
+      h%kinc = self%nstep + 1
+      h%noel = pt%gid(p)
+      h%coords = [pt%x(1, p), pt%x(2, p), 0.0_dp]
+      call host_update(h, self%props_p(:, self%mat(p)), s, sv, e, self%de(:, p), nsub, err)
+      if (allocated(err)) return
+      pt%stress(1:4, p) = s
+      pt%statev(:, p) = sv
+      dlambda = 0.0_dp
+      if (h%ours) dlambda = sv(2)
+      self%max_substeps = max(self%max_substeps, nsub)
     end associate
   end subroutine ps_update
-
-  !> One UMAT call with NTENS = 4 (NDI = 3, NSHR = 1), explicit host.
-  subroutine call_umat4(props, s, sv, de, dtime, t_end, xy, celent, noel, pnewdt)
-    real(dp), intent(in) :: props(:), de(4), dtime, t_end, xy(2), celent
-    real(dp), intent(inout) :: s(4), sv(:)
-    integer, intent(in) :: noel
-    real(dp), intent(out) :: pnewdt
-    real(dp) :: dd(4, 4), sse, spd, scd, rpl, ddsddt(4), drplde(4), drpldt, stran(4)
-    real(dp) :: time(2), predef(1), dpred(1), coords(3), drot(3, 3), f(3, 3)
-    character(len=80) :: cmname
-    sse = 0.0_dp; spd = 0.0_dp; scd = 0.0_dp; rpl = 0.0_dp; drpldt = 0.0_dp
-    ddsddt = 0.0_dp; drplde = 0.0_dp; stran = 0.0_dp; predef = 0.0_dp; dpred = 0.0_dp
-    drot = 0.0_dp; drot(1, 1) = 1.0_dp; drot(2, 2) = 1.0_dp; drot(3, 3) = 1.0_dp
-    f = drot
-    coords = [xy(1), xy(2), 0.0_dp]
-    time = t_end - dtime
-    dd = 0.0_dp
-    cmname = 'WELLPOSED'
-    pnewdt = 1.0_dp
-    call umat(s, sv, dd, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, de, time, dtime, &
-              0.0_dp, 0.0_dp, predef, dpred, cmname, 3, 1, 4, size(sv), props, size(props), &
-              coords, drot, pnewdt, celent, f, f, max(noel, 1), 1, 1, 1, 1, 1)
-  end subroutine call_umat4
 
   !> Applied axial stress (Pa, compression positive): the top force per
   !> unit initial width, from the volume average of sigma_yy (in

@@ -1,11 +1,11 @@
-!> The explicit MPM of seed section 4.3 for the 1D uniaxial-strain scenes:
-!> lumped mass (eq. 4.4), internal force (eq. 4.5), grid acceleration and
+!> The explicit MPM of the dissertation's section 4.3 for the 1D
+!> uniaxial-strain scenes: lumped mass (eq. 4.4), internal force (eq. 4.5), grid acceleration and
 !> forward-Euler velocity (eq. 4.9-4.10), velocity gradient (eq. 4.11),
 !> FLIP particle velocity and position update (eq. 4.12-4.13), and the
 !> stress update through the UMAT for every particle.
 !>
 !> Update variant: MUSL by default (deck: scheme = 'musl' or 'usl'). USL is
-!> eq. 4.10-4.13 as the seed writes them: the strain rate comes from the
+!> eq. 4.10-4.13 as the dissertation writes them: the strain rate comes from the
 !> updated grid velocity v_i^{n+1}. MUSL rebuilds the grid velocity from the
 !> updated particle velocities (v_i = sum_p phi_ip m_p v_p / m_i) before the
 !> strain rate. Both are first-order-in-time variants of the same scheme;
@@ -21,7 +21,7 @@
 !> velocity] -> strain increment, F and volume -> UMAT (Algorithm 1).
 !> Units SI, tension positive.
 !>
-!> Ranks (issue 7): the scene talks to other ranks only through its
+!> Ranks: the scene talks to other ranks only through its
 !> exchange (wellposed_mpm_exchange): every rank builds the whole scene,
 !> keeps its strip of cells with ghost layers as wide as the shape support
 !> or the nonlocal Gaussian's (whichever is wider), and the step above runs
@@ -40,7 +40,7 @@ module wellposed_mpm_solver
   use wellposed_mpm_particles, only: particles_t, new_particles
   use wellposed_mpm_shape, only: support_size, shape_1d
   use wellposed_mpm_loads, only: surface_stress
-  use wellposed_mpm_material, only: umat_point
+  use wellposed_umat_host, only: umat_host_t, new_umat_host, host_update
   use wellposed_mpm_exchange, only: mpm_exchange_t, mpm_serial_t
   use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, new_nonlocal, nonlocal_solve, &
                                     nonlocal_ghost_nodes, sweep_key
@@ -80,9 +80,10 @@ module wellposed_mpm_solver
     real(dp) :: mass_floor = 0.0_dp       !< grid nodes below it count as empty (kg/m^2)
     ! workspace
     real(dp), allocatable :: dstrain(:)   !< axial strain increment of the step, per particle
-    ! nonlocal Algorithm 1 (seed chapter 4): solver state, start-of-step copies
+    ! nonlocal Algorithm 1 (the dissertation's chapter 4): solver state, start-of-step copies
     type(nonlocal_t) :: nl
     real(dp), allocatable :: s0(:, :), sv0(:, :), e0(:, :)
+    type(umat_host_t) :: host             !< the UMAT host (NTENS = 6), one per scene
   contains
     procedure :: update => scene_update
   end type mpm_scene_t
@@ -106,6 +107,9 @@ contains
     call check_scene(cfg, err)
     if (allocated(err)) return
     self%cfg = cfg
+    call new_umat_host(self%host, 6, cfg%nstatv, err, what='particle')
+    if (allocated(err)) return
+    self%host%celent = cfg%dx
     ncell_body = nint(cfg%length/cfg%dx)
     ncells = ncell_body + 2*cfg%pad_cells
     call new_grid_1d(self%grid, -cfg%pad_cells*cfg%dx, cfg%dx, ncells)
@@ -270,19 +274,24 @@ contains
     real(dp), parameter :: de = 1.0e-5_dp
     real(dp) :: s(6), sv(cfg%nstatv), e(6), d(6), s1
     integer :: nsub
+    type(umat_host_t) :: h
+    call new_umat_host(h, 6, cfg%nstatv, err, what='particle')
+    if (allocated(err)) return
+    h%celent = cfg%dx
     d = 0.0_dp
     s = cfg%stress0; sv = 0.0_dp; e = 0.0_dp; d(1) = -de
-    call umat_point(cfg%props(1:cfg%nprops), cfg%nprops, s, sv, e, d, 1.0e-6_dp, 1.0e-6_dp, &
-                    [0.0_dp, 0.0_dp, 0.0_dp], cfg%dx, 1, nsub, err)
+    h%dtime = 1.0e-6_dp
+    call host_update(h, cfg%props(1:cfg%nprops), s, sv, e, d, nsub, err)
     if (allocated(err)) return
     elastic = (s(1) - cfg%stress0(1))/(-de)
+    ! the plastic modulus over slow increments (a rate-dependent model relaxed)
     s = cfg%stress0; sv = 0.0_dp; e = 0.0_dp; d(1) = de
-    call umat_point(cfg%props(1:cfg%nprops), cfg%nprops, s, sv, e, d, 1.0e3_dp, 1.0e3_dp, &
-                    [0.0_dp, 0.0_dp, 0.0_dp], cfg%dx, 1, nsub, err)
+    h%dtime = 1.0e3_dp
+    call host_update(h, cfg%props(1:cfg%nprops), s, sv, e, d, nsub, err)
     if (allocated(err)) return
     s1 = s(1)
-    call umat_point(cfg%props(1:cfg%nprops), cfg%nprops, s, sv, e, d, 1.0e3_dp, 2.0e3_dp, &
-                    [0.0_dp, 0.0_dp, 0.0_dp], cfg%dx, 1, nsub, err)
+    h%time = 1.0e3_dp
+    call host_update(h, cfg%props(1:cfg%nprops), s, sv, e, d, nsub, err)
     if (allocated(err)) return
     plastic = (s(1) - s1)/de
     if (.not. (elastic > 0.0_dp .and. plastic > 0.0_dp)) then
@@ -453,7 +462,7 @@ contains
       self%ticks(timer_transfer) = self%ticks(timer_transfer) + (t1 - t0)
       t0 = t1
       ! --- stress update through the UMAT (uniaxial strain: d eps_xx only),
-      ! by the seed's Algorithm 1: with h_zeta = 0 one call per particle,
+      ! by the dissertation's Algorithm 1: with h_zeta = 0 one call per particle,
       ! exactly the local update; otherwise the fixed point on the grid
       do p = 1, n
         self%s0(:, p) = pt%stress(:, p)
@@ -492,29 +501,33 @@ contains
   end subroutine advance
 
   !> The host side of Algorithm 1: particle p from its start-of-step copies
-  !> with STATEV(3) = avg through the UMAT (wellposed_mpm_material, with its
-  !> cut-back splitting); dlambda = STATEV(2) afterwards.
+  !> with STATEV(3) = avg through the UMAT host (driver/host: its cut-back
+  !> splitting, PNEWDT and non-finite rules); dlambda = STATEV(2) afterwards.
   subroutine scene_update(self, p, avg, dlambda, err)
     class(mpm_scene_t), intent(inout) :: self
     integer, intent(in) :: p
     real(dp), intent(in) :: avg
     real(dp), intent(out) :: dlambda
     type(error_t), allocatable, intent(out) :: err
-    real(dp) :: coords(3)
     integer :: nsub
     associate (pt => self%parts, cfg => self%cfg)
       pt%stress(:, p) = self%s0(:, p)
       pt%statev(:, p) = self%sv0(:, p)
       pt%stran(:, p) = self%e0(:, p)
-      pt%statev(3, p) = avg
-      coords = [pt%x(1, p), 0.0_dp, 0.0_dp]
-      call umat_point(cfg%props(1:cfg%nprops), cfg%nprops, pt%stress(:, p), pt%statev(:, p), &
-                      pt%stran(:, p), [self%dstrain(p), 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
-                      0.0_dp], self%dt, self%t + self%dt, coords, self%grid%dx, pt%gid(p), &
-                      nsub, err)
+      ! the nonlocal slots (STATEV 2 in, 3 out) only for a UMAT that has them
+      if (self%host%ours) pt%statev(3, p) = avg
+      self%host%time = self%t
+      self%host%dtime = self%dt
+      self%host%kinc = self%nstep + 1
+      self%host%noel = pt%gid(p)
+      self%host%coords = [pt%x(1, p), 0.0_dp, 0.0_dp]
+      call host_update(self%host, cfg%props(1:cfg%nprops), pt%stress(:, p), &
+                       pt%statev(:, p), pt%stran(:, p), [self%dstrain(p), 0.0_dp, 0.0_dp, &
+                       0.0_dp, 0.0_dp, 0.0_dp], nsub, err)
       if (allocated(err)) return
       if (nsub > self%max_substeps_step) self%max_substeps_step = nsub
-      dlambda = pt%statev(2, p)
+      dlambda = 0.0_dp
+      if (self%host%ours) dlambda = pt%statev(2, p)
     end associate
   end subroutine scene_update
 

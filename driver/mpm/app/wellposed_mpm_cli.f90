@@ -1,0 +1,149 @@
+!> The command line of wellposed-mpm, read once for every scene kind:
+!>
+!>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot]
+!>       [--checkpoint-every STEPS] [--restart | --restart-from FILE]
+!>       [DECK] [group.key=value ...]
+!>   [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] [--no-plot]
+!>
+!> A word with '=' is an override of the deck, a word starting with '-' an
+!> option (an unknown one is refused, not taken for a deck), anything else
+!> the deck. Errors are returned as values; the caller says them.
+module wellposed_mpm_cli
+  use, intrinsic :: iso_fortran_env, only: output_unit
+  use wellposed_error, only: error_t, new_error, status_invalid
+  implicit none
+  private
+  public :: mpm_cli_t, read_mpm_cli, write_mpm_usage
+
+  !> What the command line asks for.
+  type :: mpm_cli_t
+    character(len=:), allocatable :: deck_path    !< '' when none was given
+    character(len=:), allocatable :: out_root     !< ROOT (default 'out')
+    character(len=:), allocatable :: run_name     !< '' unless --name
+    character(len=:), allocatable :: ck_file      !< --restart-from FILE, else ''
+    character(len=:), allocatable :: batch_file   !< --batch FILE, else ''
+    character(len=512), allocatable :: overrides(:)
+    !> --checkpoint-every STEPS; -1: the scene's default (a tenth of a run)
+    integer :: ck_every = -1
+    logical :: restart = .false.
+    logical :: no_plot = .false.
+    logical :: help = .false.
+  end type mpm_cli_t
+
+contains
+
+  !> Read the program's arguments into cli (err: the first bad one).
+  subroutine read_mpm_cli(cli, err)
+    type(mpm_cli_t), intent(out) :: cli
+    type(error_t), allocatable, intent(out) :: err
+    character(len=:), allocatable :: arg
+    integer :: i, nargs
+    cli%deck_path = ''
+    cli%out_root = 'out'
+    cli%run_name = ''
+    cli%ck_file = ''
+    cli%batch_file = ''
+    allocate (cli%overrides(0))
+    nargs = command_argument_count()
+    i = 0
+    do while (i < nargs)
+      i = i + 1
+      arg = argument(i)
+      select case (arg)
+      case ('-h', '--help')
+        cli%help = .true.
+        return
+      case ('--out')
+        call value_of(cli%out_root); if (allocated(err)) return
+      case ('--name')
+        call value_of(cli%run_name); if (allocated(err)) return
+      case ('--no-plot')
+        cli%no_plot = .true.
+      case ('--checkpoint-every')
+        call value_of(arg); if (allocated(err)) return
+        if (verify(arg, '0123456789') /= 0 .or. len(arg) == 0 .or. len(arg) > 9) then
+          call bad('--checkpoint-every needs a whole number of steps >= 0, not "'//arg//'"')
+          return
+        end if
+        read (arg, *) cli%ck_every
+      case ('--restart')
+        cli%restart = .true.
+      case ('--restart-from')
+        call value_of(cli%ck_file); if (allocated(err)) return
+        cli%restart = .true.
+      case ('--batch')
+        call value_of(cli%batch_file); if (allocated(err)) return
+      case default
+        if (index(arg, '=') > 0) then
+          cli%overrides = [character(len=512) :: cli%overrides, arg]
+        else if (arg(1:min(1, len(arg))) == '-') then
+          call bad('unknown option "'//arg//'" (see --help)')
+          return
+        else if (len(cli%deck_path) == 0) then
+          cli%deck_path = arg
+        else
+          call bad('unexpected argument "'//arg//'" (one DECK only; see --help)')
+          return
+        end if
+      end select
+    end do
+    if (len(cli%batch_file) > 0 .and. (len(cli%deck_path) > 0 .or. size(cli%overrides) > 0 &
+        .or. cli%restart .or. cli%ck_every >= 0 .or. len(cli%run_name) > 0)) &
+      call bad('--batch FILE takes only --out and --no-plot; give decks, names and '// &
+               'overrides on the lines of FILE')
+
+  contains
+
+    !> The value after option i (the next argument).
+    subroutine value_of(v)
+      character(len=:), allocatable, intent(inout) :: v
+      if (i >= nargs) then
+        call bad('option "'//arg//'" needs a value')
+        return
+      end if
+      i = i + 1
+      v = argument(i)
+    end subroutine value_of
+
+    subroutine bad(text)
+      character(len=*), intent(in) :: text
+      call new_error(err, status_invalid, 'command line', text)
+    end subroutine bad
+
+  end subroutine read_mpm_cli
+
+  function argument(k) result(a)
+    integer, intent(in) :: k
+    character(len=:), allocatable :: a
+    integer :: n
+    call get_command_argument(k, length=n)
+    allocate (character(len=n) :: a)
+    call get_command_argument(k, a)
+  end function argument
+
+  !> The usage text, on standard output.
+  subroutine write_mpm_usage(default_deck)
+    character(len=*), intent(in) :: default_deck
+    write (output_unit, '(a)') 'usage: [mpirun -np N] wellposed-mpm [--out ROOT] '// &
+      '[--name NAME] [--no-plot] [--checkpoint-every STEPS]'
+    write (output_unit, '(a)') '         [--restart | --restart-from FILE] [DECK] '// &
+      '[group.key=value ...]'
+    write (output_unit, '(a)') '       [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] '// &
+      '[--no-plot]'
+    write (output_unit, '(a)') '  DECK: a 1D bar (inputs/fig2_*.nml) or a plane-strain plate '// &
+      '(inputs/fig4_*.nml): its &scene kind says which'
+    write (output_unit, '(a)') '  (''bar'' or ''plate''; absent: ''plate'' when the deck has '// &
+      'a &plate, &boundary, &study or &viscosity group); default '//default_deck
+    write (output_unit, '(a)') '  results go to ROOT/NAME (ROOT = out, NAME = &scene name)'
+    write (output_unit, '(a)') '  overrides, e.g. grid.dx=0.5 time.cfl=0.1 material.h=-5e8'
+    write (output_unit, '(a)') '  --checkpoint-every STEPS  into ROOT/NAME.checkpoints/ '// &
+      '(default a tenth of the run or case, 0: none), the newest two kept'
+    write (output_unit, '(a)') '  --restart                 continue from the newest '// &
+      '(same deck and overrides; any number of ranks)'
+    write (output_unit, '(a)') '  --restart-from FILE       continue from checkpoint FILE'
+    write (output_unit, '(a)') '  --batch FILE              one deck per line, optionally '// &
+      'with options; jobs shared over the ranks'
+    write (output_unit, '(a)') '  wellposed-mpm2d is an alias of this program, kept for one release'
+  end subroutine write_mpm_usage
+
+end module wellposed_mpm_cli

@@ -1,0 +1,86 @@
+!> wellposed-mpm: the explicit material point method of the dissertation's
+!> section 4.3, one program for every MPM deck: the 1D uniaxial-strain bars of
+!> chapter 2 and the plane-strain plates of chapter 4. The deck's &scene kind
+!> ('bar' or 'plate'; wellposed_mpm_scene_kind) picks the scene; the command
+!> line (wellposed_mpm_cli) is the same for both:
+!>
+!>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot]
+!>       [--checkpoint-every STEPS] [--restart | --restart-from FILE]
+!>       [DECK] [group.key=value ...]
+!>   [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] [--no-plot]
+!>
+!> Without DECK: inputs/sandler_rubin_default.nml. Results go to ROOT/NAME/
+!> (written as ROOT/NAME.partial and renamed when done); errors go to
+!> standard error with exit status 1. `wellposed-mpm2d` is an alias of this
+!> program (a link to it) kept for one release.
+program wellposed_mpm
+  use, intrinsic :: iso_fortran_env, only: error_unit
+  use wellposed_error, only: error_t
+  use wellposed_mpi, only: comm_t, comm_start, comm_stop
+  use wellposed_mpm_cli, only: mpm_cli_t, read_mpm_cli, write_mpm_usage
+  use wellposed_mpm_scene_kind, only: deck_scene_kind, scene_kind_plate
+  use wellposed_mpm_paths, only: find_data, default_deck_name
+  use wellposed_mpm_bar_run, only: run_bar
+  use wellposed_mpm_plate_run, only: run_plate
+  use wellposed_batch_run, only: run_batch, default_figures
+  use wellposed_fs, only: shell_quote
+  implicit none
+
+  type(comm_t) :: comm
+  type(mpm_cli_t) :: cli
+  type(error_t), allocatable :: err
+  integer :: kind
+
+  call comm_start(comm, err)
+  if (allocated(err)) call die(err%message)
+  call read_mpm_cli(cli, err)
+  if (allocated(err)) call die(err%message)
+  if (cli%help) then
+    if (comm%rank == 0) call write_mpm_usage(default_deck_name)
+    call comm_stop(comm)
+    stop
+  end if
+  if (len(cli%batch_file) > 0) call batch()
+  if (len(cli%deck_path) == 0) cli%deck_path = find_data(default_deck_name)
+  call deck_scene_kind(cli%deck_path, cli%overrides, kind, err)
+  if (allocated(err)) call die(err%message)
+  if (kind == scene_kind_plate) then
+    call run_plate(cli, comm)
+  else
+    call run_bar(cli, comm)
+  end if
+  call comm_stop(comm)
+
+contains
+
+  !> --batch FILE: every deck of FILE (bars and plates alike) through this
+  !> program, one process each, shared over the ranks of an mpirun
+  !> (wellposed_batch_run); exit status 1 when any failed.
+  subroutine batch()
+    character(len=4096) :: self
+    character(len=:), allocatable :: command
+    integer :: nfailed
+    call get_command_argument(0, self)
+    command = shell_quote(trim(self))
+    if (cli%no_plot) command = command//' --no-plot'
+    call run_batch(comm, cli%batch_file, command, cli%out_root, &
+                   default_figures('wellposed-mpm'), nfailed, err)
+    call comm_stop(comm)
+    if (allocated(err)) then
+      if (comm%rank == 0) write (error_unit, '(a)') 'wellposed-mpm: error: '//err%message
+      stop 1, quiet=.true.
+    end if
+    if (nfailed > 0) stop 1
+    stop
+  end subroutine batch
+
+  !> Stop every rank with `text`, said by rank 0 (every rank meets the same
+  !> error before the run starts).
+  subroutine die(text)
+    character(len=*), intent(in) :: text
+    if (comm%rank == 0) write (error_unit, '(a)') 'wellposed-mpm: error: '//text
+    call comm_stop(comm)
+    stop 1, quiet=.true.
+  end subroutine die
+
+end program wellposed_mpm

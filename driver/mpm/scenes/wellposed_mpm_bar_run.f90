@@ -1,0 +1,566 @@
+!> The bar scene of wellposed-mpm: the explicit material point method of
+!> the dissertation's section 4.3 on the 1D uniaxial-strain scenes of
+!> chapter 2 (Sandler-Rubin case study), run from a deck whose &scene kind
+!> is 'bar' (wellposed_mpm_scene_kind). Writes ROOT/NAME/ (ROOT = out,
+!> NAME = the deck's &scene name): the deck, run.h5 (station histories,
+!> particle snapshots, energies, metadata), run.xdmf (the snapshots for
+!> ParaView), summary.txt and stations.png. Everything is written into
+!> ROOT/NAME.partial and renamed at the end, so a failed run leaves nothing
+!> that looks finished. Errors go to standard error and the exit status is 1.
+!>
+!> On N ranks the scene is cut into strips of cells
+!> (wellposed_mpm_ranks). run.h5 is written by all ranks collectively
+!> (wellposed_h5_parallel: MPI-IO with parallel HDF5, else gathered to
+!> rank 0), particle snapshots by rows from the ranks that hold the
+!> particles (wellposed_mpm_snapshots); station histories, energies and
+!> metadata are rank 0's, and rank 0 writes the other files, all with the
+!> serial layout. Checkpoints go to
+!> ROOT/NAME.checkpoints/ every STEPS steps (default: a tenth of the run;
+!> 0: none; the newest two are kept, the folder is removed when the run
+!> finishes); --restart continues from the newest, on any number of ranks.
+module wellposed_mpm_bar_run
+  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t
+  use wellposed_text, only: int_text, real_text
+  use wellposed_mpm_config
+  use wellposed_mpm_deck, only: read_mpm_deck, mpm_options_t
+  use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, kinetic_energy, &
+                                  total_momentum, timer_umat, timer_transfer, timer_grid
+  use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations, &
+                                    station_measures_t, measure_stations, field_sxx, &
+                                    field_syy, field_v, field_z, nfields
+  use wellposed_mpm_paths, only: find_data, stations_plot_name
+  use wellposed_mpm_particles, only: particle_bytes, particles_t
+  use wellposed_mpm_nonlocal, only: nl_scheme_names
+  use wellposed_mpi, only: comm_t, comm_stop, allreduce_sum, &
+                           allreduce_max, broadcast
+  use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
+  use wellposed_mpm_decomposition, only: decomposition_t
+  use wellposed_mpm_parallel_io, only: station_proxy_t, gather_particles, make_station_proxy, &
+                                       fill_station_proxy, put_stations, get_stations
+  use wellposed_checkpoint, only: checkpoint_t, write_checkpoint
+  use wellposed_mpm_resume, only: open_restart_checkpoint
+  use wellposed_mpm_restart, only: save_scene_ranks, restore_scene_ranks
+  use wellposed_mpm_snapshots, only: snapshot_store_t, new_snapshot_store
+  use wellposed_run_dir, only: run_dir_t
+  use wellposed_summary, only: summary_t
+  use wellposed_h5_parallel, only: h5_parallel_file_t, h5_writer_name
+  use wellposed_plot, only: run_plot
+  use wellposed_build_info, only: wellposed_version, wellposed_git_revision
+  use wellposed_fs, only: path_exists, shell_quote, remove_tree
+  use wellposed_mpm_cli, only: mpm_cli_t
+  use wellposed_mpm_stop, only: stop_alone
+  implicit none
+  private
+  public :: run_bar
+
+contains
+
+  !> Run the bar deck cli%deck_path as the command line `cli` asks, on the
+  !> ranks of `comm` (collective). Stops the program on an error.
+  subroutine run_bar(cli, comm)
+      type(mpm_cli_t), intent(in) :: cli
+      type(comm_t), intent(inout) :: comm
+
+    type(mpm_config_t) :: cfg
+    integer, allocatable :: nl_its(:), nl_plastic(:)  ! Algorithm 1: sweeps, step
+    real(dp), allocatable :: nl_bound(:)
+    integer :: nl_n = 0
+    type(mpm_options_t) :: opts
+    type(mpm_scene_t) :: scene
+    type(stations_t) :: st
+    type(station_measures_t) :: meas
+    type(run_dir_t) :: rd
+    type(h5_parallel_file_t) :: h5
+    type(summary_t) :: sm
+    type(error_t), allocatable :: err, err2
+    ! ranks: the communicator, the scene's exchange, the stations' proxy
+    type(mpm_ranks_t) :: ranks
+    type(station_proxy_t) :: proxy
+    type(particles_t) :: everyone
+    logical :: root, sampled
+    integer :: ntotal, substeps, ghost
+    real(dp) :: sums(3), ke_end, p_end
+    ! checkpoints: every ck_every steps into <out>/<name>.checkpoints (keep two)
+    integer :: ck_every
+    character(len=:), allocatable :: ck_dir, ck_file
+    !> particle snapshots: each rank keeps the rows of its own particles
+    type(snapshot_store_t) :: snaps
+    character(len=:), allocatable :: deck_text, script, h5_path
+    integer :: i, nsnap, nenergy, s, nsteps_est
+    integer(int64) :: c0, c1, crate, clast
+    real(dp) :: wall, next_snap, c_e, c_p, escale, ebal, t_target
+    real(dp), allocatable :: energy(:, :)
+    character(len=16) :: tag
+
+    root = comm%rank == 0
+    ck_every = cli%ck_every
+    ck_file = cli%ck_file
+
+    ! ---- deck and scene
+    call read_mpm_deck(cli%deck_path, cli%overrides, cfg, opts, deck_text, err)
+    if (allocated(err)) call die(err)
+    if (len(cli%run_name) > 0) cfg%name = cli%run_name
+    ! every rank builds the scene and keeps its strip (errors: the same on all)
+    call new_mpm_ranks(ranks, comm)
+    call new_scene(scene, cfg, err, ranks)
+    if (allocated(err)) then
+      err%message = cli%deck_path//': '//err%message
+      call die(err)
+    end if
+    ghost = scene%exchange%ghost_layers()
+    c_e = sqrt(scene%modulus_elastic/cfg%density)
+    c_p = sqrt(scene%modulus_plastic/cfg%density)
+    ! rank 0 makes the run folder; run.h5 in it is written by every rank
+    h5_path = ''
+    if (root) then
+      call rd%create(cli%out_root, cfg%name, cli%deck_path, err)
+      if (allocated(err)) call die_alone(err)
+      h5_path = rd%path('run.h5')
+    end if
+    call broadcast(comm, h5_path, 0)
+    call h5%create(comm, h5_path, err)
+    if (allocated(err)) call die(err)
+    ! stations on rank 0 over every particle in id order, read through a
+    ! proxy (a gather for setting them up; the other ranks hold none)
+    ntotal = scene%parts%n
+    call allreduce_sum(comm, ntotal)
+    call gather_particles(comm, scene%parts, 0, everyone)
+    if (root) then
+      call new_stations(st, cfg, everyone, cfg%t_end)
+    else
+      allocate (st%x(0), st%time(0), st%hist(nfields, 0, 0))
+    end if
+    call make_station_proxy(st, comm, ntotal, scene%parts, proxy)
+
+    nsteps_est = ceiling(cfg%t_end/scene%dt)
+    if (root) then
+      write (output_unit, '(a)') 'wellposed-mpm '//wellposed_version//': scene '//cfg%name// &
+        ' ('//trim(cfg%title)//')'
+      write (output_unit, '(a,i0,a,i0,a,es10.3,a,i0,a)') '  ', ntotal, ' particles, ', &
+        scene%grid%nnodes, ' nodes, dt = ', scene%dt, ' s, ~', nsteps_est, ' steps'
+      write (output_unit, '(a,a,a,a,a,f9.2,a,f9.2,a)') '  shape ', &
+        trim(shape_names(cfg%shape)), ', scheme ', trim(scheme_names(cfg%scheme)), ', C_E = ', &
+        c_e, ' m/s, C_P = ', c_p, ' m/s (UMAT moduli at the initial state)'
+      if (scene%nl%active) write (output_unit, '(a)') '  nonlocal: L = '// &
+        real_text(scene%nl%length)//' m, Gaussian support radius '// &
+        real_text(scene%nl%radius)//' m = '//real_text(scene%nl%radius/cfg%dx)//' cells'
+      if (comm%size > 1) write (output_unit, '(a)') '  on '//int_text(comm%size)// &
+        ' ranks, strips of cells with '//int_text(ghost)//' ghost node layers; run.h5: '// &
+        h5_writer_name(comm)
+      write (output_unit, '(a)') '  writing '//rd%partial//' (renamed to '//rd%final// &
+        ' when done)'
+      flush (output_unit)
+    end if
+
+    ! ---- time loop
+    allocate (energy(5, max(size(st%time), 1)))
+    call new_snapshot_store(snaps, [character(len=8) :: 'x', 'x0', 'velocity', 'sigma_xx', &
+                                    'sigma_yy', 'z'], [1, 1, 1, 1, 1, 1], time_first=.true.)
+    nenergy = 1
+    energy(:, 1) = [0.0_dp, scene%kinetic0, 0.0_dp, 0.0_dp, scene%momentum0]
+    nsnap = 0
+    next_snap = 0.0_dp
+    ck_dir = cli%out_root//'/'//cfg%name//'.checkpoints'
+    if (ck_every < 0) ck_every = max(1, nsteps_est/10)
+    if (cli%restart) then
+      call resume()
+    else if (cfg%snapshot_dt > 0.0_dp) then
+      call snapshot()
+    end if
+    call system_clock(c0, crate)
+    clast = c0
+    t_target = cfg%t_end - 0.5_dp*scene%dt
+    do while (scene%t < t_target)
+      call advance(scene, err)
+      if (.not. allocated(err) .and. scene%nl%active .and. scene%nl%last%n_plastic > 0) then
+        if (.not. allocated(nl_its)) allocate (nl_its(1024), nl_plastic(1024), nl_bound(1024))
+        if (nl_n == size(nl_its)) then
+          nl_its = [nl_its, nl_its]; nl_plastic = [nl_plastic, nl_plastic]
+          nl_bound = [nl_bound, nl_bound]
+        end if
+        nl_n = nl_n + 1
+        nl_its(nl_n) = scene%nl%last%iterations
+        nl_plastic(nl_n) = scene%nstep
+        nl_bound(nl_n) = scene%nl%last%bound_seed
+      end if
+      if (allocated(err)) then
+        ! (every rank has an error: the step's errors are collective) close
+        ! what was written (under its temporary name) and report the error
+        call h5%close(err2)
+        if (err%key /= 'ranks') call die_text(cli%deck_path//': '//err%message, .true.)
+        call die_quietly()
+      end if
+      call fill_station_proxy(proxy, comm, scene%parts)
+      sampled = .false.
+      if (root) then
+        s = st%ns
+        call sample_stations(st, proxy%parts, scene%t)
+        sampled = st%ns > s .and. nenergy < size(energy, 2)
+      end if
+      call broadcast(comm, sampled, 0)
+      if (sampled) then
+        ke_end = kinetic_energy(scene)
+        p_end = total_momentum(scene)
+        sums = [scene%work_internal, scene%work_external, scene%impulse]
+        call allreduce_sum(comm, sums)
+        if (root) then
+          nenergy = nenergy + 1
+          energy(:, nenergy) = [scene%t, ke_end, sums(1), sums(2), p_end - sums(3)]
+        end if
+      end if
+      if (cfg%snapshot_dt > 0.0_dp .and. scene%t >= next_snap - 0.5_dp*scene%dt) call snapshot()
+      if (ck_every > 0) then
+        if (mod(scene%nstep, ck_every) == 0 .and. scene%t < t_target) call checkpoint()
+      end if
+      if (cfg%progress .and. root) then
+        call system_clock(c1)
+        if (real(c1 - clast, dp)/crate > 2.0_dp) then
+          clast = c1
+          wall = real(c1 - c0, dp)/crate
+          write (output_unit, '(a,f9.2,a,f5.1,a,i0,a,f7.1,a,f7.1,a)') '  t = ', &
+            scene%t*1e3_dp, ' ms (', 100*scene%t/cfg%t_end, ' %), step ', scene%nstep, ', ', &
+            wall, ' s elapsed, ~', wall*(cfg%t_end - scene%t)/scene%t, ' s left'
+          flush (output_unit)
+        end if
+      end if
+    end do
+    call system_clock(c1)
+    wall = real(c1 - c0, dp)/crate
+    ! totals over the ranks, for the summary (collective)
+    ke_end = kinetic_energy(scene)
+    p_end = total_momentum(scene)
+    sums = [scene%work_internal, scene%work_external, scene%impulse]
+    call allreduce_sum(comm, sums)
+    substeps = scene%max_substeps
+    call allreduce_max(comm, substeps)
+    scene%work_internal = sums(1)
+    scene%work_external = sums(2)
+    scene%impulse = sums(3)
+    scene%max_substeps = substeps
+
+    ! ---- measures (rank 0's stations; empty elsewhere) and outputs
+    call measure_stations(st%time(1:st%ns), st%hist(field_sxx, :, 1:st%ns), st%x, &
+                          0.5_dp*abs(cfg%load_peak), meas)
+    escale = maxval(energy(2, 1:nenergy)) - scene%kinetic0
+    ebal = ke_end - scene%kinetic0 + scene%work_internal - scene%work_external
+    if (root) then
+      call write_summary()
+      call sm%write(rd%path('summary.txt'), err)
+      if (allocated(err)) call die_alone(err)
+    end if
+    call write_h5()
+    call h5%close(err)
+    if (allocated(err)) call die(err)
+    if (.not. root) return
+    ! the particle snapshots for ParaView: points on the x axis over time
+    if (nsnap > 0) then
+      call snaps%write_xdmf(rd%path('run.xdmf'), 'run.h5', 'particles', ntotal, 1, 'x', err)
+      if (allocated(err)) call die_alone(err)
+    end if
+    if (opts%plot .and. .not. cli%no_plot) then
+      script = find_data(stations_plot_name)
+      call run_plot(script, shell_quote(rd%path('run.h5'))//' '// &
+                    shell_quote(rd%path('stations.png')), err)
+      if (allocated(err)) call die_alone(err)
+    end if
+    call rd%commit(err)
+    if (allocated(err)) call die_alone(err)
+    ! the run is complete: its checkpoints have served
+    if (path_exists(ck_dir)) then
+      call remove_tree(ck_dir, err)
+      if (allocated(err)) write (error_unit, '(a)') 'wellposed-mpm: warning: '//err%message
+    end if
+    write (output_unit, '(a,f8.2,a,i0,a,f7.1,a)') '  done in ', wall, ' s (', scene%nstep, &
+      ' steps, ', 1.0e9_dp*wall/max(1.0_dp, real(scene%nstep, dp)*ntotal), ' ns per particle-step)'
+    do i = 1, st%n
+      write (output_unit, '(a,f7.1,a,f8.3,a,f8.2,a,f8.2,a)') '  station ', st%x(i), &
+        ' m: peak ', meas%peak(i)/1e6_dp, ' MPa, head ', meas%t_head(i)*1e3_dp, ' ms, tail ', &
+        meas%t_tail(i)*1e3_dp, ' ms'
+    end do
+    write (output_unit, '(a)') '  results in '//rd%final//'/ (summary.txt, run.h5'// &
+      trim(merge(', run.xdmf', '          ', nsnap > 0))// &
+      trim(merge(', stations.png', '              ', opts%plot .and. .not. cli%no_plot))//')'
+
+  contains
+
+    !> Particle fields now into run.h5 (collective): every rank its own
+    !> particles' rows, which `snaps` keeps for checkpoints.
+    subroutine snapshot()
+      integer :: n
+      real(dp), allocatable :: rows(:, :)
+      type(error_t), allocatable :: e
+      nsnap = nsnap + 1
+      n = scene%parts%n
+      allocate (rows(6, n))
+      rows(1, :) = scene%parts%x(1, 1:n)
+      rows(2, :) = scene%parts%x0(1, 1:n)
+      rows(3, :) = scene%parts%v(1, 1:n)
+      rows(4, :) = scene%parts%stress(1, 1:n)
+      rows(5, :) = scene%parts%stress(2, 1:n)
+      rows(6, :) = scene%parts%statev(1, 1:n)
+      write (tag, '(i4.4)') nsnap
+      call snaps%take(h5, comm, 'snapshots/'//trim(tag)//'/', scene%t, scene%parts%gid(1:n), &
+                      rows, e)
+      if (allocated(e)) call die(e)
+      next_snap = nsnap*cfg%snapshot_dt
+    end subroutine snapshot
+
+    !> The run's state at the end of a step (collective): the scene (every
+    !> rank's particles and partial sums) and the snapshots so far (every
+    !> rank's rows), and from rank 0 the stations, the energy rows, the
+    !> nonlocal records so far, the deck text; rank 0 writes it atomically and
+    !> keeps the newest two.
+    subroutine checkpoint()
+      type(checkpoint_t) :: ck
+      type(error_t), allocatable :: e
+      character(len=:), allocatable :: path
+      call save_scene_ranks(scene, comm, ck)
+      call snaps%put(ck, comm, 'snapshots/')
+      if (.not. root) return
+      call put_stations(ck, 'stations/', st)
+      call ck%put('main/counts', [nenergy, nsnap, ntotal, nl_n])
+      call ck%put('main/next_snap', next_snap)
+      call ck%put('main/energy', reshape(energy(:, 1:nenergy), [5*nenergy]))
+      if (nl_n > 0) then
+        call ck%put('main/nl_step', nl_plastic(1:nl_n))
+        call ck%put('main/nl_iterations', nl_its(1:nl_n))
+        call ck%put('main/nl_bound', nl_bound(1:nl_n))
+      end if
+      call ck%put_text('main/deck', deck_text)
+      call write_checkpoint(ck, ck_dir, scene%nstep, 2, path, e)
+      if (allocated(e)) call die_alone(e)
+    end subroutine checkpoint
+
+    !> --restart: continue from the newest checkpoint of ck_dir, or from
+    !> --restart-from FILE, on this run's ranks (collective; every rank reads
+    !> the file), and write the snapshots taken before it into run.h5 again.
+    !> A damaged file, one of another deck or one of an earlier version of
+    !> this program is refused.
+    subroutine resume()
+      type(checkpoint_t) :: ck
+      type(error_t), allocatable :: e
+      integer, allocatable :: counts(:), ia(:)
+      real(dp), allocatable :: a(:)
+      type(decomposition_t) :: dec
+      call open_restart_checkpoint(ck_dir, cli%deck_path, deck_text, ck_file, ck, e)
+      if (allocated(e)) call die(e)
+      call ck%get('main/counts', counts, e)
+      if (allocated(e)) call die(e)
+      if (size(counts) /= 4) call die_text(ck_file//': the run counts are garbled')
+      if (counts(3) /= ntotal) call die_text(ck_file//' holds '//int_text(counts(3))// &
+        ' particles, this deck '//int_text(ntotal))
+      select type (ex => scene%exchange)
+      type is (mpm_ranks_t)
+        dec = ex%dec
+      end select
+      call restore_scene_ranks(scene, dec, comm, ck, e)
+      if (allocated(e)) call die(e)
+      call ck%get('main/next_snap', next_snap, e)
+      if (allocated(e)) call die(e)
+      nsnap = counts(2)
+      call snaps%get(ck, comm, 'snapshots/', e)
+      if (allocated(e)) call die_text(ck_file//': '//e%message)
+      if (snaps%n /= nsnap) call die_text(ck_file//': the snapshot count is garbled')
+      call snaps%write_stored(h5, comm, e)
+      if (allocated(e)) call die(e)
+      if (.not. root) return
+      call get_stations(ck, 'stations/', st, e)
+      if (allocated(e)) call die_alone(e)
+      nenergy = counts(1)
+      call ck%get('main/energy', a, e)
+      if (allocated(e)) call die_alone(e)
+      if (nenergy > size(energy, 2) .or. size(a) /= 5*nenergy) &
+        call die_text(ck_file//': the energy rows do not fit this deck', .true.)
+      energy(:, 1:nenergy) = reshape(a, [5, nenergy])
+      nl_n = counts(4)
+      if (nl_n > 0) then
+        allocate (nl_its(nl_n + 1024), nl_plastic(nl_n + 1024), nl_bound(nl_n + 1024))
+        call ck%get('main/nl_step', ia, e)
+        if (allocated(e)) call die_alone(e)
+        if (size(ia) /= nl_n) call die_text(ck_file//': nonlocal records garbled', .true.)
+        nl_plastic(1:nl_n) = ia
+        call ck%get('main/nl_iterations', ia, e)
+        if (allocated(e)) call die_alone(e)
+        if (size(ia) /= nl_n) call die_text(ck_file//': nonlocal records garbled', .true.)
+        nl_its(1:nl_n) = ia
+        call ck%get('main/nl_bound', a, e)
+        if (allocated(e)) call die_alone(e)
+        if (size(a) /= nl_n) call die_text(ck_file//': nonlocal records garbled', .true.)
+        nl_bound(1:nl_n) = a
+      end if
+      write (output_unit, '(a)') '  restarted from '//ck_file//' (step '// &
+        int_text(scene%nstep)//', t = '//real_text(scene%t)//' s; '//int_text(nsnap)// &
+        ' snapshots written again)'
+      flush (output_unit)
+    end subroutine resume
+
+    subroutine write_summary()
+      character(len=8) :: k
+      call sm%add('scene', cfg%name)
+      call sm%add('version', wellposed_version)
+      call sm%add('git_revision', wellposed_git_revision)
+      call sm%add('shape', trim(shape_names(cfg%shape)))
+      call sm%add('scheme', trim(scheme_names(cfg%scheme)))
+      call sm%add('dx', cfg%dx, 'm')
+      call sm%add('ppc', cfg%ppc)
+      call sm%add('cfl', cfg%cfl)
+      call sm%add('dt', scene%dt, 's')
+      call sm%add('steps', scene%nstep)
+      call sm%add('particles', ntotal)
+      call sm%add('ranks', comm%size, 'MPI ranks (strips of cells)')
+      call sm%add('h5_writer', h5_writer_name(comm), 'how run.h5 was written: every rank '// &
+                  'its rows through MPI-IO (mpio-collective), or rank 0 alone (rank0-gather)')
+      call sm%add('ghost_layers', ghost, 'node layers beyond a patch: shape support '// &
+                  'or the nonlocal Gaussian''s, the wider')
+      call sm%add('t_end', scene%t, 's')
+      call sm%add('wall_time', wall, 's, time loop only')
+      ! a scene of zero steps (t_end = 0: a probe of the initial state) has no rate
+      call sm%add('ns_per_particle_step', 1.0e9_dp*wall/max(1.0_dp, real(scene%nstep, dp)*ntotal))
+      call sm%add('bytes_per_particle', particle_bytes(1, scene%parts%nsup, cfg%nstatv))
+      call sm%add('share_umat', share(timer_umat))
+      call sm%add('share_transfers', share(timer_transfer))
+      call sm%add('share_grid', share(timer_grid))
+      call sm%add('max_umat_substeps', scene%max_substeps, '1: no cut-back was needed')
+      call sm%add('nonlocal', scene%nl%active, 'Algorithm 1 iterates (h_zeta /= 0)')
+      if (scene%nl%active) then
+        call sm%add('nonlocal_scheme', trim(nl_scheme_names(cfg%nonlocal%scheme)))
+        call sm%add('nonlocal_support_radius', scene%nl%radius, 'm, where the Gaussian '// &
+                    'falls below weight_cutoff')
+        call sm%add('nonlocal_sweep_order', 'Gauss-Seidel by owning cell, then particle '// &
+                    'id, pipelined across ranks')
+        call sm%add('nonlocal_steps_iterated', scene%nl%steps_iterated)
+        call sm%add('nonlocal_iterations_mean', real(scene%nl%iterations_total, dp)/ &
+                    max(scene%nl%steps_iterated, 1), 'sweeps per step with plastic particles')
+        call sm%add('nonlocal_iterations_max', scene%nl%iterations_max)
+        call sm%add('lipschitz_eq4_43_sharp', scene%nl%bound_43, '|h_zeta/(a + h_eta)|')
+        call sm%add('lipschitz_eq4_45_sharp', scene%nl%bound_45, '|(h_eta + h_zeta)/a|')
+      end if
+      call sm%add('c_elastic', c_e, 'm/s, from the UMAT unloading modulus at the initial state')
+      call sm%add('c_plastic', c_p, 'm/s, from the UMAT loading (extension) modulus')
+      call sm%add('c_head', meas%c_head, 'm/s, least-squares fit of x against t_head')
+      call sm%add('c_tail', meas%c_tail, 'm/s, least-squares fit of x against t_tail')
+      call sm%add('c_head_over_c_plastic', meas%c_head/c_p)
+      call sm%add('c_tail_over_c_elastic', meas%c_tail/c_e)
+      call sm%add('separation_rate', meas%c_head - meas%c_tail, &
+                  'm/s, head minus tail speed (ideal Sandler-Rubin: C_P - C_E)')
+      call sm%add('c_plastic_minus_c_elastic', c_p - c_e, 'm/s')
+      call sm%add('arrival_threshold', meas%threshold, 'Pa, half the load peak')
+      call sm%add('arrival_definition', 'head = last upward crossing of arrival_threshold '// &
+                  'before the station peak, tail = first downward crossing after it '// &
+                  '(ringing behind the pulse ignored); ideal: x/C_P + tau/4 and x/C_E + 3 tau/4')
+      do i = 1, st%n
+        write (k, '(i0)') i
+        call sm%add('station_'//trim(k)//'_x', st%x(i), 'm')
+        call sm%add('station_'//trim(k)//'_peak', meas%peak(i), 'Pa, max of sigma_xx - sigma_xx(0)')
+        call sm%add('station_'//trim(k)//'_t_peak', meas%t_peak(i), 's')
+        call sm%add('station_'//trim(k)//'_t_head', meas%t_head(i), 's')
+        call sm%add('station_'//trim(k)//'_t_tail', meas%t_tail(i), 's')
+        call sm%add('station_'//trim(k)//'_width', meas%width(i), 's, t_tail - t_head')
+        call sm%add('station_'//trim(k)//'_width_ideal', &
+                    st%x(i)*(1.0_dp/c_e - 1.0_dp/c_p) + 0.5_dp*cfg%load_duration, &
+                    's, x (1/C_E - 1/C_P) + tau/2 (admissible solution, reference A)')
+      end do
+      if (st%n >= 2) call sm%add('peak_growth', meas%peak(st%n)/meas%peak(1), &
+                                 'last station peak over first')
+      call sm%add('energy_scale', escale, 'J/m^2, largest kinetic energy gained')
+      call sm%add('energy_balance_error', ebal/max(escale, tiny(1.0_dp)), &
+                  '(E_kin - E_kin0 + W_int - W_ext)/energy_scale at the end')
+      call sm%add('momentum_error', &
+                  (p_end - scene%momentum0 - scene%impulse)/ &
+                  max(abs(scene%impulse), maxval(abs(energy(5, 1:nenergy))), tiny(1.0_dp)), &
+                  '(P - P0 - impulse)/max|impulse|')
+    end subroutine write_summary
+
+    real(dp) function share(id)
+      integer, intent(in) :: id
+      share = real(scene%ticks(id), dp)/max(1.0_dp, real(sum(scene%ticks), dp))
+    end function share
+
+    !> The datasets and attributes beside the snapshots (collective: the
+    !> values are rank 0's; the others pass their own, which are ignored).
+    subroutine write_h5()
+      integer :: k
+      call h5%write_attr('scene', cfg%name)
+      call h5%write_attr('title', trim(cfg%title))
+      call h5%write_attr('deck', deck_text)
+      call h5%write_attr('cli%deck_path', cli%deck_path)
+      call h5%write_attr('version', wellposed_version)
+      call h5%write_attr('git_revision', wellposed_git_revision)
+      call h5%write_attr('props', cfg%props(1:cfg%nprops))
+      call h5%write_attr('shape', trim(shape_names(cfg%shape)))
+      call h5%write_attr('scheme', trim(scheme_names(cfg%scheme)))
+      call h5%write_attr('numbers', [cfg%dx, scene%dt, cfg%cfl, c_e, c_p, cfg%load_peak, &
+                                     cfg%load_duration, cfg%density, real(cfg%ppc, dp)])
+      call h5%write_attr('numbers_names', 'dx dt cfl c_elastic c_plastic load_peak '// &
+                         'load_duration density ppc')
+      call h5%write('stations/time', st%time(1:st%ns))
+      call h5%write('stations/x', st%x)
+      call h5%write('stations/sigma_xx', st%hist(field_sxx, :, 1:st%ns))
+      call h5%write('stations/sigma_yy', st%hist(field_syy, :, 1:st%ns))
+      call h5%write('stations/velocity', st%hist(field_v, :, 1:st%ns))
+      call h5%write('stations/z', st%hist(field_z, :, 1:st%ns))
+      call h5%write('measures/peak', meas%peak)
+      call h5%write('measures/t_head', meas%t_head)
+      call h5%write('measures/t_tail', meas%t_tail)
+      call h5%write('measures/width', meas%width)
+      call h5%write('energy/time', energy(1, 1:nenergy))
+      call h5%write('energy/kinetic', energy(2, 1:nenergy))
+      call h5%write('energy/internal_work', energy(3, 1:nenergy))
+      call h5%write('energy/external_work', energy(4, 1:nenergy))
+      call h5%write('energy/momentum_minus_impulse', energy(5, 1:nenergy))
+      k = nsnap
+      call h5%write('snapshots/count', [k])
+      if (nl_n > 0) then
+        ! Algorithm 1 per step with plastic particles: the step, its sweeps and
+        ! the dissertation's bound of eq. 4.43 (N_alpha |h_zeta/(a + h_eta)|)
+        call h5%write('nonlocal/step', nl_plastic(1:nl_n))
+        call h5%write('nonlocal/iterations', nl_its(1:nl_n))
+        call h5%write('nonlocal/lipschitz_eq4_43_seed', nl_bound(1:nl_n))
+      end if
+    end subroutine write_h5
+
+    !> An error every rank has found alike: rank 0 says it, all stop.
+    subroutine die(e)
+      type(error_t), intent(in) :: e
+      call die_text(e%message)
+    end subroutine die
+
+    !> Stop with `text`, said by rank 0, or by this rank when `mine`.
+    subroutine die_text(text, mine)
+      character(len=*), intent(in) :: text
+      logical, intent(in), optional :: mine
+      logical :: say
+      say = root
+      if (present(mine)) say = say .or. mine
+      if (say) then
+        write (error_unit, '(a)') 'wellposed-mpm: error: '//text
+        if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did '// &
+          'not finish; its partial output is in '//rd%partial
+      end if
+      if (comm%size == 1) then
+        ! one process: end as a program does, without a backtrace under the
+        ! message (error stop prints one); on many ranks error stop ends the job
+        call comm_stop(comm)
+        stop 1, quiet=.true.
+      end if
+      error stop 1
+    end subroutine die_text
+
+    !> Stop without a word (another rank said why).
+    subroutine die_quietly()
+      error stop 1
+    end subroutine die_quietly
+
+    !> An error only this rank knows of (rank 0's files): say it and end
+    !> every rank of the job, which would otherwise wait for this one.
+    subroutine die_alone(e)
+      type(error_t), intent(in) :: e
+      call stop_alone(comm, rd, e%message)
+    end subroutine die_alone
+
+  end subroutine run_bar
+
+end module wellposed_mpm_bar_run
