@@ -6,7 +6,7 @@ module wellposed_test_support
   use wellposed_umat_interface, only: umat
   implicit none
   private
-  public :: call_umat, fd_tangent, seed_props, seed_stress, nsv, axial_increment
+  public :: call_umat, fd_tangent, case_props, case_stress, nsv, axial_increment
 
   !> STATEV length used by the tests (the contract's minimum).
   integer, parameter :: nsv = 12
@@ -15,17 +15,17 @@ contains
 
   !> Sandler-Rubin case study (section 2.3, reference defaults for K and G):
   !> K = 4 GPa, G = 1.5 GPa, beta = 0.315, beta_p = 0, k0 = 5.066 MPa.
-  pure function seed_props() result(props)
+  pure function case_props() result(props)
     real(dp) :: props(14)
     props = 0.0_dp
     props(1:5) = [4.0e9_dp, 1.5e9_dp, 0.315_dp, 0.0_dp, 5.066e6_dp]
-  end function seed_props
+  end function case_props
 
   !> The case study's initial stress (Abaqus order, tension positive).
-  pure function seed_stress() result(s)
+  pure function case_stress() result(s)
     real(dp) :: s(6)
     s = [-100.0e6_dp, -17.55e6_dp, -17.55e6_dp, 0.0_dp, 0.0_dp, 0.0_dp]
-  end function seed_stress
+  end function case_stress
 
   !> One UMAT increment with NDI = 3 and NSHR = ntens - 3; returns PNEWDT.
   subroutine call_umat(props, stress, statev, ddsdde, dstran, ntens, dtime, pnewdt, nstatv)

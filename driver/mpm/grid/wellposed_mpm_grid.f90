@@ -1,4 +1,4 @@
-!> The background grid of the MPM (seed section 4.3): a uniform structured
+!> The background grid of the MPM (section 4.3): a uniform structured
 !> grid of nodes holding lumped mass (eq. 4.4), momentum, internal and
 !> external force (eq. 4.5) and the velocity and acceleration of the grid
 !> update (eq. 4.9-4.10). Node arrays are indexed by GLOBAL node number and

@@ -132,7 +132,7 @@ module wellposed_mpm_nonlocal
     real(dp) :: error = 0.0_dp       !< last max |dlambda^{k+1} - dlambda^k|
     real(dp) :: max_dlambda = 0.0_dp
     real(dp) :: n_alpha = 0.0_dp     !< largest particle count in a plastic particle's support
-    real(dp) :: bound_seed = 0.0_dp  !< eq. 4.43 (scheme 1) with that N_alpha
+    real(dp) :: bound_printed = 0.0_dp  !< eq. 4.43 (scheme 1) with that N_alpha
   end type nonlocal_step_stats_t
 
   !> The host's side: one UMAT call for particle p from its start-of-step
@@ -237,7 +237,7 @@ module wellposed_mpm_nonlocal
     integer :: steps_iterated = 0
     integer :: iterations_total = 0
     integer :: iterations_max = 0
-    logical :: warned_sharp = .false., warned_seed = .false.
+    logical :: warned_sharp = .false., warned_printed = .false.
     !> Cost accounting (system_clock ticks and UMAT calls): step 1, the local
     !> pass; and the sweeps with their averages, UMAT calls and corrections.
     integer(int64) :: ticks_local = 0, ticks_sweeps = 0
@@ -615,7 +615,7 @@ contains
       self%last%n_alpha = max(self%last%n_alpha, smass/mass(p))
     end do
     if (par) call ranks%max_real(self%last%n_alpha)
-    if (self%bound_43 >= 0.0_dp) self%last%bound_seed = self%last%n_alpha*self%bound_43
+    if (self%bound_43 >= 0.0_dp) self%last%bound_printed = self%last%n_alpha*self%bound_43
     if (present(log_unit)) call warn_bounds(log_unit)
 
     do round = 1, self%set%max_rounds
@@ -854,14 +854,14 @@ contains
           'dissertation''s fixed point (scheme fixed_point) is not a contraction and may diverge'
         self%warned_sharp = .true.
       end if
-      if (self%last%bound_seed > 1.0_dp .and. .not. self%warned_seed) then
+      if (self%last%bound_printed > 1.0_dp .and. .not. self%warned_printed) then
         write (unit, '(a)') 'note: the dissertation''s Lipschitz bound of eq. 4.43, N_alpha |h_zeta/'// &
           '(a + h_eta)| with N_alpha = '//real_text(self%last%n_alpha)//', is '// &
-          real_text(self%last%bound_seed)//' > 1 (eq. 4.45: '// &
+          real_text(self%last%bound_printed)//' > 1 (eq. 4.45: '// &
           real_text(self%last%n_alpha*self%bound_45)//'); it counts every particle in the '// &
           'support at full weight, so convergence is not guaranteed by it; the sharp '// &
           'factor above decides'
-        self%warned_seed = .true.
+        self%warned_printed = .true.
       end if
     end subroutine warn_bounds
 

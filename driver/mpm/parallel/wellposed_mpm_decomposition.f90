@@ -1,4 +1,4 @@
-!> Domain decomposition of the MPM background grid over ranks (issue 7).
+!> Domain decomposition of the MPM background grid over ranks.
 !>
 !> The grid is cut into strips of whole cell layers along one axis (x in
 !> 1D, the last axis in 2D), so that every rank's nodes form one contiguous

@@ -1,5 +1,5 @@
 !> What the MPM program's station histories need from a scene spread over
-!> ranks (issue 7), so that they keep the serial values; they are rank 0's
+!> ranks, so that they keep the serial values; they are rank 0's
 !> datasets of run.h5 (particle snapshots go from every rank:
 !> wellposed_mpm_snapshots).
 !>  - gather_particles: every particle on rank 0, in global-id order (the

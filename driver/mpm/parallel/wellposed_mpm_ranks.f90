@@ -1,5 +1,5 @@
 !> The exchanges of a 1D MPM scene spread over the ranks of an MPI
-!> communicator (issue 7): the mpm_exchange_t the solver calls, filled with
+!> communicator: the mpm_exchange_t the solver calls, filled with
 !> wellposed_mpm_decomposition (strips of cells, ghost sums, particle
 !> hand-off) and wellposed_mpi. On one rank every call is a no-op or an
 !> identity, so `mpirun -np 1` and a plain run are the serial program bit

@@ -1,5 +1,5 @@
 !> The state of a running MPM scene in a checkpoint (wellposed_checkpoint)
-!> and back (issue 7: --restart). What the next step reads is saved bit
+!> and back (--restart). What the next step reads is saved bit
 !> for bit: time, step count, time step, the bookkeeping sums and every
 !> particle field but the connectivity (rebuilt from x at the start of a
 !> step) and Algorithm 1's run totals; the grid is not, because every step

@@ -1,8 +1,8 @@
-!> Material points of the MPM (seed section 4.3): each carries mass,
+!> Material points of the MPM (section 4.3): each carries mass,
 !> volume, position, velocity, deformation gradient, stress and the UMAT's
 !> STATEV. Structure of arrays with the particle index last, so the core
 !> loops stream through memory; `gid` is a global identity that survives a
-!> hand-off between ranks (issue 7), and `n` may be below the allocated
+!> hand-off between ranks, and `n` may be below the allocated
 !> capacity so particles can arrive and leave without reallocating.
 !> The connectivity (node, phi, grad) is recomputed each step from x.
 module wellposed_mpm_particles

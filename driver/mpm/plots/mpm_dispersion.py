@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Seed fig. 2.10 left: the dispersion relation of the overlocal model in
+"""Fig. 2.10 left: the dispersion relation of the overlocal model in
 uniaxial strain, from the linearised equations, against wave speeds
 measured in the 1D MPM (wellposed-mpm, nonlocal Algorithm 1).
 
@@ -320,7 +320,7 @@ def plot(outdir, rows, curve):
     ax.set_xlabel("frequency f (Hz)")
     ax.set_ylabel("wave speed (m/s)")
     ax.set_xscale("log")
-    ax.set_title("Overlocal DP, uniaxial strain: dispersion (seed fig. 2.10 left)", fontsize=10)
+    ax.set_title("Overlocal DP, uniaxial strain: dispersion (fig. 2.10 left)", fontsize=10)
     ax.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 0.07))
     fig.tight_layout()
     fig.savefig(os.path.join(outdir, "dispersion.png"), dpi=150)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Mesh study of the Sandler-Rubin wave (issue 5, seed fig. 2.9 study).
+"""Mesh study of the Sandler-Rubin wave (fig. 2.9 study).
 
 usage: mpm_mesh_study.py EXE DECK OUTDIR [--dx 2,1,0.5,0.25,0.125] [--models a,b]
                          [--jobs 1] [group.key=value ...]
@@ -24,7 +24,7 @@ Models (overrides on top of DECK, the reference-A material):
   nonassociative   beta_p = 0, perfectly plastic (the deck as given)
   elastic          k0 = 1e12 Pa: never yields
   hardening_assoc  beta_p = beta = 0.315, h = +0.5 GPa
-  efr              beta_p = beta = 0.315, P_v = 0.5 (seed 2.5.2)
+  efr              beta_p = beta = 0.315, P_v = 0.5 (section 2.5.2)
   dl_de10          Duvaut-Lions, tau = 10 x 2 ms (high De)
 """
 import csv

@@ -1,4 +1,4 @@
-"""Plots of a wellposed-mpm2d run (seed chapter 4, fig. 4.2-4.6).
+"""Plots of a wellposed-mpm plate run (chapter 4, fig. 4.2-4.6).
 
 usage: mpm_plate.py RUN_DIR TAG [TAG ...]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Station histories of a wellposed-mpm run, like seed fig. 2.3-2.9.
+"""Station histories of a wellposed-mpm run, like fig. 2.3-2.9.
 
 usage: mpm_stations.py RUN.h5 OUT.png [--reference OTHER.h5 [LABEL]]
 
@@ -8,7 +8,7 @@ positive) against time (ms) at every station, with the ideal head arrival
 x/C_P and tail end x/C_E + tau (thin grey lines; C_E and C_P from the run's
 metadata, i.e. the UMAT's moduli at the initial state), and the measured
 head and tail of summary.txt (ticks at half the load peak). A reference run, if
-given and present, is drawn dashed (the seed's convention).
+given and present, is drawn dashed (the dissertation's convention).
 """
 import sys
 import os

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Speed against accuracy of wellposed-mpm (issue 5, item 6).
+"""Speed against accuracy of wellposed-mpm.
 
 usage: mpm_work_precision.py EXE OUTDIR [--quick]
 

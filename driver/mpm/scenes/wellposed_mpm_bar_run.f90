@@ -184,7 +184,7 @@ contains
         nl_n = nl_n + 1
         nl_its(nl_n) = scene%nl%last%iterations
         nl_plastic(nl_n) = scene%nstep
-        nl_bound(nl_n) = scene%nl%last%bound_seed
+        nl_bound(nl_n) = scene%nl%last%bound_printed
       end if
       if (allocated(err)) then
         ! (every rank has an error: the step's errors are collective) close
@@ -518,7 +518,7 @@ contains
         ! the dissertation's bound of eq. 4.43 (N_alpha |h_zeta/(a + h_eta)|)
         call h5%write('nonlocal/step', nl_plastic(1:nl_n))
         call h5%write('nonlocal/iterations', nl_its(1:nl_n))
-        call h5%write('nonlocal/lipschitz_eq4_43_seed', nl_bound(1:nl_n))
+        call h5%write('nonlocal/lipschitz_eq4_43_printed', nl_bound(1:nl_n))
       end if
     end subroutine write_h5
 

@@ -196,7 +196,7 @@ contains
     integer :: j, u
     open (newunit=u, file=path, status='replace', action='write')
     write (u, '(a)') 'step,time_s,plastic_particles,iterations,n_alpha,'// &
-      'lipschitz_eq4_43_seed,lipschitz_eq4_43_sharp,final_error'
+      'lipschitz_eq4_43_printed,lipschitz_eq4_43_sharp,final_error'
     do j = 1, size(it)
       if (np(j) > 0) write (u, '(i0,",",es14.6,",",i0,",",i0,4(",",es12.4))') j, j*dt, &
         np(j), it(j), b(1, j), b(2, j), sharp, b(3, j)

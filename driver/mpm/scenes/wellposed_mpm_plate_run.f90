@@ -214,7 +214,7 @@ contains
           call measure_band()
         its(nit) = sc%nl%last%iterations
         nplast(nit) = ps_plastic_count(sc)     ! this rank's share, summed at the end
-        bounds(:, nit) = [sc%nl%last%n_alpha, sc%nl%last%bound_seed, sc%nl%last%error]
+        bounds(:, nit) = [sc%nl%last%n_alpha, sc%nl%last%bound_printed, sc%nl%last%error]
         if (sc%t >= next_sample - 1.0e-12_dp) then
           ncurve = ncurve + 1
           curve(:, ncurve) = [sc%t, -sc%top_disp/cfg%height, ps_applied_stress(sc)]

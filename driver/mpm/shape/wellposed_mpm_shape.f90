@@ -1,4 +1,4 @@
-!> Shape functions of the MPM in 1D (seed eq. 4.6-4.8): the weights phi_ip
+!> Shape functions of the MPM in 1D (eq. 4.6-4.8): the weights phi_ip
 !> and gradient weights G_ip of a particle on the nodes of a uniform grid.
 !>  - linear (standard MPM, chi_p a Dirac delta): phi = S_i(x_p), the hat.
 !>  - uGIMP (chi_p = 1 on an undeforming domain of half-width lp; shared
@@ -7,7 +7,7 @@
 !>      lp < |xi| <= h - lp:  S = 1 - |xi|/h
 !>      h - lp < |xi| < h+lp: S = (h + lp - |xi|)^2/(4 h lp)
 !>    and G = dS/dx_p (the average of dS_i/dx over the particle domain).
-!> 2D (issue 6) takes tensor products of these and adds CPDI.
+!> 2D takes tensor products of these and adds CPDI.
 module wellposed_mpm_shape
   use wellposed_kinds, only: dp
   use wellposed_mpm_config, only: shape_linear, shape_gimp

@@ -1,4 +1,4 @@
-!> Shape functions of the MPM in 2D (seed eq. 4.6-4.8) on a uniform grid of
+!> Shape functions of the MPM in 2D (eq. 4.6-4.8) on a uniform grid of
 !> cell size h, node g = i + nx*j at origin + h*(i, j), i = 0 .. nx-1:
 !>  - linear: bilinear hats at the particle centre (4 nodes);
 !>  - uGIMP: the tensor product of the 1D uGIMP weights of

@@ -1,4 +1,4 @@
-!> Everything that defines one MPM scene (seed section 4.3 and the 1D case
+!> Everything that defines one MPM scene (section 4.3 and the 1D case
 !> study of section 2.3), as plain data: the deck reader fills it, the unit
 !> tests build it by hand, the solver only reads it. SI units throughout
 !> (m, s, kg, Pa); stresses tension positive, Abaqus component order.
@@ -11,11 +11,11 @@ module wellposed_mpm_config
             scheme_names, bc_fixed, bc_symmetric, bc_free, bc_names, pulse_triangle, &
             pulse_cosine, pulse_ramp_sine, pulse_names, max_props
 
-  !> Shape function families (seed eq. 4.6-4.8): standard MPM (Dirac chi_p)
+  !> Shape function families (eq. 4.6-4.8): standard MPM (Dirac chi_p)
   !> and uGIMP (undeforming particle domain). CPDI comes with 2D.
   integer, parameter :: shape_linear = 1, shape_gimp = 2
   character(len=6), parameter :: shape_names(2) = [character(len=6) :: 'linear', 'gimp']
-  !> Update variants: USL (seed eq. 4.10-4.13 as written: strain rate from the
+  !> Update variants: USL (eq. 4.10-4.13 as written: strain rate from the
   !> grid velocity after the update) and MUSL (the same, with the grid velocity
   !> rebuilt from the updated particle velocities before the strain rate).
   integer, parameter :: scheme_usl = 1, scheme_musl = 2
@@ -25,7 +25,7 @@ module wellposed_mpm_config
   integer, parameter :: bc_fixed = 1, bc_symmetric = 2, bc_free = 3
   character(len=9), parameter :: bc_names(3) = [character(len=9) :: 'fixed', 'symmetric', &
                                                  'free']
-  !> Surface loads: the seed's triangle pulse (fig. 2.1), a raised-cosine
+  !> Surface loads: the dissertation's triangle pulse (fig. 2.1), a raised-cosine
   !> pulse (smooth, for convergence studies against d'Alembert), and a
   !> monotonic ramp with a small superposed sinusoid (the dispersion
   !> measurement of fig. 2.10 left: every particle keeps loading).
@@ -76,7 +76,7 @@ module wellposed_mpm_config
     real(dp) :: snapshot_dt = 0.05_dp
     ! bookkeeping
     logical :: progress = .true.
-    !> Algorithm 1 of the seed (eq. 4.46-4.50): scheme, tolerances; it
+    !> Algorithm 1 of the dissertation (eq. 4.46-4.50): scheme, tolerances; it
     !> iterates only when PROPS(12) h_zeta /= 0 (wellposed_mpm_nonlocal).
     type(nonlocal_settings_t) :: nonlocal
   end type mpm_config_t

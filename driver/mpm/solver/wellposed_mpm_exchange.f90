@@ -1,6 +1,6 @@
 !> What a domain-decomposed run exchanges between ranks, as calls the 1D
 !> solver makes every step without knowing whether there are other ranks
-!> (issue 7). The solver holds a class(mpm_exchange_t):
+!>. The solver holds a class(mpm_exchange_t):
 !>  - mpm_serial_t (here): one process owning the whole grid. Nothing to
 !>    exchange; a particle whose support leaves the grid is an error naming
 !>    it. Used when the scene is built without an exchange (tests, benches);

@@ -1,10 +1,10 @@
-!> Surface load history of the case study (seed section 2.3, fig. 2.1): the
+!> Surface load history of the case study (section 2.3, fig. 2.1): the
 !> axial stress prescribed at the free surface. Pulses:
 !> sigma_b(t) = base + peak * g((t - start)/duration), with g the triangle
 !> (rise over the first half, fall over the second; shared reference A) or a
 !> raised cosine g(s) = (1 - cos(2 pi s))/2 (smooth, for convergence
 !> studies). g = 0 outside 0 < s < 1.
-!> Ramp with a sinusoid (`ramp_sine`, the dispersion measurement of seed
+!> Ramp with a sinusoid (`ramp_sine`, the dispersion measurement of the dissertation's
 !> fig. 2.10 left): sigma_b(t) = base + rate s + amplitude sin(2 pi f s),
 !> s = t - start > 0, base before. With |amplitude| 2 pi f < |rate| the
 !> surface stress rate never changes sign, so a material that yields under

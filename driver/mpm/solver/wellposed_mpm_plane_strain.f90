@@ -775,7 +775,7 @@ contains
     call ckpt%put('ps/steps', [self%nstep, nsub, moved])
     call ckpt%put('ps/nonlocal', [self%nl%steps_iterated, self%nl%iterations_total, &
                                   self%nl%iterations_max, merge(1, 0, self%nl%warned_sharp), &
-                                  merge(1, 0, self%nl%warned_seed)])
+                                  merge(1, 0, self%nl%warned_printed)])
   end subroutine ps_save
 
   !> Continue `self`, freshly built by new_ps_scene from the deck of the run
@@ -883,7 +883,7 @@ contains
     self%nl%iterations_total = nl(2)
     self%nl%iterations_max = nl(3)
     self%nl%warned_sharp = nl(4) == 1
-    self%nl%warned_seed = nl(5) == 1
+    self%nl%warned_printed = nl(5) == 1
   contains
     subroutine bad(why)
       character(len=*), intent(in) :: why

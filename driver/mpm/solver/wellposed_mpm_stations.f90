@@ -1,5 +1,5 @@
 !> Stations: stress and velocity histories at fixed material points (the
-!> seed's "locations", fig. 2.3-2.10: every 100 m), and the measures taken
+!> the dissertation's "locations", fig. 2.3-2.10: every 100 m), and the measures taken
 !> from them. A station at reference position X reads the two particles whose
 !> reference positions bracket X, linearly interpolated; histories are sampled
 !> at exact multiples of sample_dt by linear interpolation between steps, so
@@ -31,7 +31,7 @@ module wellposed_mpm_stations
     real(dp), allocatable :: prev(:, :)    !< (nfields, station) at t_prev
   end type stations_t
 
-  !> Measures of one run's station histories (seed fig. 2.3 read by eye,
+  !> Measures of one run's station histories (fig. 2.3 read by eye,
   !> here in numbers). Arrival times are NaN where the signal never arrived.
   type :: station_measures_t
     real(dp), allocatable :: peak(:)       !< max of sigma_xx - sigma_xx(0) (Pa)
