@@ -12,11 +12,11 @@ module wellposed_deck
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_text, only: real_text
+  use wellposed_text, only: real_text, int_text
   implicit none
   private
-  public :: read_text_file, namelist_error, check_required, check_finite, check_range, &
-            unset, is_set, real_str, has_group, lower, check_word
+  public :: read_text_file, read_deck_text, check_deck_text, namelist_error, check_required, &
+            check_finite, check_range, unset, is_set, real_str, has_group, lower, check_word
 
   !> Sentinel for "not given in the deck": a required real key is set to
   !> `unset` before the READ and tested with `is_set` after it.
@@ -66,6 +66,97 @@ contains
       call new_error(err, status_invalid, path, 'cannot read "'//path//'": '//trim(msg))
     end if
   end subroutine read_text_file
+
+  !> The whole deck file `path` as text, refused (`check_deck_text`) unless
+  !> it is plain text holding at least one complete namelist group.
+  subroutine read_deck_text(path, text, err)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable, intent(out) :: text
+    type(error_t), allocatable, intent(out) :: err
+    call read_text_file(path, text, err)
+    if (allocated(err)) return
+    call check_deck_text(path, text, err)
+  end subroutine read_deck_text
+
+  !> Error unless `text` (deck `path`) is a deck: plain text (no NUL or
+  !> control byte but tab, CR, form feed), at least one namelist group
+  !> "&group ... /" outside comments, and every group closed by "/" or
+  !> "&end" (a file cut in the middle of a group is refused here, where the
+  !> namelist READ would report an end of file under another group's name).
+  pure subroutine check_deck_text(path, text, err)
+    character(len=*), intent(in) :: path, text
+    type(error_t), allocatable, intent(out) :: err
+    character(len=*), parameter :: need = ': a deck is plain text of Fortran namelist '// &
+      'groups "&group key = value, ... /" (see docs/decks.md)'
+    character(len=*), parameter :: letters = 'abcdefghijklmnopqrstuvwxyz'
+    integer :: i, c, line, open_line, j, ngroups
+    character(len=1) :: quote
+    logical :: comment
+    character(len=:), allocatable :: low, open_name
+    do i = 1, len(text)
+      c = iachar(text(i:i))
+      if ((c < 32 .and. c /= 9 .and. c /= 10 .and. c /= 12 .and. c /= 13) .or. c == 127) then
+        call new_error(err, status_invalid, path, path//': not a text file (byte '// &
+          int_text(i)//' is '//int_text(c)//')'//need)
+        return
+      end if
+    end do
+    low = lower(text)
+    ngroups = 0
+    open_name = ''
+    open_line = 0
+    line = 1
+    quote = ' '
+    comment = .false.
+    i = 0
+    do while (i < len(low))
+      i = i + 1
+      if (low(i:i) == new_line('a')) then
+        line = line + 1
+        comment = .false.
+        cycle
+      end if
+      if (comment) cycle
+      if (quote /= ' ') then
+        if (low(i:i) == quote) quote = ' '
+        cycle
+      end if
+      select case (low(i:i))
+      case ('!')
+        comment = .true.
+      case ('"', "'")
+        if (len(open_name) > 0) quote = low(i:i)
+      case ('/')
+        if (len(open_name) > 0) open_name = ''
+      case ('&')
+        j = i + 1
+        do while (j <= len(low))
+          if (verify(low(j:j), letters//'0123456789_') /= 0) exit
+          j = j + 1
+        end do
+        if (j == i + 1) cycle
+        if (low(i + 1:j - 1) == 'end') then
+          open_name = ''
+        else if (len(open_name) > 0) then
+          exit
+        else if (index(letters, low(i + 1:i + 1)) > 0) then
+          open_name = low(i + 1:j - 1)
+          open_line = line
+          ngroups = ngroups + 1
+        end if
+        i = j - 1
+      end select
+    end do
+    if (len(open_name) > 0) then
+      call new_error(err, status_invalid, open_name, path//': namelist group &'//open_name// &
+        ' (line '//int_text(open_line)//') is not closed by "/" before '// &
+        trim(merge('the next group ', 'the end of file', i < len(low)))// &
+        ': is the file cut short?'//need)
+    else if (ngroups == 0) then
+      call new_error(err, status_invalid, path, path//': holds no namelist group (empty, '// &
+        'or comments only)'//need)
+    end if
+  end subroutine check_deck_text
 
   !> True when the text of a deck holds the namelist group `&group`
   !> (case-insensitive, outside comments), so an optional group can be

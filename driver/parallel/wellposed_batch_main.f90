@@ -22,7 +22,7 @@ program wellposed_batch_main
   call comm_start(comm, err)
   if (allocated(err)) then
     write (error_unit, '(a)') 'wellposed-batch: error: '//err%message
-    error stop 2
+    stop 2, quiet=.true.
   end if
   out_root = 'out'
   driver = ''
@@ -57,13 +57,7 @@ program wellposed_batch_main
       end if
     end select
   end do
-  if (len(batch_file) == 0) then
-    if (comm%rank == 0) then
-      write (error_unit, '(a)') 'wellposed-batch: error: need DRIVER and BATCHFILE (see --help)'
-    end if
-    call comm_stop(comm)
-    error stop 2
-  end if
+  if (len(batch_file) == 0) call die('need DRIVER and BATCHFILE (see --help)')
   if (len(figure_list) > 0) then
     allocate (figures(0))
     do while (len(figure_list) > 0)
@@ -77,23 +71,26 @@ program wellposed_batch_main
   end if
   command = shell_quote(driver)//command
   call run_batch(comm, batch_file, command, out_root, figures, nfailed, err)
+  if (allocated(err)) call die(err%message)
   call comm_stop(comm)
-  if (allocated(err)) then
-    write (error_unit, '(a)') 'wellposed-batch: error: '//err%message
-    error stop 2
-  end if
-  if (nfailed > 0) error stop 1
+  if (nfailed > 0) stop 1, quiet=.true.
 
 contains
+
+  !> End every rank with exit status 2 (the batch could not run) and `text`,
+  !> said by rank 0: the program's own line, no STOP code or backtrace.
+  subroutine die(text)
+    character(len=*), intent(in) :: text
+    if (comm%rank == 0) write (error_unit, '(a)') 'wellposed-batch: error: '//text
+    call comm_stop(comm)
+    stop 2, quiet=.true.
+  end subroutine die
 
   function get_arg(k) result(a)
     integer, intent(in) :: k
     character(len=:), allocatable :: a
     integer :: n
-    if (k > nargs) then
-      write (error_unit, '(a)') 'wellposed-batch: error: an option needs a value'
-      error stop 2
-    end if
+    if (k > nargs) call die('an option needs a value')
     call get_command_argument(k, length=n)
     allocate (character(len=n) :: a)
     call get_command_argument(k, a)

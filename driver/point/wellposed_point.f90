@@ -145,7 +145,7 @@ contains
                    nfailed, err)
     call comm_stop(comm)
     call check(err)
-    if (nfailed > 0) stop 1
+    if (nfailed > 0) stop 1, quiet=.true.
     stop
   end subroutine run_point_batch
 
@@ -418,14 +418,14 @@ contains
     write (error_unit, '(a)') 'wellposed-point: error: '//e%message
     if (allocated(run%partial)) write (error_unit, '(a)') &
       'wellposed-point: the run is incomplete: '//run%partial//' is left for inspection'
-    stop 1
+    stop 1, quiet=.true.
   end subroutine check
 
   subroutine fail_usage(message)
     character(len=*), intent(in) :: message
     write (error_unit, '(a)') 'wellposed-point: '//message, &
       'usage: wellposed-point DECK [--no-plot]'
-    stop 2
+    stop 2, quiet=.true.
   end subroutine fail_usage
 
 end program wellposed_point

@@ -7,7 +7,7 @@ module wellposed_point_deck
   use, intrinsic :: iso_fortran_env, only: iostat_end
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: read_text_file, namelist_error, check_required, check_finite, &
+  use wellposed_deck, only: read_deck_text, namelist_error, check_required, check_finite, &
                             check_range, unset, is_set, has_group, real_str, lower
   use wellposed_point_material, only: material_t, ntens
   use wellposed_point_path, only: leg_t, solver_t
@@ -60,7 +60,7 @@ contains
     integer :: unit, ios
     character(len=512) :: msg
     deck%path = path
-    call read_text_file(path, deck%text, err)
+    call read_deck_text(path, deck%text, err)
     if (allocated(err)) return
     call check_groups(deck, err)
     if (allocated(err)) return

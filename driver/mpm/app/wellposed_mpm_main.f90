@@ -70,7 +70,7 @@ contains
       if (comm%rank == 0) write (error_unit, '(a)') 'wellposed-mpm: error: '//err%message
       stop 1, quiet=.true.
     end if
-    if (nfailed > 0) stop 1
+    if (nfailed > 0) stop 1, quiet=.true.
     stop
   end subroutine batch
 

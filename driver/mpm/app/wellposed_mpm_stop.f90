@@ -20,7 +20,7 @@ contains
     if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did not '// &
       'finish; its partial output is in '//rd%partial
     if (comm%size > 1) call comm_abort(comm, 1)
-    error stop 1
+    stop 1, quiet=.true.
   end subroutine stop_alone
 
 end module wellposed_mpm_stop

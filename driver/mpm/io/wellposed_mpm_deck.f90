@@ -10,7 +10,8 @@
 !>             parameters K, G, beta, beta_p, k0, h, k_lim, z_ref, P_v, P_d,
 !>             tau, h_zeta, L (Pa, s, m; PROPS 1-13 of the UMAT contract)
 !>             OR props = <list> (any user's UMAT, passed as given)
-!>   &initial  stress (6 values, Pa, Abaqus order, tension +), velocity (m/s)
+!>   &initial  stress (6 values, Pa, Abaqus order, tension +), velocity (m/s),
+!>             out_of_equilibrium (stress need not balance the load at t = 0)
 !>   &load     base, peak (Pa), duration, start (s), pulse ('triangle'|'cosine'|
 !>             'ramp_sine'); ramp_sine only: rate (Pa/s), amplitude (Pa),
 !>             frequency (Hz), required, with |amplitude| 2 pi frequency < |rate|
@@ -64,6 +65,7 @@ contains
     real(dp) :: props(max_props)
     integer :: nstatv
     real(dp) :: stress(6), velocity
+    logical :: out_of_equilibrium
     real(dp) :: base, peak, duration, start, rate, amplitude, frequency
     integer :: count
     real(dp) :: first, spacing
@@ -74,7 +76,7 @@ contains
     namelist /time/ t_end, cfl, scheme
     namelist /material/ density, k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, &
       h_zeta, l, props, nstatv
-    namelist /initial/ stress, velocity
+    namelist /initial/ stress, velocity, out_of_equilibrium
     namelist /load/ base, peak, duration, start, pulse, rate, amplitude, frequency
     namelist /stations/ first, spacing, count
     namelist /output/ sample_dt, snapshot_dt, progress, plot
@@ -83,7 +85,7 @@ contains
     character(len=512) :: msg
     character(len=:), allocatable :: line, group
 
-    name = 'sandler_rubin_default'
+    name = ''   ! a deck names its scene (wellposed_mpm_deck_file)
     title = 'Sandler-Rubin case study'
     kind = 'bar'
     length = cfg%length; dx = cfg%dx; ppc = cfg%ppc; pad_cells = cfg%pad_cells
@@ -95,7 +97,7 @@ contains
     h_zeta = 0.0_dp; l = 0.0_dp
     props = unset
     nstatv = cfg%nstatv
-    stress = cfg%stress0; velocity = cfg%velocity0
+    stress = cfg%stress0; velocity = cfg%velocity0; out_of_equilibrium = .false.
     base = cfg%load_base; peak = cfg%load_peak; duration = cfg%load_duration
     start = cfg%load_start
     rate = unset; amplitude = unset; frequency = unset
@@ -186,7 +188,7 @@ contains
     call material_props(path, props, [k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, &
                                       h_zeta, l], cfg%props, cfg%nprops, err)
     if (allocated(err)) return
-    cfg%stress0 = stress; cfg%velocity0 = velocity
+    cfg%stress0 = stress; cfg%velocity0 = velocity; cfg%out_of_equilibrium = out_of_equilibrium
     call check_finite(path, 'initial', 'stress', stress, err); if (allocated(err)) return
     cfg%load_base = base; cfg%load_peak = peak; cfg%load_duration = duration
     cfg%load_start = start

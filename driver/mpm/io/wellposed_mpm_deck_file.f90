@@ -1,10 +1,13 @@
 !> An MPM deck opened for reading, for every scene kind's reader: its whole
 !> text (to find groups, quote values and store in run.h5) and a unit on it
 !> for the namelist READs; and a command-line override group.key=value as
-!> the one-line namelist the reader reads after the deck.
+!> the one-line namelist the reader reads after the deck. A file that is not
+!> a deck (empty, comments only, not text, cut in the middle of a group) or
+!> that names no scene is refused here, before anything is set up: the
+!> default scene runs only when the program is given no deck at all.
 module wellposed_mpm_deck_file
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: read_text_file
+  use wellposed_deck, only: read_deck_text, has_group
   implicit none
   private
   public :: open_deck, override_line
@@ -20,8 +23,14 @@ contains
     integer :: ios
     character(len=512) :: msg
     unit = -1
-    call read_text_file(path, text, err)
+    call read_deck_text(path, text, err)
     if (allocated(err)) return
+    if (.not. has_group(text, 'scene')) then
+      call new_error(err, status_invalid, 'scene', path//': names no scene: an MPM deck '// &
+        "needs ""&scene name = '...' /"" (the run folder's name; see docs/decks.md), and "// &
+        'the default scene runs only when no deck is given')
+      return
+    end if
     open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
     if (ios /= 0) call new_error(err, status_invalid, path, 'cannot open "'//path//'": '// &
                                  trim(msg))

@@ -110,7 +110,7 @@ contains
     character(len=9), parameter :: groups(10) = [character(len=9) :: 'scene', 'plate', 'grid', &
       'time', 'material', 'boundary', 'viscosity', 'nonlocal', 'study', 'output']
 
-    name = 'plate'
+    name = ''   ! a deck names its scene (wellposed_mpm_deck_file)
     title = 'plane-strain plate (fig. 4.1 of the dissertation)'
     kind = 'plate'
     width = cfg%width; height = cfg%height

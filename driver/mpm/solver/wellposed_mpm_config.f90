@@ -57,6 +57,7 @@ module wellposed_mpm_config
     integer :: nstatv = 12
     real(dp) :: stress0(6) = [-100.0e6_dp, -17.55e6_dp, -17.55e6_dp, 0.0_dp, 0.0_dp, 0.0_dp]
     real(dp) :: velocity0 = 0.0_dp      !< initial particle velocity (m/s)
+    logical :: out_of_equilibrium = .false. !< stress0 need not balance the load at t = 0
     ! surface load: sigma_xx(surface) = base + peak * shape((t - start)/duration)
     real(dp) :: load_base = -100.0e6_dp !< Pa; equals stress0(1) for equilibrium
     real(dp) :: load_peak = 10.0e6_dp   !< Pa, tensile increment
