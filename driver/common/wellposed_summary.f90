@@ -2,7 +2,12 @@
 !> optionally followed by `  # comment`. Reals are written with 16
 !> significant digits (ES format), logicals as true/false, integers plain.
 !> Regression tests read these lines back and compare with tolerances.
+!> A summary never holds NaN or Inf: a figure that does not apply is
+!> written `key = not_applicable  # why` (`add` with `why`, or
+!> `not_applicable`), and a non-finite figure added without a reason makes
+!> `write` fail naming it, so the run fails rather than look finished.
 module wellposed_summary
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_fs, only: rename_path, process_id, int_text
@@ -18,10 +23,16 @@ module wellposed_summary
   type :: summary_t
     type(line_t), allocatable :: lines(:)
     integer :: n = 0
+    !> The first figure added as NaN or Inf without a reason ('' if none).
+    character(len=:), allocatable :: nonfinite
   contains
     procedure, private :: add_real, add_int, add_logical, add_char
-    !> add(key, value[, comment]) for real(dp), integer, logical, character.
+    !> add(key, value[, comment]) for real(dp), integer, logical, character;
+    !> for real(dp) also add(key, value, comment, why): `why` is said when
+    !> the value is not finite.
     generic :: add => add_real, add_int, add_logical, add_char
+    !> not_applicable(key, why): `key = not_applicable  # why`.
+    procedure :: not_applicable => add_not_applicable
     procedure :: write => summary_write
   end type summary_t
 
@@ -47,12 +58,19 @@ contains
     self%lines(self%n)%text = line
   end subroutine push
 
-  subroutine add_real(self, key, value, comment)
+  subroutine add_real(self, key, value, comment, why)
     class(summary_t), intent(inout) :: self
     character(len=*), intent(in) :: key
     real(dp), intent(in) :: value
-    character(len=*), intent(in), optional :: comment
+    character(len=*), intent(in), optional :: comment, why
     character(len=32) :: buffer
+    if (.not. ieee_is_finite(value)) then
+      if (present(why)) then
+        call self%not_applicable(key, why)
+        return
+      end if
+      if (.not. allocated(self%nonfinite)) self%nonfinite = trim(key)
+    end if
     write (buffer, '(es23.15e3)') value
     call push(self, key, trim(adjustl(buffer)), comment)
   end subroutine add_real
@@ -84,7 +102,15 @@ contains
     call push(self, key, trim(value), comment)
   end subroutine add_char
 
-  !> Write the lines to `path` (through a temporary name, then rename).
+  !> `key = not_applicable  # why`: a figure this run has no value for.
+  subroutine add_not_applicable(self, key, why)
+    class(summary_t), intent(inout) :: self
+    character(len=*), intent(in) :: key, why
+    call push(self, key, 'not_applicable', why)
+  end subroutine add_not_applicable
+
+  !> Write the lines to `path` (through a temporary name, then rename);
+  !> refused, writing nothing, when a figure is NaN or Inf without a reason.
   subroutine summary_write(self, path, err)
     class(summary_t), intent(in) :: self
     character(len=*), intent(in) :: path
@@ -92,6 +118,12 @@ contains
     character(len=:), allocatable :: tmp
     character(len=512) :: msg
     integer :: unit, ios, i
+    if (allocated(self%nonfinite)) then
+      call new_error(err, status_invalid, self%nonfinite, 'summary figure '// &
+        self%nonfinite//' is not a finite number, and no reason was given why it does not '// &
+        'apply: the run is not written as finished')
+      return
+    end if
     tmp = path//'.tmp.'//int_text(process_id())
     open (newunit=unit, file=tmp, status='replace', action='write', iostat=ios, iomsg=msg)
     if (ios /= 0) then

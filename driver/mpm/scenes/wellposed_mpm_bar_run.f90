@@ -26,15 +26,17 @@ module wellposed_mpm_bar_run
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_config
   use wellposed_mpm_deck, only: read_mpm_deck, mpm_options_t
+  use wellposed_mpm_deck_checks, only: check_bar_deck
+  use wellposed_mpm_station_summary, only: add_station_summary
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, kinetic_energy, &
                                   total_momentum, timer_umat, timer_transfer, timer_grid
   use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations, &
                                     station_measures_t, measure_stations, field_sxx, &
-                                    field_syy, field_v, field_z, nfields
+                                    field_syy, field_v, field_z, field_apex, nfields
   use wellposed_mpm_paths, only: find_data, stations_plot_name
   use wellposed_mpm_particles, only: particle_bytes, particles_t
   use wellposed_mpm_nonlocal, only: nl_scheme_names
-  use wellposed_mpi, only: comm_t, comm_stop, allreduce_sum, &
+  use wellposed_mpi, only: comm_t, comm_stop, comm_abort, allreduce_sum, &
                            allreduce_max, broadcast
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpm_decomposition, only: decomposition_t
@@ -101,6 +103,7 @@ contains
 
     ! ---- deck and scene
     call read_mpm_deck(cli%deck_path, cli%overrides, cfg, opts, deck_text, err)
+    if (.not. allocated(err)) call check_bar_deck(cli%deck_path, cfg, err)
     if (allocated(err)) call die(err)
     if (len(cli%run_name) > 0) cfg%name = cli%run_name
     ! every rank builds the scene and keeps its strip (errors: the same on all)
@@ -243,8 +246,8 @@ contains
 
     ! ---- measures (rank 0's stations; empty elsewhere) and outputs
     call measure_stations(st%time(1:st%ns), st%hist(field_sxx, :, 1:st%ns), st%x, &
-                          0.5_dp*abs(cfg%load_peak), meas)
-    escale = maxval(energy(2, 1:nenergy)) - scene%kinetic0
+                          0.5_dp*cfg%load_peak, meas)
+    escale = abs(scene%work_external) + scene%kinetic0
     ebal = ke_end - scene%kinetic0 + scene%work_internal - scene%work_external
     if (root) then
       call write_summary()
@@ -398,7 +401,6 @@ contains
     end subroutine resume
 
     subroutine write_summary()
-      character(len=8) :: k
       call sm%add('scene', cfg%name)
       call sm%add('version', wellposed_version)
       call sm%add('git_revision', wellposed_git_revision)
@@ -440,34 +442,12 @@ contains
       end if
       call sm%add('c_elastic', c_e, 'm/s, from the UMAT unloading modulus at the initial state')
       call sm%add('c_plastic', c_p, 'm/s, from the UMAT loading (extension) modulus')
-      call sm%add('c_head', meas%c_head, 'm/s, least-squares fit of x against t_head')
-      call sm%add('c_tail', meas%c_tail, 'm/s, least-squares fit of x against t_tail')
-      call sm%add('c_head_over_c_plastic', meas%c_head/c_p)
-      call sm%add('c_tail_over_c_elastic', meas%c_tail/c_e)
-      call sm%add('separation_rate', meas%c_head - meas%c_tail, &
-                  'm/s, head minus tail speed (ideal Sandler-Rubin: C_P - C_E)')
-      call sm%add('c_plastic_minus_c_elastic', c_p - c_e, 'm/s')
-      call sm%add('arrival_threshold', meas%threshold, 'Pa, half the load peak')
-      call sm%add('arrival_definition', 'head = last upward crossing of arrival_threshold '// &
-                  'before the station peak, tail = first downward crossing after it '// &
-                  '(ringing behind the pulse ignored); ideal: x/C_P + tau/4 and x/C_E + 3 tau/4')
-      do i = 1, st%n
-        write (k, '(i0)') i
-        call sm%add('station_'//trim(k)//'_x', st%x(i), 'm')
-        call sm%add('station_'//trim(k)//'_peak', meas%peak(i), 'Pa, max of sigma_xx - sigma_xx(0)')
-        call sm%add('station_'//trim(k)//'_t_peak', meas%t_peak(i), 's')
-        call sm%add('station_'//trim(k)//'_t_head', meas%t_head(i), 's')
-        call sm%add('station_'//trim(k)//'_t_tail', meas%t_tail(i), 's')
-        call sm%add('station_'//trim(k)//'_width', meas%width(i), 's, t_tail - t_head')
-        call sm%add('station_'//trim(k)//'_width_ideal', &
-                    st%x(i)*(1.0_dp/c_e - 1.0_dp/c_p) + 0.5_dp*cfg%load_duration, &
-                    's, x (1/C_E - 1/C_P) + tau/2 (admissible solution, reference A)')
-      end do
-      if (st%n >= 2) call sm%add('peak_growth', meas%peak(st%n)/meas%peak(1), &
-                                 'last station peak over first')
-      call sm%add('energy_scale', escale, 'J/m^2, largest kinetic energy gained')
+      call add_station_summary(sm, cfg, st%x, st%time(1:st%ns), st%hist(field_sxx, :, 1:st%ns), &
+                               st%hist(field_apex, :, 1:st%ns), meas, c_e, c_p)
+      call sm%add('energy_input', escale, 'J/m^2, |W_ext| + E_kin0: the work of the '// &
+                  'surface load and the initial kinetic energy')
       call sm%add('energy_balance_error', ebal/max(escale, tiny(1.0_dp)), &
-                  '(E_kin - E_kin0 + W_int - W_ext)/energy_scale at the end')
+                  '(E_kin - E_kin0 + W_int - W_ext)/energy_input at the end')
       call sm%add('momentum_error', &
                   (p_end - scene%momentum0 - scene%impulse)/ &
                   max(abs(scene%impulse), maxval(abs(energy(5, 1:nenergy))), tiny(1.0_dp)), &
@@ -540,18 +520,21 @@ contains
         if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did '// &
           'not finish; its partial output is in '//rd%partial
       end if
-      if (comm%size == 1) then
-        ! one process: end as a program does, without a backtrace under the
-        ! message (error stop prints one); on many ranks error stop ends the job
+      if (present(mine) .and. comm%size > 1) then
+        ! maybe this rank alone: end the job (MPI_Abort)
+        call comm_abort(comm, 1)
+      else
+        ! every rank is here: end as a program does, without a STOP code or
+        ! the backtrace error stop prints
         call comm_stop(comm)
-        stop 1, quiet=.true.
       end if
-      error stop 1
+      stop 1, quiet=.true.
     end subroutine die_text
 
     !> Stop without a word (another rank said why).
     subroutine die_quietly()
-      error stop 1
+      if (comm%size > 1) call comm_abort(comm, 1)
+      stop 1, quiet=.true.
     end subroutine die_quietly
 
     !> An error only this rank knows of (rank 0's files): say it and end

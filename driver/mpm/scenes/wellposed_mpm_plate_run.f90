@@ -33,6 +33,7 @@ module wellposed_mpm_plate_run
   use wellposed_mpm_config, only: scheme_names
   use wellposed_mpm_nonlocal, only: nl_scheme_names
   use wellposed_mpm_ps_deck, only: read_ps_deck, ps_study_t
+  use wellposed_mpm_deck_checks, only: check_plate_deck
   use wellposed_mpm_paths, only: find_data, plate_plot_name
   use wellposed_mpm_plate_cases, only: case_out_t, case_tag, case_config, put_case_out, &
                                        get_case_out, band_width, curve_difference, &
@@ -90,6 +91,7 @@ contains
     ck_file = cli%ck_file
 
     call read_ps_deck(cli%deck_path, cli%overrides, cfg0, study, deck_text, err)
+    if (.not. allocated(err)) call check_plate_deck(cli%deck_path, cfg0, study, err)
     if (allocated(err)) call die(err%message)
     if (len(cli%run_name) > 0) cfg0%name = cli%run_name
     ! check every case before writing anything

@@ -8,15 +8,23 @@
 module wellposed_mpm_stations
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use wellposed_kinds, only: dp
+  use wellposed_dense, only: solve_dense
   use wellposed_mpm_config, only: mpm_config_t
   use wellposed_mpm_particles, only: particles_t
   implicit none
   private
   public :: stations_t, new_stations, sample_stations, station_measures_t, &
-            measure_stations, fit_speed, nfields, field_sxx, field_syy, field_v, field_z
+            measure_stations, fit_speed, find_apex, phase_speed, nfields, field_sxx, &
+            field_syy, field_v, field_z, field_apex
 
-  !> Sampled fields per station: sigma_xx, sigma_yy (Pa), v_x (m/s), z.
-  integer, parameter :: field_sxx = 1, field_syy = 2, field_v = 3, field_z = 4, nfields = 4
+  !> Sampled fields per station: sigma_xx, sigma_yy (Pa), v_x (m/s), z, and
+  !> 1 where a bracketing particle's last return was to the apex of the cone
+  !> (STATEV(12) = 2 of the UMAT contract), else 0.
+  integer, parameter :: field_sxx = 1, field_syy = 2, field_v = 3, field_z = 4, &
+                        field_apex = 5, nfields = 5
+  !> STATEV(12) of the UMAT contract: the status, 2 for a return to the apex.
+  integer, parameter :: sv_status = 12
+  real(dp), parameter :: status_apex = 2.0_dp
 
   type :: stations_t
     integer :: n = 0
@@ -32,14 +40,16 @@ module wellposed_mpm_stations
   end type stations_t
 
   !> Measures of one run's station histories (fig. 2.3 read by eye,
-  !> here in numbers). Arrival times are NaN where the signal never arrived.
+  !> here in numbers), signed as the load: for a compressive pulse the peak
+  !> is the most negative change and the crossings are of the negative
+  !> level. Arrival times are NaN where the signal never arrived.
   type :: station_measures_t
-    real(dp), allocatable :: peak(:)       !< max of sigma_xx - sigma_xx(0) (Pa)
+    real(dp), allocatable :: peak(:)       !< signed extreme of sigma_xx - sigma_xx(0) (Pa)
     real(dp), allocatable :: t_peak(:)     !< its time (s)
-    real(dp), allocatable :: t_head(:)     !< upward crossing of `threshold` before t_peak (s)
-    real(dp), allocatable :: t_tail(:)     !< downward crossing of it after t_peak (s)
+    real(dp), allocatable :: t_head(:)     !< crossing of `threshold` towards the peak (s)
+    real(dp), allocatable :: t_tail(:)     !< crossing of it back after t_peak (s)
     real(dp), allocatable :: width(:)      !< t_tail - t_head (s)
-    real(dp) :: threshold = 0.0_dp         !< crossing level (Pa)
+    real(dp) :: threshold = 0.0_dp         !< crossing level (Pa), signed as the load
     real(dp) :: c_head = 0.0_dp            !< least-squares dx/dt of t_head (m/s), NaN if < 2
     real(dp) :: c_tail = 0.0_dp            !< same for t_tail
   end type station_measures_t
@@ -108,16 +118,22 @@ contains
       now(field_syy, s) = (1.0_dp - w)*parts%stress(2, a) + w*parts%stress(2, b)
       now(field_v, s) = (1.0_dp - w)*parts%v(1, a) + w*parts%v(1, b)
       now(field_z, s) = (1.0_dp - w)*parts%statev(1, a) + w*parts%statev(1, b)
+      now(field_apex, s) = 0.0_dp
+      if (size(parts%statev, 1) >= sv_status) then
+        if (parts%statev(sv_status, a) == status_apex .or. &
+            parts%statev(sv_status, b) == status_apex) now(field_apex, s) = 1.0_dp
+      end if
     end do
   end subroutine current
 
   !> Peak, head and tail arrival and width at every station from the
   !> histories (time(ns), sxx(station, ns)). The signal d is sigma_xx minus
-  !> its value at t = 0 (tension positive); the main pulse is the one that
-  !> holds the largest d, at t_peak. With `level` (Pa, the drivers pass half
-  !> the load peak):
-  !>  - head: the last upward crossing of `level` before t_peak,
-  !>  - tail: the first downward crossing of `level` after t_peak,
+  !> its value at t = 0 (tension positive), times the sign of `level` (Pa,
+  !> the drivers pass half the load peak, signed: a compressive pulse is
+  !> measured as the tensile one of opposite sign); the main pulse is the one
+  !> that holds the largest d, at t_peak, and its peak is reported signed.
+  !>  - head: the last crossing of |level| towards the peak before t_peak,
+  !>  - tail: the first crossing of |level| back after t_peak,
   !> both linearly interpolated between samples; width = tail - head.
   !> Restricting the crossings to the pulse around the peak keeps the
   !> grid's elastic ringing behind the pulse (GIMP, linear) from being read
@@ -130,27 +146,29 @@ contains
     real(dp), intent(in) :: time(:), sxx(:, :), xs(:), level
     type(station_measures_t), intent(out) :: m
     integer :: s, k, ns, nst, kmax
-    real(dp) :: d(size(time)), nan
+    real(dp) :: d(size(time)), nan, sgn, lev
     nan = ieee_value(0.0_dp, ieee_quiet_nan)
     nst = size(sxx, 1)
     ns = size(time)
     allocate (m%peak(nst), m%t_peak(nst), m%t_head(nst), m%t_tail(nst), m%width(nst))
     m%threshold = level
+    sgn = merge(-1.0_dp, 1.0_dp, level < 0.0_dp)
+    lev = abs(level)
     do s = 1, nst
-      d = sxx(s, :) - sxx(s, 1)
+      d = sgn*(sxx(s, :) - sxx(s, 1))
       kmax = maxloc(d, 1)
-      m%peak(s) = d(kmax)
+      m%peak(s) = sgn*d(kmax)
       m%t_peak(s) = time(kmax)
       m%t_head(s) = nan
       m%t_tail(s) = nan
-      if (m%peak(s) >= level .and. level > 0.0_dp) then
+      if (d(kmax) >= lev .and. lev > 0.0_dp) then
         do k = kmax, 2, -1
-          if (d(k - 1) < level .and. d(k) >= level) then
+          if (d(k - 1) < lev .and. d(k) >= lev) then
             m%t_head(s) = cross(k); exit
           end if
         end do
         do k = kmax + 1, ns
-          if (d(k - 1) >= level .and. d(k) < level) then
+          if (d(k - 1) >= lev .and. d(k) < lev) then
             m%t_tail(s) = cross(k); exit
           end if
         end do
@@ -162,7 +180,7 @@ contains
   contains
     pure real(dp) function cross(k)
       integer, intent(in) :: k
-      cross = time(k - 1) + (level - d(k - 1))/(d(k) - d(k - 1))*(time(k) - time(k - 1))
+      cross = time(k - 1) + (lev - d(k - 1))/(d(k) - d(k - 1))*(time(k) - time(k - 1))
     end function cross
   end subroutine measure_stations
 
@@ -183,5 +201,82 @@ contains
     xm = sum(xs, mask=ok)/n
     fit_speed = sum((t - tm)*(xs - xm), mask=ok)/sum((t - tm)**2, mask=ok)
   end function fit_speed
+
+  !> The first station (k > 0; 0: none) whose material reached the apex of
+  !> the cone, where the return maps to the hydrostatic tensile stress
+  !> I1 = k/beta (docs/umat.md, "Apex"): a sample of `apex` (field_apex,
+  !> station by sample) above 0. `t_apex` is when, `s_apex` the stress
+  !> sigma_xx there then (Pa); `stations` marks every station reaching it.
+  pure subroutine find_apex(time, apex, sxx, k, t_apex, s_apex, stations)
+    real(dp), intent(in) :: time(:), apex(:, :), sxx(:, :)
+    integer, intent(out) :: k
+    real(dp), intent(out) :: t_apex, s_apex
+    logical, intent(out) :: stations(size(apex, 1))
+    integer :: s, j
+    k = 0
+    t_apex = 0.0_dp
+    s_apex = 0.0_dp
+    do s = 1, size(apex, 1)
+      stations(s) = any(apex(s, :) > 0.0_dp)
+      if (k > 0 .or. .not. stations(s)) cycle
+      k = s
+      j = findloc(apex(s, :) > 0.0_dp, .true., dim=1)
+      t_apex = time(j)
+      s_apex = sxx(s, j)
+    end do
+  end subroutine find_apex
+
+  !> Phase speed (m/s) of the sinusoid of `frequency` (Hz) riding on a ramp
+  !> (&load pulse = 'ramp_sine', fig. 2.10 left): at every station the
+  !> history after x/c_slow + 2/frequency is fitted by least squares with
+  !> a + b u + c u^2 + d cos(w t) + e sin(w t) (u = t - window start,
+  !> w = 2 pi frequency), its phase atan2(d, e) unwrapped along the
+  !> stations, and c = w / kappa with -kappa the slope of phase against x.
+  !> `rms` is the phase residual about the line (rad). ok = .false. when
+  !> fewer than two stations have 20 samples in their window.
+  pure subroutine phase_speed(time, sxx, xs, frequency, c_slow, c, rms, ok)
+    real(dp), intent(in) :: time(:), sxx(:, :), xs(:), frequency, c_slow
+    real(dp), intent(out) :: c, rms
+    logical, intent(out) :: ok
+    real(dp), parameter :: pi = 3.14159265358979323846_dp
+    real(dp) :: w, phase(size(xs)), a(5, 5), b(5, 1), row(5), u, t0, span, slope, icpt, xm, pm
+    integer :: s, j, n, nst
+    logical :: fit_ok
+    w = 2.0_dp*pi*frequency
+    nst = size(xs)
+    c = 0.0_dp
+    rms = 0.0_dp
+    ok = .false.
+    if (nst < 2 .or. .not. (frequency > 0.0_dp) .or. .not. (c_slow > 0.0_dp)) return
+    do s = 1, nst
+      t0 = xs(s)/c_slow + 2.0_dp/frequency
+      n = count(time >= t0)
+      if (n < 20) return
+      span = maxval(time) - t0
+      a = 0.0_dp
+      b = 0.0_dp
+      do j = 1, size(time)
+        if (time(j) < t0) cycle
+        u = (time(j) - t0)/span          ! scaled for the normal equations
+        row = [1.0_dp, u, u*u, cos(w*time(j)), sin(w*time(j))]
+        a = a + spread(row, 2, 5)*spread(row, 1, 5)
+        b(:, 1) = b(:, 1) + row*sxx(s, j)
+      end do
+      call solve_dense(a, b, fit_ok)
+      if (.not. fit_ok) return
+      phase(s) = atan2(b(4, 1), b(5, 1))
+    end do
+    do s = 2, nst                        ! unwrapped along the stations
+      phase(s) = phase(s) - 2.0_dp*pi*nint((phase(s) - phase(s - 1))/(2.0_dp*pi))
+    end do
+    xm = sum(xs)/nst
+    pm = sum(phase)/nst
+    slope = sum((xs - xm)*(phase - pm))/sum((xs - xm)**2)
+    icpt = pm - slope*xm
+    if (.not. (slope < 0.0_dp)) return
+    c = -w/slope
+    rms = sqrt(sum((phase - (slope*xs + icpt))**2)/nst)
+    ok = .true.
+  end subroutine phase_speed
 
 end module wellposed_mpm_stations

@@ -1,0 +1,217 @@
+!> Physical consistency of an MPM deck, checked after reading and before
+!> anything is set up or written (docs/decks.md, "Refused decks"). Each
+!> message names the deck and gives the numbers:
+!>  - the bar's initial stress is in equilibrium with the surface traction
+!>    at t = 0 (|sigma_b(0) - sigma_xx(0)| <= equilibrium_tol times the
+!>    larger stress of the two and the load peak) and, with a free far end,
+!>    with the free end (sigma_xx(0) = 0 there); &initial
+!>    out_of_equilibrium = .true. lets a deck start otherwise on purpose;
+!>  - the bar's initial stress is inside or on the yield surface of its
+!>    material, asked through the UMAT contract (docs/umat.md) alone: a
+!>    zero-increment call with DTIME = 0 and a Duvaut-Lions PROPS(11) > 0
+!>    answers the elastic trial with its yield function in STATEV(11)
+!>    (eq. 2.3, 2.10); a user's UMAT is asked whether a zero increment
+!>    moves the stress;
+!>  - stations inside the bar, samples and snapshots inside the run, the
+!>    load pulse over before t_end; for the plate the samples and snapshots
+!>    inside the run.
+module wellposed_mpm_deck_checks
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_text, only: real_text
+  use wellposed_mpm_config, only: mpm_config_t, bc_free, pulse_ramp_sine
+  use wellposed_mpm_loads, only: surface_stress
+  use wellposed_mpm_plane_strain, only: ps_config_t
+  use wellposed_mpm_ps_deck, only: ps_study_t
+  use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_error, &
+                                 verdict_ok, umat_is_ours
+  implicit none
+  private
+  public :: check_bar_deck, check_plate_deck, equilibrium_tol, yield_tol
+
+  !> Relative mismatch of traction and initial stress taken as equilibrium
+  !> (decks write both as the same decimal number: round-off only).
+  real(dp), parameter :: equilibrium_tol = 1.0e-9_dp
+  !> Relative (to |sigma_0|) yield function or stress change taken as "on
+  !> the yield surface" (round-off of the UMAT's arithmetic).
+  real(dp), parameter :: yield_tol = 1.0e-9_dp
+
+  !> STATEV(11) of the UMAT contract: the yield function f at the end of
+  !> the increment; PROPS(11): the Duvaut-Lions relaxation time tau.
+  integer, parameter :: slot_f = 11, slot_tau = 11
+
+contains
+
+  !> The bar deck `path` read into cfg: err when it is not physically
+  !> consistent (see the module comment).
+  subroutine check_bar_deck(path, cfg, err)
+    character(len=*), intent(in) :: path
+    type(mpm_config_t), intent(in) :: cfg
+    type(error_t), allocatable, intent(out) :: err
+    real(dp) :: last
+    if (cfg%nstations > 0) then
+      last = cfg%station_first + (cfg%nstations - 1)*cfg%station_spacing
+      if (cfg%station_first < 0.0_dp .or. last > cfg%length .or. last < 0.0_dp) then
+        call fail('stations', 'the stations run from x = '//real_text(cfg%station_first)// &
+          ' m to x = '//real_text(last)//' m, outside the bar [0, '//real_text(cfg%length)// &
+          '] m (&grid length)')
+        return
+      end if
+    end if
+    call check_times(path, cfg%t_end, cfg%sample_dt, cfg%snapshot_dt, err)
+    if (allocated(err)) return
+    if (cfg%pulse /= pulse_ramp_sine .and. cfg%load_peak /= 0.0_dp .and. &
+        cfg%load_start + cfg%load_duration > cfg%t_end) then
+      call fail('load', 'the pulse runs from start = '//real_text(cfg%load_start)// &
+        ' s to start + duration = '//real_text(cfg%load_start + cfg%load_duration)// &
+        ' s, past the end of the run (&time t_end = '//real_text(cfg%t_end)//' s)')
+      return
+    end if
+    if (.not. cfg%out_of_equilibrium) then
+      call check_equilibrium(path, cfg, err)
+      if (allocated(err)) return
+    end if
+    call check_yield(path, cfg, err)
+  contains
+    subroutine fail(group, what)
+      character(len=*), intent(in) :: group, what
+      call new_error(err, status_invalid, group, path//': &'//group//': '//what)
+    end subroutine fail
+  end subroutine check_bar_deck
+
+  !> The plate deck `path` (cfg, study): samples and snapshots inside the run.
+  subroutine check_plate_deck(path, cfg, study, err)
+    character(len=*), intent(in) :: path
+    type(ps_config_t), intent(in) :: cfg
+    type(ps_study_t), intent(in) :: study
+    type(error_t), allocatable, intent(out) :: err
+    call check_times(path, cfg%t_end, study%sample_dt, study%snapshot_dt, err)
+  end subroutine check_plate_deck
+
+  !> Samples and snapshots at most t_end apart: one after t = 0 at least.
+  subroutine check_times(path, t_end, sample_dt, snapshot_dt, err)
+    character(len=*), intent(in) :: path
+    real(dp), intent(in) :: t_end, sample_dt, snapshot_dt
+    type(error_t), allocatable, intent(out) :: err
+    if (.not. (t_end > 0.0_dp)) return        ! the scene's own check names t_end
+    if (sample_dt > t_end) then
+      call new_error(err, status_invalid, 'sample_dt', path//': &output: sample_dt = '// &
+        real_text(sample_dt)//' s is longer than the run (&time t_end = '//real_text(t_end)// &
+        ' s): no sample would be taken after t = 0')
+    else if (snapshot_dt > t_end) then
+      call new_error(err, status_invalid, 'snapshot_dt', path//': &output: snapshot_dt = '// &
+        real_text(snapshot_dt)//' s is longer than the run (&time t_end = '// &
+        real_text(t_end)//' s): no snapshot would be taken after t = 0 (0: none)')
+    end if
+  end subroutine check_times
+
+  !> sigma_xx(0) against the surface traction sigma_b(0) and, with a free
+  !> far end, against 0.
+  subroutine check_equilibrium(path, cfg, err)
+    character(len=*), intent(in) :: path
+    type(mpm_config_t), intent(in) :: cfg
+    type(error_t), allocatable, intent(out) :: err
+    real(dp) :: sb, sx, scale
+    character(len=*), parameter :: hint = ' (&initial out_of_equilibrium = .true. starts '// &
+      'it so on purpose)'
+    sb = surface_stress(cfg, 0.0_dp)
+    sx = cfg%stress0(1)
+    scale = max(abs(sb), abs(sx), abs(cfg%load_peak))
+    if (abs(sb - sx) > equilibrium_tol*scale) then
+      call new_error(err, status_invalid, 'stress', path//': &initial: stress(1) = '// &
+        mpa(sx)//' MPa is not in equilibrium with the surface traction at t = 0, '// &
+        '&load base + pulse(0) = '//mpa(sb)//' MPa (they differ by '//mpa(sx - sb)// &
+        ' MPa; tolerance '//real_text(equilibrium_tol)//' relative)'//hint)
+      return
+    end if
+    if (cfg%bc_far == bc_free .and. abs(sx) > equilibrium_tol*scale) then
+      call new_error(err, status_invalid, 'stress', path//': &initial: stress(1) = '// &
+        mpa(sx)//' MPa is not in equilibrium with the free far end (&grid far_end = '// &
+        "'free' holds sigma_xx = 0 there)"//hint)
+    end if
+  end subroutine check_equilibrium
+
+  !> The initial stress inside or on the yield surface (module comment).
+  subroutine check_yield(path, cfg, err)
+    character(len=*), intent(in) :: path
+    type(mpm_config_t), intent(in) :: cfg
+    type(error_t), allocatable, intent(out) :: err
+    type(umat_host_t) :: h
+    real(dp) :: props(max(cfg%nprops, slot_tau)), s(6), sv(cfg%nstatv), zero(6), f, moved, scale
+    integer :: verdict
+    if (cfg%nstatv < 12 .or. cfg%nprops < 1) return   ! the scene's own checks say why
+    call new_umat_host(h, 6, cfg%nstatv, err, what='particle')
+    if (allocated(err)) return
+    h%celent = cfg%dx
+    h%dtime = 0.0_dp
+    zero = 0.0_dp
+    scale = max(norm2(cfg%stress0), 1.0_dp)
+    ! a zero increment from the initial state: a state the material can hold
+    ! comes back unchanged
+    props = 0.0_dp
+    props(1:cfg%nprops) = cfg%props(1:cfg%nprops)
+    s = cfg%stress0
+    sv = 0.0_dp
+    call host_call(h, props(1:cfg%nprops), s, sv, zero, zero, verdict)
+    if (verdict /= verdict_ok) then
+      call host_error(h, verdict, err, 'a zero increment from the initial stress')
+      err%message = path//': '//err%message
+      return
+    end if
+    moved = norm2(s - cfg%stress0)
+    f = 0.0_dp
+    if (umat_is_ours()) then
+      ! the yield function of the initial stress itself: with tau > 0 and
+      ! DTIME = 0 the Duvaut-Lions update is the elastic trial (eq. 2.10)
+      if (props(slot_tau) <= 0.0_dp) props(slot_tau) = 1.0_dp
+      s = cfg%stress0
+      sv = 0.0_dp
+      call host_call(h, props, s, sv, zero, zero, verdict)
+      if (verdict == verdict_ok) f = sv(slot_f)
+    end if
+    if (f > yield_tol*scale) then
+      call new_error(err, status_invalid, 'stress', path//': &initial: stress = '// &
+        stress_text(cfg%stress0)//' MPa is outside the yield surface of its &material by '// &
+        'f = sqrt(J2) + beta I1 - k = '//mpa(f)//' MPa (eq. 2.3; a zero-increment UMAT '// &
+        'call, STATEV(11)): no state the material can hold')
+    else if (moved > yield_tol*scale) then
+      call new_error(err, status_invalid, 'stress', path//': &initial: stress = '// &
+        stress_text(cfg%stress0)//' MPa is outside the yield surface of its &material: a '// &
+        'zero strain increment from it moves it by '//mpa(moved)//' MPa (through the UMAT)')
+    end if
+  end subroutine check_yield
+
+  !> A stress in MPa, short: three decimals ("-50.0", "9.096"), or
+  !> real_text below 0.01 MPa.
+  pure function mpa(x) result(text)
+    real(dp), intent(in) :: x
+    character(len=:), allocatable :: text
+    character(len=32) :: buffer
+    real(dp) :: v
+    v = x/1.0e6_dp
+    if (abs(v) < 0.01_dp .and. v /= 0.0_dp) then
+      text = real_text(v)
+      return
+    end if
+    write (buffer, '(f0.3)') abs(v)
+    text = trim(buffer)
+    if (text(1:1) == '.') text = '0'//text
+    do while (text(len(text):len(text)) == '0' .and. text(len(text) - 1:len(text) - 1) /= '.')
+      text = text(1:len(text) - 1)
+    end do
+    if (v < 0.0_dp) text = '-'//text
+  end function mpa
+
+  !> The six components in MPa: (s11, s22, s33, s12, s13, s23).
+  pure function stress_text(s) result(text)
+    real(dp), intent(in) :: s(6)
+    character(len=:), allocatable :: text
+    integer :: i
+    text = '('//mpa(s(1))
+    do i = 2, 6
+      text = text//', '//mpa(s(i))
+    end do
+    text = text//')'
+  end function stress_text
+
+end module wellposed_mpm_deck_checks

@@ -1,0 +1,113 @@
+!> The station figures of a bar's summary.txt (wellposed_mpm_stations
+!> measures them): speeds of the head and tail of the pulse, per station its
+!> signed peak, arrivals and width beside the admissible solution of shared
+!> reference A (docs/cases.md), the station where the cone's apex was
+!> reached, and for a ramp with a sinusoid (fig. 2.10 left) the phase speed.
+!> A figure that does not apply is written `not_applicable  # why`, never
+!> NaN (docs/decks.md, "Summary figures").
+module wellposed_mpm_station_summary
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use wellposed_kinds, only: dp
+  use wellposed_text, only: int_text, real_text
+  use wellposed_summary, only: summary_t
+  use wellposed_mpm_config, only: mpm_config_t, pulse_ramp_sine
+  use wellposed_mpm_stations, only: station_measures_t, find_apex, phase_speed
+  use wellposed_umat_host, only: umat_is_ours
+  implicit none
+  private
+  public :: add_station_summary
+
+contains
+
+  !> Add the station figures of `meas` (stations at x, histories time,
+  !> sxx and the apex flag as sampled) for the scene `cfg` with the UMAT's
+  !> wave speeds c_e (unloading) and c_p (loading) at the initial state.
+  subroutine add_station_summary(sm, cfg, x, time, sxx, apex_flag, meas, c_e, c_p)
+    type(summary_t), intent(inout) :: sm
+    type(mpm_config_t), intent(in) :: cfg
+    real(dp), intent(in) :: x(:), time(:), sxx(:, :), apex_flag(:, :), c_e, c_p
+    type(station_measures_t), intent(in) :: meas
+    character(len=:), allocatable :: k, no_pulse, no_ideal, no_speed
+    real(dp) :: tau, t_apex, s_apex, c, rms
+    integer :: i, n, apex
+    logical :: ramp, ideal, reached(size(x)), ok
+    n = size(x)
+    tau = cfg%load_duration
+    ramp = cfg%pulse == pulse_ramp_sine
+    no_pulse = 'the station never saw the pulse cross arrival_threshold'
+    no_speed = 'fewer than two stations saw the pulse cross arrival_threshold'
+    no_ideal = 'C_P < C_E: the plastic wave trails the elastic one, so the pulse has '// &
+               'no admissible solution of reference A to compare with'
+    if (ramp) then
+      no_pulse = "pulse = 'ramp_sine' is a ramp, not a pulse (see phase_speed)"
+      no_speed = no_pulse
+      no_ideal = no_pulse
+    end if
+    ideal = .not. ramp .and. c_p >= c_e
+    call sm%add('c_head', meas%c_head, 'm/s, least-squares fit of x against t_head', no_speed)
+    call sm%add('c_tail', meas%c_tail, 'm/s, least-squares fit of x against t_tail', no_speed)
+    call sm%add('c_head_over_c_plastic', meas%c_head/c_p, why=no_speed)
+    call sm%add('c_tail_over_c_elastic', meas%c_tail/c_e, why=no_speed)
+    call sm%add('separation_rate', meas%c_head - meas%c_tail, &
+                'm/s, head minus tail speed (ideal Sandler-Rubin: C_P - C_E)', no_speed)
+    call sm%add('c_plastic_minus_c_elastic', c_p - c_e, 'm/s')
+    call sm%add('arrival_threshold', meas%threshold, 'Pa, half the load peak, signed as it')
+    call sm%add('arrival_definition', 'head = last crossing of arrival_threshold towards '// &
+                'the station peak before it, tail = first crossing back after it (ringing '// &
+                'behind the pulse ignored; a compressive pulse is measured with its sign); '// &
+                'ideal: x/C_P + tau/4 and x/C_E + 3 tau/4')
+    do i = 1, n
+      k = 'station_'//int_text(i)
+      call sm%add(k//'_x', x(i), 'm')
+      call sm%add(k//'_peak', meas%peak(i), 'Pa, signed extreme of sigma_xx - sigma_xx(0)')
+      call sm%add(k//'_t_peak', meas%t_peak(i), 's')
+      call sm%add(k//'_t_head', meas%t_head(i), 's', no_pulse)
+      call sm%add(k//'_t_tail', meas%t_tail(i), 's', no_pulse)
+      call sm%add(k//'_width', meas%width(i), 's, t_tail - t_head', no_pulse)
+      if (ideal) then
+        call sm%add(k//'_width_ideal', x(i)*(1.0_dp/c_e - 1.0_dp/c_p) + 0.5_dp*tau, &
+                    's, x (1/C_E - 1/C_P) + tau/2 (admissible solution, reference A)')
+        call sm%add(k//'_t_head_ideal', x(i)/c_p + 0.25_dp*tau, 's, x/C_P + tau/4')
+        call sm%add(k//'_t_tail_ideal', x(i)/c_e + 0.75_dp*tau, 's, x/C_E + 3 tau/4')
+      else
+        call sm%not_applicable(k//'_width_ideal', no_ideal)
+        call sm%not_applicable(k//'_t_head_ideal', no_ideal)
+        call sm%not_applicable(k//'_t_tail_ideal', no_ideal)
+      end if
+    end do
+    if (n >= 2) then
+      if (meas%peak(1) /= 0.0_dp) then
+        call sm%add('peak_growth', meas%peak(n)/meas%peak(1), 'last station peak over first')
+      else
+        call sm%not_applicable('peak_growth', 'no pulse at the first station')
+      end if
+    end if
+    call find_apex(time, apex_flag, sxx, apex, t_apex, s_apex, reached)
+    if (.not. umat_is_ours()) then
+      call sm%not_applicable('apex_reached_at_station', 'a user''s UMAT: its STATEV(12) '// &
+                             'is not wellposed''s return status')
+    else if (apex > 0) then
+      call sm%add('apex_reached_at_station', apex, 'first station whose material returned '// &
+        'to the apex of the cone (STATEV(12) = 2: hydrostatic, I1 = k/beta) at t = '// &
+        real_text(t_apex)//' s, sigma_xx = '//real_text(s_apex/1.0e6_dp)//' MPa; '// &
+        int_text(count(reached))//' of '//int_text(n)//' stations reached it')
+    else
+      call sm%add('apex_reached_at_station', 'none', 'no station''s material returned to '// &
+                  'the apex of the cone')
+    end if
+    if (ramp) then
+      call phase_speed(time, sxx, x, cfg%load_frequency, min(c_e, c_p), c, rms, ok)
+      call sm%add('phase_speed_frequency', cfg%load_frequency, 'Hz, &load frequency')
+      if (ok .and. ieee_is_finite(c)) then
+        call sm%add('phase_speed', c, 'm/s, of the sinusoid: its phase fitted at every '// &
+                    'station after x/min(C_E, C_P) + 2/f, slope of phase against x; not '// &
+                    'corrected for the grid''s phase lag')
+        call sm%add('phase_speed_rms', rms, 'rad, phase residual about the straight line')
+      else
+        call sm%not_applicable('phase_speed', 'fewer than two stations hold 20 samples '// &
+                               'after x/min(C_E, C_P) + 2/f, or the phase does not advance')
+      end if
+    end if
+  end subroutine add_station_summary
+
+end module wellposed_mpm_station_summary
