@@ -15,7 +15,7 @@ module pfunit
   private :: MPI_COMM_WORLD, MPI_COMM_NULL, MPI_UNDEFINED, MPI_LOGICAL, MPI_LOR, &
              MPI_Initialized, MPI_Init, MPI_Finalize, MPI_Comm_rank, MPI_Comm_size, &
              MPI_Comm_split, MPI_Comm_free, MPI_Allreduce
-  private :: rank_of, size_of, comm_of, text, mpi_method
+  private :: rank_of, size_of, comm_of, mpi_method
   public :: MpiTestMethod, pfunit_start, pfunit_run_test, pfunit_stop
 
   !> What an MPI test sees: its communicator, its rank there, their number.
@@ -54,14 +54,6 @@ contains
     comm_of = this%comm
   end function comm_of
 
-  function text(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=12) :: buf
-    write (buf, '(i0)') i
-    s = trim(buf)
-  end function text
-
   !> Start MPI; only rank 0 prints the per-test lines and the summary.
   subroutine pfunit_start()
     logical :: started
@@ -86,12 +78,15 @@ contains
     type(MpiTestMethod) :: this
     integer :: world_rank, world_size, ierr
     logical :: failed_anywhere
+    character(len=80) :: where
     call MPI_Comm_rank(MPI_COMM_WORLD, world_rank, ierr)
     call MPI_Comm_size(MPI_COMM_WORLD, world_size, ierr)
-    call funit_begin_test(name, ' on rank '//text(world_rank)//' of '//text(npes))
+    write (where, '(a,i0,a,i0)') ' on rank ', world_rank, ' of ', npes
+    call funit_begin_test(name, trim(where))
     if (npes > world_size) then
+      write (where, '(i0,a,i0,a)') npes, ' wanted, ', world_size, ' running'
       if (world_rank == 0) call funit_fail_test('Insufficient processes to run this test: '// &
-        text(npes)//' wanted, '//text(world_size)//' running')
+                                                trim(where))
     else
       call MPI_Comm_split(MPI_COMM_WORLD, merge(0, MPI_UNDEFINED, world_rank < npes), &
                           world_rank, this%comm, ierr)
