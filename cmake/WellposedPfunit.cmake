@@ -179,6 +179,9 @@ function(wellposed_add_pf_test)
   endif()
   add_pfunit_ctest(${arg_NAME} TEST_SOURCES ${pf_rel} LINK_LIBRARIES ${arg_LINK_LIBRARIES} ${extra})
   if(arg_MAX_PES)
+    # its mpirun line names the program in this binary folder
+    set_target_properties(${arg_NAME} PROPERTIES RUNTIME_OUTPUT_DIRECTORY
+                          "${CMAKE_CURRENT_BINARY_DIR}")
     set_tests_properties(${arg_NAME} PROPERTIES PROCESSORS ${arg_MAX_PES}
                          ENVIRONMENT "${WELLPOSED_MPI_TEST_ENVIRONMENT}")
   endif()
