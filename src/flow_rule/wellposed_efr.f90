@@ -20,6 +20,11 @@ module wellposed_efr
   private
   public :: efr_direction, efr_return, efr_has_direction
 
+  ! Multiplications replace the divisions by 3 and sqrt(2) on the Newton
+  ! path: a division costs several multiplications, and each iteration has
+  ! dozens.
+  real(dp), parameter :: third = 1.0_dp/3.0_dp, rsqrt2 = 1.0_dp/sqrt2
+
   !> The factored Newton Jacobian of the return (factor_jacobian).
   type :: efr_jacobian_t
     real(dp) :: s_hat(ntens6) = 0.0_dp  !< unit stress deviator
@@ -30,6 +35,7 @@ module wellposed_efr
     real(dp) :: shrink = 0.0_dp         !< gamma/(1 + gamma)
     real(dp) :: rank1 = 0.0_dp          !< Sherman-Morrison factor
     real(dp) :: schur = 0.0_dp          !< N : A^-1 : C : M_hat - k'
+    real(dp) :: rschur = 0.0_dp         !< 1/schur
   end type efr_jacobian_t
 
 contains
@@ -65,7 +71,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     real(dp) :: s_tr(ntens6), q, f_tr, k_n, sig(ntens6), x, s(ntens6), qs, s_hat(ntens6)
     real(dp) :: m(ntens6), mn, m_hat(ntens6), cm(ntens6), res(7), rnorm, rprev, scale, d_s
-    real(dp) :: e_dev(ntens6), dsig(ntens6), dx
+    real(dp) :: e_dev(ntens6), dsig(ntens6), dx, m_fixed(ntens6), rn
     type(efr_jacobian_t) :: jac
     integer :: it
     logical :: ok, flipped, converged
@@ -96,26 +102,30 @@ contains
       return
     end if
 
+    ! The part of M that does not turn with the stress (eq. 2.7).
+    m_fixed = p%p_v*trace(deps)*identity2 + p%p_d*e_dev
+    rn = 1.0_dp/p%n_m
     scale = norm(sig_tr) + abs(k_n)
     sig = sig_tr
     x = 0.0_dp
+    cm = 0.0_dp
     rprev = huge(1.0_dp)
     flipped = .false.
     converged = .false.
     do it = 1, max_newton
-      s = deviator(sig)
+      s = dev(sig)
       qs = norm(s)
       if (.not. dot_product(s, s_tr) > 0.0_dp) then
         flipped = .true.  ! the deviator went through zero: the cone is out of reach
         exit
       end if
-      s_hat = s/qs
-      m = efr_direction(p, s_hat, deps)
+      s_hat = s*(1.0_dp/qs)
+      m = unit_normal(s_hat, p%beta_p)*(d_s*rn) + m_fixed
       mn = norm(m)
-      m_hat = m/mn
-      cm = apply_stiffness(p%el, m_hat)
+      m_hat = m*(1.0_dp/mn)
+      cm = elastic(p, m_hat)
       res(1:6) = sig - sig_tr + x*cm
-      res(7) = qs/sqrt2 + p%beta*trace(sig) - strength(p%hard, z_n + x) - zeta
+      res(7) = qs*rsqrt2 + p%beta*trace(sig) - strength(p%hard, z_n + x) - zeta
       call factor_jacobian(p, s_hat, qs, m_hat, mn, cm, x, d_s, z_n, jac, ok)
       rnorm = maxval(abs(res))
       converged = rnorm <= 16.0_dp*epsilon(1.0_dp)*scale .or. &
@@ -175,7 +185,7 @@ contains
     gamma = 2.0_dp*p%el%shear*alpha
     jac%s_hat = s_hat
     jac%u = project(s_hat, m_hat)
-    jac%n = yield_normal(s_hat, p%beta)
+    jac%n = unit_normal(s_hat, p%beta)
     ok = 1.0_dp + gamma /= 0.0_dp
     if (.not. ok) return
     jac%shrink = gamma/(1.0_dp + gamma)
@@ -187,14 +197,40 @@ contains
     jac%g = apply_a_inverse(jac, cm)
     jac%schur = dot_product(jac%n, jac%g) + strength_slope(p%hard, z_n + x)
     ok = jac%schur /= 0.0_dp
+    if (ok) jac%rschur = 1.0_dp/jac%schur
   end subroutine factor_jacobian
 
   !> P : v = dev(v) - (S_hat : v) S_hat.
   pure function project(s_hat, v) result(pv)
     real(dp), intent(in) :: s_hat(ntens6), v(ntens6)
     real(dp) :: pv(ntens6)
-    pv = deviator(v) - dot_product(s_hat, v)*s_hat
+    pv = dev(v) - dot_product(s_hat, v)*s_hat
   end function project
+
+  !> Deviatoric part a - tr(a)/3 I (Mandel).
+  pure function dev(a) result(s)
+    real(dp), intent(in) :: a(ntens6)
+    real(dp) :: s(ntens6)
+    s = a
+    s(1:3) = a(1:3) - (a(1) + a(2) + a(3))*third
+  end function dev
+
+  !> The cone's normal S_hat/sqrt(2) + b I for the slope b (beta: the yield
+  !> normal N; beta_p: n_m times the regular potential direction, eq. 4.35).
+  pure function unit_normal(s_hat, b) result(n)
+    real(dp), intent(in) :: s_hat(ntens6), b
+    real(dp) :: n(ntens6)
+    n = s_hat*rsqrt2 + b*identity2
+  end function unit_normal
+
+  !> C : v = 2G dev(v) + K tr(v) I (Mandel) without forming C.
+  pure function elastic(p, v) result(cv)
+    type(dp_params_t), intent(in) :: p
+    real(dp), intent(in) :: v(ntens6)
+    real(dp) :: cv(ntens6)
+    cv = (2.0_dp*p%el%shear)*dev(v)
+    cv(1:3) = cv(1:3) + p%el%bulk*(v(1) + v(2) + v(3))
+  end function elastic
 
   !> A^-1 : v (Sherman-Morrison on I + gamma P; u^T (I + gamma P)^-1 =
   !> u^T/(1 + gamma) since P u = u).
@@ -211,7 +247,7 @@ contains
     real(dp), intent(in) :: r(ntens6), r7
     real(dp), intent(out) :: y(ntens6), t
     y = apply_a_inverse(jac, r)
-    t = (dot_product(jac%n, y) - r7)/jac%schur
+    t = (dot_product(jac%n, y) - r7)*jac%rschur
     y = y - t*jac%g
   end subroutine solve_jacobian
 
@@ -229,12 +265,12 @@ contains
     real(dp) :: col(ntens6), b, lam, t
     integer :: i, j
     e_hat = 0.0_dp
-    if (d_s > 0.0_dp) e_hat = e_dev/d_s
-    m_s = potential_direction(s_hat, p%beta_p)
-    cms = apply_stiffness(p%el, m_s)
+    if (d_s > 0.0_dp) e_hat = e_dev*(1.0_dp/d_s)
+    m_s = unit_normal(s_hat, p%beta_p)*(1.0_dp/p%n_m)
+    cms = elastic(p, m_s)
     ! (dM/d de)^T : M_hat, and C : dM/d de = cms (x) e_hat + the isotropic
     ! P_v 3K I (x) I + P_d 2G Pdev.
-    v = dot_product(m_s, m_hat)*e_hat + p%p_v*trace(m_hat)*identity2 + p%p_d*deviator(m_hat)
+    v = dot_product(m_s, m_hat)*e_hat + p%p_v*trace(m_hat)*identity2 + p%p_d*dev(m_hat)
     b = x/mn
     c = stiffness(p%el)
     lam = 3.0_dp*p%el%bulk*p%p_v - 2.0_dp*p%el%shear*p%p_d/3.0_dp
@@ -244,7 +280,7 @@ contains
       end do
       col(j) = col(j) - b*2.0_dp*p%el%shear*p%p_d
       col = apply_a_inverse(jac, col)
-      t = dot_product(jac%n, col)/jac%schur
+      t = dot_product(jac%n, col)*jac%rschur
       tangent(:, j) = col - t*jac%g
     end do
   end subroutine efr_tangent
