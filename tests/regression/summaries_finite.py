@@ -7,6 +7,9 @@
                                 line and key, on any value that is NaN or
                                 Inf; a figure that does not apply must read
                                 `not_applicable  # why` (docs/decks.md).
+                                A batch summary's quoted error lines
+                                (`error: ...`, e.g. of the bad decks, which
+                                name the Inf they refused) are not figures.
   summaries_finite.py --self-test   the walk on a made-up folder with one
                                 NaN and one Inf must fail, and on a clean
                                 one pass.
@@ -32,6 +35,8 @@ def walk(root):
             path = os.path.join(dirpath, name)
             with open(path, errors='replace') as f:
                 for n, line in enumerate(f, 1):
+                    if line.strip().startswith('error:'):
+                        continue
                     value = line.split('#', 1)[0]
                     if '=' in value:
                         value = value.split('=', 1)[1]
@@ -46,7 +51,8 @@ def self_test():
         with open(os.path.join(d, 'a', 'summary.txt'), 'w') as f:
             f.write('c_head = NaN  # m/s\nwidth = 1.0E+00\n')
         with open(os.path.join(d, 'a', 'case', 'summary.txt'), 'w') as f:
-            f.write('peak = -Infinity\nnote = not_applicable  # no pulse: NaN is not written\n')
+            f.write('peak = -Infinity\nnote = not_applicable  # no pulse: NaN is not written\n'
+                    '    error: wellposed-mpm: error: a.nml: &load: peak = NaN is not finite\n')
         n, bad = walk(d)
         if n != 2 or len(bad) != 2:
             print(f'FAIL: the walk found {n} summaries and {len(bad)} non-finite figures '
