@@ -59,7 +59,7 @@ contains
     type(dp_params_t) :: p_qs
     real(dp) :: sig_qs(ntens6), sig_qs_n(ntens6), dep_qs(ntens6), z_qs, zeta_new, dl_qs, f_qs
     real(dp) :: e, r, tr, c_de(ntens6), over_new(ntens6), comp(ntens6), dz, i1, s(ntens6)
-    real(dp) :: c(n, n)
+    real(dp) :: c(ntens6, ntens6)
 
     if (.not. p%tau > 0.0_dp) then
       call point_update(p, sig, eps_p, z, zeta, avg_dlambda, de, dtime, dlambda, f, status, &
@@ -110,8 +110,9 @@ contains
     f = sqrt(0.5_dp*(s(1)**2 + s(2)**2 + s(3)**2) + s(4)**2 + s(5)**2 + s(6)**2) &
         + p%beta*i1 - strength(p%hard, z) - zeta
     if (present(tangent)) then
-      call voigt_stiffness(p%el%bulk, p%el%shear, n, c)
-      tangent = (1.0_dp - r)*tangent + r*c
+      ! A fixed-size C (the leading n x n block is used): no heap.
+      call voigt_stiffness(p%el%bulk, p%el%shear, ntens6, c)
+      tangent = (1.0_dp - r)*tangent + r*c(1:n, 1:n)
     end if
   end subroutine gdl_update
 
