@@ -10,8 +10,10 @@ module wellposed_umat_adapter
   use wellposed_finite, only: is_finite, all_finite
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_tensor, only: ntens6
-  use wellposed_dp_params, only: dp_params_t, new_dp_params, fill_dp_params, n_params
+  use wellposed_dp_params, only: dp_params_t, new_dp_params, fill_dp_params, set_dl_form, &
+                                 n_params
   use wellposed_dp_point, only: point_update, voigt_stiffness, elastic_energy
+  use wellposed_generalized_dl, only: gdl_update
   use wellposed_text, only: int_text, real_text
   use wellposed_umat_layout
   implicit none
@@ -24,7 +26,8 @@ module wellposed_umat_adapter
   ! What the checks of umat_update find, in the order they check.
   integer, parameter :: fault_layout = 1, fault_nstatv = 2, fault_nprops = 3, &
                         fault_extra_prop = 4, fault_params = 5, fault_explicit = 6, &
-                        fault_dtime = 7, fault_non_finite = 8
+                        fault_dtime = 7, fault_non_finite = 8, fault_dl_form = 9, &
+                        fault_nstatv_gdl = 10
 
 contains
 
@@ -42,7 +45,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     type(dp_params_t) :: p
     real(dp) :: sig(ntens6), sig_n(ntens6), de(ntens6), eps_p(ntens6), eps_p_n(ntens6)
-    real(dp) :: z, zeta, dlambda, f, dep(ntens6)
+    real(dp) :: z, zeta, dlambda, f, dep(ntens6), over(ntens6), z_over
     integer :: fault, status
     logical :: want_tangent
 
@@ -62,7 +65,8 @@ contains
         fault = merge(0, fault_non_finite, all_finite(stran(1:4)))
       end if
       if (.not. (all_finite(sig) .and. all_finite(de) .and. &
-                 all_finite(statev(1:nstatv_min)))) fault = fault_non_finite
+                 all_finite(statev(1:merge(nstatv_gdl, nstatv_min, p%gdl))))) &
+        fault = fault_non_finite
     end if
     if (fault /= 0) then
       call explain(fault, ndi, nshr, ntens, nstatv, nprops, props, dtime, err)
@@ -77,7 +81,17 @@ contains
     zeta = statev(sv_zeta)
     sig_n = sig
     eps_p_n = eps_p
-    if (want_tangent) then
+    if (p%gdl) then
+      over = statev(sv_over:sv_over + 5)
+      z_over = statev(sv_over_z)
+      if (want_tangent) then
+        call gdl_update(p, sig, eps_p, z, zeta, over, z_over, statev(sv_avg_dlambda), de, &
+                        dtime, dlambda, f, status, ntens, ddsdde, err)
+      else
+        call gdl_update(p, sig, eps_p, z, zeta, over, z_over, statev(sv_avg_dlambda), de, &
+                        dtime, dlambda, f, status, ntens, err=err)
+      end if
+    else if (want_tangent) then
       call point_update(p, sig, eps_p, z, zeta, statev(sv_avg_dlambda), de, dtime, dlambda, f, &
                         status, ntens, ddsdde, err)
     else
@@ -100,6 +114,10 @@ contains
     statev(sv_eps_p + 3:sv_eps_p + 5) = 2.0_dp*eps_p(4:6)
     statev(sv_f) = f
     statev(sv_status) = real(status, dp)
+    if (p%gdl) then
+      statev(sv_over:sv_over + 5) = over
+      statev(sv_over_z) = z_over
+    end if
     ! Elastic energy density and plastic dissipation (trapezoidal rule).
     sse = elastic_energy(p%el%bulk, p%el%shear, sig)
     dep = eps_p - eps_p_n
@@ -144,6 +162,7 @@ contains
     integer, intent(out) :: fault
     real(dp) :: pr(nprops_known)
     integer :: param_fault
+    logical :: valid
 
     want_tangent = .false.
     fault = layout_fault(ndi, nshr, ntens, nstatv, nprops, props)
@@ -160,6 +179,11 @@ contains
     fault = fault_explicit
     want_tangent = pr(prop_explicit) == 0.0_dp
     if (.not. want_tangent .and. pr(prop_explicit) /= 1.0_dp) return
+    fault = fault_dl_form
+    call set_dl_form(p, pr(prop_dl_form), valid)
+    if (.not. valid) return
+    fault = fault_nstatv_gdl
+    if (p%gdl .and. nstatv < nstatv_gdl) return
     fault = fault_dtime
     if (.not. is_finite(dtime)) return
     if (dtime < 0.0_dp) return
@@ -227,6 +251,16 @@ contains
       call new_error(err, status_invalid, 'explicit', slot_text('explicit')//'explicit = '// &
         real_text(pr(prop_explicit))//' is out of range: valid is 0 (compute DDSDDE) or 1 '// &
         '(explicit host: no tangent)')
+    case (fault_dl_form)
+      call new_error(err, status_invalid, 'dl_form', slot_text('dl_form')//'dl_form = '// &
+        real_text(pr(prop_dl_form))//' is out of range: valid is 0 (Duvaut-Lions toward the '// &
+        'return of the current trial) or 1 (generalized Duvaut-Lions: a tracked quasi-static '// &
+        'state, NSTATV >= '//int_text(nstatv_gdl)//')')
+    case (fault_nstatv_gdl)
+      call new_error(err, status_invalid, '', 'NSTATV = '//int_text(nstatv)//' is too small '// &
+        'for PROPS('//int_text(prop_dl_form)//') dl_form = 1: the generalized Duvaut-Lions '// &
+        'form needs NSTATV >= '//int_text(nstatv_gdl)//' (slots '//int_text(sv_over)//'-'// &
+        int_text(sv_over_z)//': overstress and z - z_qs)')
     case (fault_dtime)
       call new_error(err, status_invalid, '', 'DTIME = '//real_text(dtime)// &
         ' is out of range: valid is a finite time increment >= 0')

@@ -5,8 +5,9 @@ module wellposed_umat_layout
   private
   public :: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, prop_h, prop_k_lim, &
             prop_z_ref, prop_p_v, prop_p_d, prop_tau, prop_h_zeta, prop_length, &
-            prop_explicit, nprops_known, nprops_min, prop_names, prop_slot
+            prop_explicit, prop_dl_form, nprops_known, nprops_min, prop_names, prop_slot
   public :: sv_z, sv_dlambda, sv_avg_dlambda, sv_zeta, sv_eps_p, sv_f, sv_status, nstatv_min
+  public :: sv_over, sv_over_z, nstatv_gdl
 
   integer, parameter :: prop_bulk = 1      !< K, bulk modulus (> 0)
   integer, parameter :: prop_shear = 2     !< G, shear modulus (> 0)
@@ -24,12 +25,16 @@ module wellposed_umat_layout
   !> Appended slot: 1 for a host that never reads DDSDDE (explicit
   !> dynamics); the tangent is then not computed and DDSDDE not written.
   integer, parameter :: prop_explicit = 14
-  integer, parameter :: nprops_known = 14
+  !> Appended slot: 1 selects the generalized Duvaut-Lions form (a tracked
+  !> quasi-static state, needs NSTATV >= nstatv_gdl); 0 the default form.
+  integer, parameter :: prop_dl_form = 15
+  integer, parameter :: nprops_known = 15
   !> K, G, beta, beta_p and k0 have no valid zero default.
   integer, parameter :: nprops_min = 5
 
   character(len=8), parameter :: prop_names(nprops_known) = [character(len=8) :: 'K', 'G', &
-    'beta', 'beta_p', 'k0', 'h', 'k_lim', 'z_ref', 'P_v', 'P_d', 'tau', 'h_zeta', 'L', 'explicit']
+    'beta', 'beta_p', 'k0', 'h', 'k_lim', 'z_ref', 'P_v', 'P_d', 'tau', 'h_zeta', 'L', 'explicit', &
+    'dl_form']
 
   integer, parameter :: sv_z = 1            !< cumulative equivalent plastic strain
   integer, parameter :: sv_dlambda = 2      !< dlambda of this increment (output)
@@ -39,6 +44,11 @@ module wellposed_umat_layout
   integer, parameter :: sv_f = 11           !< yield function at the end
   integer, parameter :: sv_status = 12      !< status code
   integer, parameter :: nstatv_min = 12
+  !> With PROPS(15) = 1: the overstress sigma - sigma_qs (eq. 2.8, six
+  !> slots 13-18, order 11, 22, 33, 12, 13, 23) and z - z_qs (slot 19).
+  integer, parameter :: sv_over = 13
+  integer, parameter :: sv_over_z = 19
+  integer, parameter :: nstatv_gdl = 19
 
 contains
 

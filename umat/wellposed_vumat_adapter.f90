@@ -19,9 +19,11 @@ module wellposed_vumat_adapter
   use wellposed_dp_params, only: dp_params_t
   use wellposed_dp_point, only: point_update, point_closed_form, has_closed_form
   use wellposed_hardening, only: hardening_t
+  use wellposed_generalized_dl, only: gdl_update
   use wellposed_umat_adapter, only: check_props, explain, fault_non_finite
   use wellposed_umat_layout, only: sv_z, sv_dlambda, sv_avg_dlambda, sv_zeta, sv_eps_p, sv_f, &
-                                   sv_status, nstatv_min
+                                   sv_status, nstatv_min, sv_over, sv_over_z, &
+                                   nstatv_gdl
   implicit none
   private
   public :: vumat_update
@@ -54,7 +56,7 @@ contains
     integer, intent(out) :: point
     type(dp_params_t) :: p
     real(dp) :: sig(ntens6), de(ntens6), eps_p(ntens6), z, zeta, dlambda, f, sig_sum(ntens6)
-    real(dp) :: dep(ntens6)
+    real(dp) :: dep(ntens6), over(ntens6), z_over
     integer :: fault, ntens, k, i, status
     logical :: want_tangent, closed, packaging
 
@@ -65,8 +67,9 @@ contains
       call explain(fault, ndir, nshr, ntens, nstatev, nprops, props, dt, err)
       return
     end if
-    call check_points(nblock, ntens, nstatev, density, strain_inc, stress_old, state_old, &
-                      ener_intern_old, ener_inelas_old, err, point)
+    call check_points(nblock, ntens, nstatev, merge(nstatv_gdl, nstatv_min, p%gdl), density, &
+                      strain_inc, stress_old, state_old, ener_intern_old, ener_inelas_old, err, &
+                      point)
     if (allocated(err)) then
       state_new(point, sv_status) = real(err%status, dp)
       return
@@ -80,8 +83,9 @@ contains
       p%hard = hardening_t(0.25_dp*huge(1.0_dp), 0.0_dp, 0.0_dp, 0.0_dp)
       p%h_zeta = 0.0_dp
       p%efr = .false.
+      p%gdl = .false.
     end if
-    closed = has_closed_form(p)
+    closed = has_closed_form(p) .and. .not. p%gdl
     ! One pass over the block, free of calls once point_closed_form is
     ! inlined; points it cannot serve (status_cutback) and models without a
     ! closed form go through point_update below.
@@ -98,8 +102,13 @@ contains
         if (nint(state_new(k, sv_status)) /= status_cutback) cycle
       end if
       call load(k)
-      call point_update(p, sig, eps_p, z, zeta, state_old(k, sv_avg_dlambda), de, dt, dlambda, &
-                        f, status, ntens, err=err)
+      if (p%gdl) then
+        call gdl_update(p, sig, eps_p, z, zeta, over, z_over, state_old(k, sv_avg_dlambda), de, &
+                        dt, dlambda, f, status, ntens, err=err)
+      else
+        call point_update(p, sig, eps_p, z, zeta, state_old(k, sv_avg_dlambda), de, dt, &
+                          dlambda, f, status, ntens, err=err)
+      end if
       if (allocated(err)) then
         point = k
         state_new(k, sv_status) = real(err%status, dp)
@@ -122,7 +131,9 @@ contains
           de(i) = 0.0_dp
         end if
         eps_p(i) = state_old(k, sv_eps_p - 1 + comp(i))
+        if (p%gdl) over(i) = state_old(k, sv_over - 1 + comp(i))
       end do
+      if (p%gdl) z_over = state_old(k, sv_over_z)
       z = state_old(k, sv_z)
       zeta = state_old(k, sv_zeta)
       sig_sum = sig
@@ -150,6 +161,12 @@ contains
       state_new(k, sv_f) = f
       state_new(k, sv_status) = real(status, dp)
       state_new(k, nstatv_min + 1:nstatev) = state_old(k, nstatv_min + 1:nstatev)
+      if (p%gdl) then
+        do i = 1, ntens6
+          state_new(k, sv_over - 1 + comp(i)) = over(i)
+        end do
+        state_new(k, sv_over_z) = z_over
+      end if
       ener_intern_new(k) = ener_intern_old(k) + 0.5_dp*contract(sig_sum, de)/density(k)
       ener_inelas_new(k) = ener_inelas_old(k) + 0.5_dp*contract(sig_sum, dep)/density(k)
     end subroutine store
@@ -163,12 +180,12 @@ contains
     c = a(1)*b(1) + a(2)*b(2) + a(3)*b(3) + 2.0_dp*(a(4)*b(4) + a(5)*b(5) + a(6)*b(6))
   end function contract
 
-  !> Every point's inputs: finite stress, strain increment, contract STATEV
-  !> slots and energies (else status -2), density finite and > 0 (else -1).
-  !> `point` is the first point at fault.
-  pure subroutine check_points(nblock, ntens, nstatev, density, strain_inc, stress_old, &
+  !> Every point's inputs: finite stress, strain increment, STATEV slots
+  !> 1-nsv (the ones the model reads) and energies (else status -2),
+  !> density finite and > 0 (else -1). `point` is the first point at fault.
+  pure subroutine check_points(nblock, ntens, nstatev, nsv, density, strain_inc, stress_old, &
                                state_old, ener_intern_old, ener_inelas_old, err, point)
-    integer, intent(in) :: nblock, ntens, nstatev
+    integer, intent(in) :: nblock, ntens, nstatev, nsv
     real(dp), intent(in) :: density(nblock), strain_inc(nblock, ntens)
     real(dp), intent(in) :: stress_old(nblock, ntens), state_old(nblock, nstatev)
     real(dp), intent(in) :: ener_intern_old(nblock), ener_inelas_old(nblock)
@@ -184,7 +201,7 @@ contains
     do j = 1, ntens
       finite = finite .and. all_finite(strain_inc(:, j)) .and. all_finite(stress_old(:, j))
     end do
-    do j = 1, nstatv_min
+    do j = 1, nsv
       finite = finite .and. all_finite(state_old(:, j))
     end do
     point = 0
@@ -193,7 +210,7 @@ contains
     end if
     do point = 1, nblock
       if (.not. (all_finite(strain_inc(point, :)) .and. all_finite(stress_old(point, :)) .and. &
-                 all_finite(state_old(point, 1:nstatv_min)) .and. &
+                 all_finite(state_old(point, 1:nsv)) .and. &
                  is_finite(ener_intern_old(point)) .and. is_finite(ener_inelas_old(point)))) then
         call new_error(err, status_cutback, '', name//'on input (point '//int_text(point)// &
           ' of the block)')

@@ -15,7 +15,7 @@ module wellposed_dp_params
   use wellposed_tensor, only: sqrt3
   implicit none
   private
-  public :: dp_params_t, new_dp_params, fill_dp_params, n_params
+  public :: dp_params_t, new_dp_params, fill_dp_params, set_dl_form, n_params
 
   !> Number of material parameters (PROPS 1-13 of the UMAT contract).
   integer, parameter :: n_params = 13
@@ -35,6 +35,7 @@ module wellposed_dp_params
     real(dp) :: p_v = 0.0_dp           !< EFR volumetric parameter (eq. 2.7)
     real(dp) :: p_d = 0.0_dp           !< EFR deviatoric parameter (eq. 2.7)
     real(dp) :: tau = 0.0_dp           !< Duvaut-Lions relaxation time (eq. 2.10)
+    logical :: gdl = .false.           !< generalized Duvaut-Lions (tracked sigma_qs, z_qs)
     real(dp) :: h_zeta = 0.0_dp        !< nonlocal hardening modulus (eq. 4.24)
     real(dp) :: length = 0.0_dp        !< nonlocal length scale L (eq. 2.15)
     ! derived
@@ -120,6 +121,18 @@ contains
       return
     fault = 0
   end subroutine fill_dp_params
+
+  !> Select the Duvaut-Lions form from its switch (PROPS(15)): 0 the
+  !> default form (sigma_qs the return of the current trial), 1 the
+  !> generalized form with a tracked quasi-static state
+  !> (wellposed_generalized_dl). `valid` is false for any other value.
+  pure subroutine set_dl_form(self, value, valid)
+    type(dp_params_t), intent(inout) :: self
+    real(dp), intent(in) :: value
+    logical, intent(out) :: valid
+    valid = value == 0.0_dp .or. value == 1.0_dp
+    self%gdl = value == 1.0_dp
+  end subroutine set_dl_form
 
   !> The message of a fault of fill_dp_params: symbol, value, valid range.
   pure subroutine fault_error(self, v, fault, err)

@@ -14,7 +14,7 @@ program umat_heap_main
   use wellposed_vumat_adapter, only: vumat_update
   use wellposed_malloc_counter, only: heap_allocations
   implicit none
-  integer, parameter :: nmodels = 9, nblock = 16
+  integer, parameter :: nmodels = 10, nblock = 16
   integer(c_long_long) :: n0, n1
   real(dp) :: stress(6), statev(12), ddsdde(6, 6), sse, spd, pnewdt
   type(error_t), allocatable :: err
@@ -48,11 +48,12 @@ contains
 
   !> The models of the contract (as test_vumat's): 1 elastic, 2
   !> nonassociative, 3 hardening, 4 softening, 5 exponential eq. 2.6, 6 EFR
-  !> P_v, 7 EFR P_d, 8 Duvaut-Lions, 9 nonlocal slots.
+  !> P_v, 7 EFR P_d, 8 Duvaut-Lions, 9 nonlocal slots, 10 generalized
+  !> Duvaut-Lions (PROPS(15) = 1, 19 STATEV).
   function model_props(m, explicit) result(pr)
     integer, intent(in) :: m
     logical, intent(in) :: explicit
-    real(dp) :: pr(14)
+    real(dp) :: pr(15)
     pr = 0.0_dp
     pr(1:5) = [4.0e9_dp, 1.5e9_dp, 0.315_dp, 0.0_dp, 5.066e6_dp]
     select case (m)
@@ -65,6 +66,7 @@ contains
     case (7); pr(4) = 0.315_dp; pr(10) = 0.5_dp
     case (8); pr(11) = 2.0e-3_dp
     case (9); pr(6) = 1.0e8_dp; pr(12) = 3.0e8_dp; pr(13) = 0.05_dp
+    case (10); pr(6) = 2.0e8_dp; pr(11) = 2.0e-3_dp; pr(15) = 1.0_dp
     end select
     if (explicit) pr(14) = 1.0_dp
   end function model_props
@@ -73,7 +75,7 @@ contains
   !> and one VUMAT block per model; `n` counts the calls.
   subroutine every_case(n)
     integer, intent(inout) :: n
-    real(dp) :: s0(6, 3), de(6, 3), pr(14)
+    real(dp) :: s0(6, 3), de(6, 3), pr(15)
     integer :: m, ic, nt, ie
     s0(:, 1) = [-100.0e6_dp, -30.0e6_dp, -30.0e6_dp, 0.0_dp, 0.0_dp, 0.0_dp]
     de(:, 1) = [1.0e-6_dp, 0.0_dp, 0.0_dp, 1.0e-7_dp, 0.0_dp, 0.0_dp]
@@ -100,17 +102,17 @@ contains
   !> puts automatic arrays of a run-time size on the heap): the leading
   !> elements serve NTENS = 4 by sequence association.
   subroutine one_umat(pr, s0, de, nt)
-    real(dp), intent(in) :: pr(14)
+    real(dp), intent(in) :: pr(15)
     integer, intent(in) :: nt
     real(dp), intent(in) :: s0(6), de(6)
-    real(dp) :: s(6), sv(12), dd(36), sse, spd, scd, rpl, ddsddt(6), drplde(6)
+    real(dp) :: s(6), sv(19), dd(36), sse, spd, scd, rpl, ddsddt(6), drplde(6)
     real(dp) :: drpldt, stran(6), time(2), predef(1), coords(3), drot(3, 3), f(3, 3), pnewdt
     character(len=80) :: cmname
     sse = 0; spd = 0; scd = 0; rpl = 0; ddsddt = 0; drplde = 0; drpldt = 0; stran = 0
     time = 0; predef = 0; coords = 0; drot = 0; f = 0; cmname = 'HEAP'; pnewdt = 1; dd = 0
     s = s0; sv = 0.0_dp
     call umat(s, sv, dd, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, de, time, &
-              1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, nt - 3, nt, 12, pr, 14, &
+              1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, nt - 3, nt, 19, pr, 15, &
               coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
     if (sv(12) < 0.0_dp .or. pnewdt < 1.0_dp) error stop 'umat_heap: a case did not succeed'
   end subroutine one_umat
@@ -118,9 +120,9 @@ contains
   !> A block of nblock points cycling through the three regimes (NTENS 6,
   !> VUMAT order 11, 22, 33, 12, 23, 31 and tensor shears).
   subroutine one_vumat(pr, s0, de)
-    real(dp), intent(in) :: pr(14), s0(6, 3), de(6, 3)
-    real(dp) :: s_old(nblock, 6), s_new(nblock, 6), d(nblock, 6), sv_old(nblock, 12)
-    real(dp) :: sv_new(nblock, 12), rho(nblock), e_old(nblock), e_new(nblock), e2_new(nblock)
+    real(dp), intent(in) :: pr(15), s0(6, 3), de(6, 3)
+    real(dp) :: s_old(nblock, 6), s_new(nblock, 6), d(nblock, 6), sv_old(nblock, 19)
+    real(dp) :: sv_new(nblock, 19), rho(nblock), e_old(nblock), e_new(nblock), e2_new(nblock)
     type(error_t), allocatable :: verr
     integer :: k, point
     do k = 1, nblock
@@ -129,7 +131,7 @@ contains
       d(k, 4:6) = 0.5_dp*d(k, 4:6)
     end do
     sv_old = 0.0_dp; sv_new = 0.0_dp; s_new = 0.0_dp; rho = 2500.0_dp; e_old = 0.0_dp
-    call vumat_update(nblock, 3, 3, 12, 14, 1.0_dp, 1.0_dp, 1.0e-3_dp, pr, rho, d, s_old, &
+    call vumat_update(nblock, 3, 3, 19, 15, 1.0_dp, 1.0_dp, 1.0e-3_dp, pr, rho, d, s_old, &
                       sv_old, e_old, e_old, s_new, sv_new, e_new, e2_new, verr, point)
     if (allocated(verr)) error stop 'umat_heap: a VUMAT block did not succeed'
   end subroutine one_vumat

@@ -81,11 +81,16 @@ PLAN = {
     'fig2_9_dl_de1': SHORT_700,
     'fig2_9_dl_de5': SHORT_700,
     'fig2_9_dl_de10': SHORT_700,
+    'fig2_9_gdl_de0.01': SHORT_700,
+    'fig2_9_gdl_de1': SHORT_700,
+    'fig2_9_gdl_de5': SHORT_700,
+    'fig2_9_gdl_de10': SHORT_700,
     'fig2_10_right_local_softening': SHORT_700,
     'fig2_10_right_overlocal': SHORT_OVERLOCAL,
     # decks without snapshots: one at the end, so fields are compared too
     'fig2_10_left_overlocal': ['output.snapshot_dt=0.0103'],
     'mesh_study_sandler_rubin': ['output.snapshot_dt=0.185'],
+    'mesh_study_gdl_de10': ['output.snapshot_dt=0.185'],
     'work_precision_efr': ['output.snapshot_dt=0.065'],
     'work_precision_elastic': ['output.snapshot_dt=0.016'],
 }
@@ -99,7 +104,8 @@ QUICK_700 = ['grid.length=40', 'time.t_end=0.0125', 'stations.first=5', 'station
 QUICK = {stem: QUICK_700 for stem in (
     'sandler_rubin_default', 'fig2_3_local_dx0.25', 'fig2_3_local_dx0.125', 'fig2_6_hardening',
     'fig2_6_softening', 'fig2_7_exponential', 'fig2_8_right_efr', 'fig2_9_dl_de0.01',
-    'fig2_9_dl_de1', 'fig2_9_dl_de5', 'fig2_9_dl_de10', 'fig2_10_right_local_softening',
+    'fig2_9_dl_de1', 'fig2_9_dl_de5', 'fig2_9_dl_de10', 'fig2_9_gdl_de0.01', 'fig2_9_gdl_de1',
+    'fig2_9_gdl_de5', 'fig2_9_gdl_de10', 'fig2_10_right_local_softening',
     'fig2_10_right_overlocal')}
 QUICK.update({
     'fig2_10_left_overlocal': ['grid.length=8', 'time.t_end=0.003', 'stations.first=1',
@@ -108,6 +114,8 @@ QUICK.update({
     'mesh_study_sandler_rubin': ['grid.length=100', 'time.t_end=0.04', 'stations.first=20',
                                  'stations.spacing=20', 'stations.count=3',
                                  'output.snapshot_dt=0.04'],
+    'mesh_study_gdl_de10': ['grid.length=100', 'time.t_end=0.04', 'stations.first=20',
+                            'stations.spacing=20', 'stations.count=3', 'output.snapshot_dt=0.04'],
     'work_precision_efr': PLAN['work_precision_efr'],
     'work_precision_elastic': PLAN['work_precision_elastic'],
     'fig4_2_local_plate': ['time.t_end=0.0075'],
