@@ -27,7 +27,7 @@ contains
     type(mpm_config_t), intent(in) :: cfg
     real(dp), intent(in) :: x(:), time(:), sxx(:, :), apex_flag(:, :), c_e, c_p
     type(station_measures_t), intent(in) :: meas
-    character(len=:), allocatable :: k, no_pulse, no_ideal, no_speed
+    character(len=:), allocatable :: k, no_pulse, no_ideal, no_speed, who
     real(dp) :: tau, t_apex, s_apex, c, rms
     integer :: i, n, apex
     logical :: ramp, ideal, reached(size(x)), ok
@@ -83,17 +83,18 @@ contains
       end if
     end if
     call find_apex(time, apex_flag, sxx, apex, t_apex, s_apex, reached)
-    if (.not. umat_is_ours()) then
-      call sm%not_applicable('apex_reached_at_station', 'a user''s UMAT: its STATEV(12) '// &
-                             'is not wellposed''s return status')
-    else if (apex > 0) then
+    ! as the stations' z (STATEV(1)), read whatever a user's UMAT keeps there
+    ! (docs/mpm.md); the comment says which UMAT it was
+    who = ''
+    if (.not. umat_is_ours()) who = ' (a user''s UMAT: its STATEV(12), whatever it holds)'
+    if (apex > 0) then
       call sm%add('apex_reached_at_station', apex, 'first station whose material returned '// &
         'to the apex of the cone (STATEV(12) = 2: hydrostatic, I1 = k/beta) at t = '// &
         real_text(t_apex)//' s, sigma_xx = '//real_text(s_apex/1.0e6_dp)//' MPa; '// &
-        int_text(count(reached))//' of '//int_text(n)//' stations reached it')
+        int_text(count(reached))//' of '//int_text(n)//' stations reached it'//who)
     else
       call sm%add('apex_reached_at_station', 'none', 'no station''s material returned to '// &
-                  'the apex of the cone')
+                  'the apex of the cone'//who)
     end if
     if (ramp) then
       call phase_speed(time, sxx, x, cfg%load_frequency, min(c_e, c_p), c, rms, ok)
