@@ -49,7 +49,8 @@ module wellposed_mpm_plane_strain
   use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_update, &
                                 host_error, verdict_ok, verdict_cutback
   use wellposed_umat_layout, only: prop_k0
-  use wellposed_mpm_particles, only: particles_t, new_particles
+  use wellposed_mpm_particles, only: particles_t, new_particles, particle_record_length, &
+                                     pack_particle, unpack_particle, ensure_capacity
   use wellposed_mpm_config, only: scheme_musl
   use wellposed_mpm_shape_2d, only: shape_2d, support_size_2d, shape2d_cpdi, shape2d_gimp, &
                                     shape2d_linear, shape2d_reach, shape2d_names
@@ -62,8 +63,7 @@ module wellposed_mpm_plane_strain
   use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, patch_nodes, &
                                          owner_of_position, hand_off_particles_with, &
                                          layer_of_position, &
-                                         sum_ghost_values, particle_record_length, &
-                                         pack_particle, unpack_particle, ensure_capacity
+                                         sum_ghost_values
   use wellposed_checkpoint, only: checkpoint_t
   implicit none
   private
