@@ -127,21 +127,12 @@ contains
     type(payload_t), intent(in) :: p
     integer, intent(in) :: gid(:), n_cols
     type(payload_t), intent(out) :: q
-    integer :: k, a, b
-    if (allocated(p%r)) then
-      allocate (q%r(n_cols*size(gid)))
-    else
-      allocate (q%i(n_cols*size(gid)))
-    end if
+    integer :: inverse(size(gid)), k
+    ! gid is a permutation of 1..size(gid) (new_row_order checked it)
     do k = 1, size(gid)
-      a = (k - 1)*n_cols
-      b = (gid(k) - 1)*n_cols
-      if (allocated(p%r)) then
-        q%r(b + 1:b + n_cols) = p%r(a + 1:a + n_cols)
-      else
-        q%i(b + 1:b + n_cols) = p%i(a + 1:a + n_cols)
-      end if
+      inverse(gid(k)) = k
     end do
+    call permute_rows(p, inverse, n_cols, q)
   end subroutine place_rows
 
   ! -------------------------------------------------------------------------

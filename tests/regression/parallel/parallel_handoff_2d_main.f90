@@ -12,7 +12,7 @@ program parallel_handoff_2d_main
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop, allreduce_sum, allreduce_max, &
                            gatherv_real
-  use wellposed_mpm_grid, only: grid_t, grid_reset
+  use wellposed_mpm_grid, only: grid_t, new_grid, grid_reset
   use wellposed_mpm_particles, only: particles_t, new_particles
   use wellposed_mpm_decomposition
   implicit none
@@ -32,19 +32,7 @@ program parallel_handoff_2d_main
   if (allocated(err)) error stop 2
   failures = 0
   ! the whole grid, then this rank's patch of cell rows (axis 2)
-  grid%ndim = 2
-  grid%origin = 0.0_dp
-  grid%dx = h
-  grid%nnodes = (nx + 1)*(ny + 1)
-  grid%ilo = 0
-  grid%ihi = grid%nnodes - 1
-  grid%glo = 0
-  grid%ghi = grid%nnodes - 1
-  allocate (grid%mass(0:grid%nnodes - 1), grid%momentum(2, 0:grid%nnodes - 1), &
-            grid%fint(2, 0:grid%nnodes - 1), grid%fext(2, 0:grid%nnodes - 1), &
-            grid%velocity(2, 0:grid%nnodes - 1), grid%accel(2, 0:grid%nnodes - 1), &
-            grid%fixed(2, 0:grid%nnodes - 1))
-  grid%fixed = .false.
+  call new_grid(grid, 2, 0.0_dp, h, (nx + 1)*(ny + 1), 0, (nx + 1)*(ny + 1) - 1)
   call new_decomposition(dec, comm, ny, nx + 1, 1, 2, 0.0_dp, h, err)
   call stop_on(err)
   call restrict_grid(dec, grid)
