@@ -1,6 +1,6 @@
 !> The dissertation's nonlocal algorithm for the MPM (Algorithm 1, eq. 4.46-4.50),
 !> the same code for 1D and 2D grids, talking to the material through the
-!> UMAT's nonlocal slots only (shared design: UMAT_CONTRACT.md): the host
+!> UMAT's nonlocal slots only (docs/umat.md): the host
 !> keeps each particle's start-of-step STRESS and STATEV, and for a given
 !> average <dlambda> it restores them, writes STATEV(3) = <dlambda>, calls
 !> the UMAT with this step's strain increment and reports STATEV(2). That

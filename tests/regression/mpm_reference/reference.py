@@ -18,8 +18,8 @@ reference.py compare-all REF_ROOT RUN_ROOT [--tolerance T] [NAME ...]
 reference.py check --exe EXE --out ROOT NAME
     the regression test: runs deck NAME of decks.txt through EXE into
     ROOT/NAME and compares its summary.txt with the stored reference
-    expected/NAME/summary.txt (written by the programs before the one
-    engine), bitwise but for the keys of TOLERANCES.
+    expected/NAME/summary.txt (see docs/mpm.md for their origin),
+    bitwise but for the keys of TOLERANCES.
 
 Exit status 0 when every compared figure agrees.
 """
