@@ -14,6 +14,7 @@ program bench_mpm2d
   use wellposed_error, only: error_t
   use wellposed_mpm_plane_strain, only: ps_config_t, ps_scene_t, new_ps_scene, ps_advance
   use wellposed_mpm_shape_2d, only: shape2d_linear, shape2d_cpdi, shape2d_names
+  use wellposed_mpm_materials, only: add_material
   implicit none
   integer, parameter :: nwarm = 150, nsteps = 400
   real(dp), parameter :: targets(3) = [150.0_dp, 250.0_dp, 450.0_dp]
@@ -70,6 +71,8 @@ contains
     integer, intent(in) :: kind
     real(dp), intent(in) :: length
     type(ps_config_t) :: c
+    type(error_t), allocatable :: err
+    real(dp) :: weak(14)
     c = ps_config_t()
     c%dx = 0.25_dp
     c%shape = kind
@@ -82,7 +85,13 @@ contains
     end if
     c%props(14) = 1.0_dp
     c%nprops = 14
-    c%weak_k0 = 38.0e6_dp
+    ! the body, and the weak corner [0, 1] x [0, 1] m with k0 = 38 MPa
+    c%materials%ndim = 2
+    call add_material(c%materials, c%props(1:14), 12, .true., .false., err)
+    weak = c%props(1:14)
+    weak(5) = 38.0e6_dp
+    call add_material(c%materials, weak, 12, .true., .false., err, [0.0_dp, 0.0_dp], &
+                      [1.0_dp, 1.0_dp])
     c%t_end = 1.0_dp
   end function plate
 

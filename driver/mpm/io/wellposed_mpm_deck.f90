@@ -6,10 +6,11 @@
 !>   &grid     length (m), dx (m), ppc, pad_cells, shape ('gimp'|'linear'),
 !>             far_end ('fixed'|'symmetric'|'free')
 !>   &time     t_end (s), cfl (fraction of the CFL step), scheme ('musl'|'usl')
-!>   &material density (kg/m^3), nstatv, and EITHER the named wellposed
-!>             parameters K, G, beta, beta_p, k0, h, k_lim, z_ref, P_v, P_d,
-!>             tau, h_zeta, L (Pa, s, m; PROPS 1-13 of the UMAT contract)
-!>             OR props = <list> (any user's UMAT, passed as given)
+!>   &material one or more groups (wellposed_mpm_material_deck): density
+!>             (kg/m^3), nstatv, the named wellposed parameters K, G, beta,
+!>             beta_p, k0, h, k_lim, z_ref, P_v, P_d, tau, h_zeta, L (PROPS
+!>             1-13) or props = <list> (any UMAT), and a region (x range or
+!>             'rest')
 !>   &initial  stress (6 values, Pa, Abaqus order, tension +), velocity (m/s)
 !>   &load     base, peak (Pa), duration, start (s), pulse ('triangle'|'cosine'|
 !>             'ramp_sine'); ramp_sine only: rate (Pa/s), amplitude (Pa),
@@ -28,9 +29,11 @@ module wellposed_mpm_deck
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: namelist_error, check_range, check_finite, &
                             unset, is_set, has_group, real_str, lower, check_word
-  use wellposed_mpm_material_deck, only: material_props
+  use wellposed_mpm_material_deck, only: read_materials, material_defaults_t, &
+                                         is_material_group
   use wellposed_mpm_deck_file, only: open_deck, override_line
   use wellposed_mpm_scene_kind, only: check_scene_name
+  use wellposed_mpm_materials, only: first_material
   use wellposed_mpm_config
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nl_scheme_id
   implicit none
@@ -60,9 +63,7 @@ contains
     integer :: ppc, pad_cells
     character(len=16) :: shape, far_end, scheme
     real(dp) :: t_end, cfl
-    real(dp) :: density, k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, h_zeta, l
-    real(dp) :: props(max_props)
-    integer :: nstatv
+    type(material_defaults_t) :: mdef
     real(dp) :: stress(6), velocity
     real(dp) :: base, peak, duration, start, rate, amplitude, frequency
     integer :: count
@@ -72,8 +73,6 @@ contains
     namelist /scene/ name, title, kind
     namelist /grid/ length, dx, ppc, pad_cells, shape, far_end
     namelist /time/ t_end, cfl, scheme
-    namelist /material/ density, k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, &
-      h_zeta, l, props, nstatv
     namelist /initial/ stress, velocity
     namelist /load/ base, peak, duration, start, pulse, rate, amplitude, frequency
     namelist /stations/ first, spacing, count
@@ -89,12 +88,10 @@ contains
     length = cfg%length; dx = cfg%dx; ppc = cfg%ppc; pad_cells = cfg%pad_cells
     shape = 'gimp'; far_end = 'fixed'; scheme = 'musl'
     t_end = cfg%t_end; cfl = cfg%cfl
-    density = cfg%density
-    k = 4.0e9_dp; g = 1.5e9_dp; beta = 0.315_dp; beta_p = 0.0_dp; k0 = 5.066e6_dp
-    h = 0.0_dp; k_lim = 0.0_dp; z_ref = 0.0_dp; p_v = 0.0_dp; p_d = 0.0_dp; tau = 0.0_dp
-    h_zeta = 0.0_dp; l = 0.0_dp
-    props = unset
-    nstatv = cfg%nstatv
+    mdef%density = cfg%density
+    mdef%nstatv = cfg%nstatv
+    mdef%named = 0.0_dp
+    mdef%named(1:5) = [4.0e9_dp, 1.5e9_dp, 0.315_dp, 0.0_dp, 5.066e6_dp]
     stress = cfg%stress0; velocity = cfg%velocity0
     base = cfg%load_base; peak = cfg%load_peak; duration = cfg%load_duration
     start = cfg%load_start
@@ -117,10 +114,6 @@ contains
     if (has_group(text, 'time')) then
       rewind (unit); read (unit, nml=time, iostat=ios, iomsg=msg)
       if (ios /= 0) then; call nml_fail('time'); return; end if
-    end if
-    if (has_group(text, 'material')) then
-      rewind (unit); read (unit, nml=material, iostat=ios, iomsg=msg)
-      if (ios /= 0) then; call nml_fail('material'); return; end if
     end if
     if (has_group(text, 'initial')) then
       rewind (unit); read (unit, nml=initial, iostat=ios, iomsg=msg)
@@ -149,11 +142,11 @@ contains
     do i = 1, size(overrides)
       call override_line(overrides(i), group, line, err)
       if (allocated(err)) return
+      if (is_material_group(group)) cycle   ! read_materials reads them
       select case (group)
       case ('scene'); read (line, nml=scene, iostat=ios, iomsg=msg)
       case ('grid'); read (line, nml=grid, iostat=ios, iomsg=msg)
       case ('time'); read (line, nml=time, iostat=ios, iomsg=msg)
-      case ('material'); read (line, nml=material, iostat=ios, iomsg=msg)
       case ('initial'); read (line, nml=initial, iostat=ios, iomsg=msg)
       case ('load'); read (line, nml=load, iostat=ios, iomsg=msg)
       case ('stations'); read (line, nml=stations, iostat=ios, iomsg=msg)
@@ -180,12 +173,9 @@ contains
     cfg%pulse = word(pulse, pulse_names, 'load', 'pulse'); if (allocated(err)) return
     cfg%t_end = t_end; cfg%cfl = cfl
     call check_finite(path, 'time', 'cfl', cfl, err); if (allocated(err)) return
-    call check_finite(path, 'material', 'density', density, err); if (allocated(err)) return
-    cfg%density = density
-    cfg%nstatv = nstatv
-    call material_props(path, props, [k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, &
-                                      h_zeta, l], cfg%props, cfg%nprops, err)
+    call read_materials(path, text, overrides, 1, mdef, cfg%materials, cfg%density, err)
     if (allocated(err)) return
+    call first_material(cfg%materials, cfg%props, cfg%nprops, cfg%nstatv)
     cfg%stress0 = stress; cfg%velocity0 = velocity
     call check_finite(path, 'initial', 'stress', stress, err); if (allocated(err)) return
     cfg%load_base = base; cfg%load_peak = peak; cfg%load_duration = duration

@@ -1,55 +1,295 @@
-!> The &material group of the MPM decks (wellposed-mpm, wellposed-mpm2d)
-!> into UMAT PROPS, once for both readers.
+!> The &material groups of an MPM deck (bar and plate alike) into the
+!> scene's material set (wellposed_mpm_materials). A deck gives one or more
+!> &material groups; namelists cannot repeat a group in one READ, so each
+!> occurrence is one READ of the deck, in order. Keys of one group:
+!>   density (kg/m^3: one per scene), nstatv,
+!>   model ('wellposed': our UMAT by its named keys K, G, beta, beta_p, k0,
+!>     h, k_lim, z_ref, P_v, P_d, tau, h_zeta, L = PROPS 1-13, PROPS(14) = 1;
+!>     'umat': props = <list> passed as given; default: 'umat' when props
+!>     is given, else 'wellposed'),
+!>   nonlocal_contract (.true.: the UMAT reads STATEV(3) and writes
+!>     STATEV(2) as docs/umat.md says, so Algorithm 1 averages it; ours
+!>     always does),
+!>   region ('rest' or 'box'; default 'box' when x is given), x(2), y(2)
+!>     (m: the box's ranges, y for plates only).
+!> Overrides: material.key=value changes the first group, materialN.key=value
+!> the N-th.
 module wellposed_mpm_material_deck
+  use, intrinsic :: iso_fortran_env, only: iostat_end
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: check_finite, is_set
+  use wellposed_text, only: int_text, real_text
+  use wellposed_deck, only: check_finite, is_set, unset, namelist_error, lower
   use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
                                    prop_h, prop_k_lim, prop_z_ref, prop_p_v, prop_p_d, &
                                    prop_tau, prop_h_zeta, prop_length, prop_explicit
+  use wellposed_umat_host, only: umat_is_ours
+  use wellposed_mpm_materials, only: mpm_materials_t, max_materials, max_material_props, &
+                                     add_material, check_regions, min_nstatv
   implicit none
   private
-  public :: material_props
+  public :: read_materials, material_defaults_t, is_material_group
+
+  !> A scene's defaults for a &material group.
+  type :: material_defaults_t
+    real(dp) :: density = 1000.0_dp
+    integer :: nstatv = 12
+    !> K, G, beta, beta_p, k0, h, k_lim, z_ref, P_v, P_d, tau, h_zeta, L
+    real(dp) :: named(13) = 0.0_dp
+  end type material_defaults_t
+
+  character(len=6), parameter :: named_keys(13) = [character(len=6) :: 'K', 'G', 'beta', &
+    'beta_p', 'k0', 'h', 'k_lim', 'z_ref', 'P_v', 'P_d', 'tau', 'h_zeta', 'L']
 
 contains
 
-  !> PROPS of an MPM deck's &material group into `out` (zeroed past
-  !> `nprops`). `props`, when any entry is set, is a user's full list
-  !> (every entry up to the last set, each finite) and is passed as given.
-  !> Otherwise `named` holds the model's named keys in PROPS order
-  !> (K, G, beta, beta_p, k0, h, k_lim, z_ref, P_v, P_d, tau, h_zeta, L:
-  !> slots 1-13), each checked finite under its own key, and the appended
-  !> slot 14 is set: our MPM hosts are explicit and never read DDSDDE.
-  subroutine material_props(path, props, named, out, nprops, err)
-    character(len=*), intent(in) :: path
-    real(dp), intent(in) :: props(:), named(13)
-    real(dp), intent(out) :: out(:)
-    integer, intent(out) :: nprops
+  !> True for an override group that names a &material occurrence
+  !> ('material', 'material2', ...).
+  pure logical function is_material_group(group)
+    character(len=*), intent(in) :: group
+    is_material_group = .false.
+    if (len(group) < 8) return
+    if (lower(group(1:8)) /= 'material') return
+    is_material_group = verify(group(9:), '0123456789') == 0
+  end function is_material_group
+
+  !> Every &material group of deck `path` (its text `text`), then the
+  !> overrides, into `mats` (regions of `ndim` dimensions) and the scene's
+  !> `density`. Errors name the deck, the occurrence and the key.
+  subroutine read_materials(path, text, overrides, ndim, dflt, mats, density, err)
+    character(len=*), intent(in) :: path, text, overrides(:)
+    integer, intent(in) :: ndim
+    type(material_defaults_t), intent(in) :: dflt
+    type(mpm_materials_t), intent(out) :: mats
+    real(dp), intent(out) :: density
     type(error_t), allocatable, intent(out) :: err
-    character(len=6), parameter :: keys(13) = [character(len=6) :: 'K', 'G', 'beta', &
-      'beta_p', 'k0', 'h', 'k_lim', 'z_ref', 'P_v', 'P_d', 'tau', 'h_zeta', 'L']
-    integer :: i
-    out = 0.0_dp
-    nprops = 0
-    if (any(is_set(props))) then
-      nprops = findloc(is_set(props), .true., back=.true., dim=1)
-      if (.not. all(is_set(props(1:nprops)))) then
-        call new_error(err, status_invalid, 'props', path//': &material: props has gaps; '// &
-          'give every entry up to the last'); return
-      end if
-      call check_finite(path, 'material', 'props', props(1:nprops), err)
-      if (allocated(err)) return
-      out(1:nprops) = props(1:nprops)
+    character(len=512) :: msg
+    character(len=:), allocatable :: grp
+    integer :: unit, ios, n, k, i, eq, dot, which
+    real(dp) :: v_dens(max_materials), v_x(2, max_materials), v_y(2, max_materials)
+    real(dp) :: v_named(13, max_materials), v_props(max_material_props, max_materials)
+    integer :: v_nstatv(max_materials)
+    character(len=16) :: v_model(max_materials), v_region(max_materials)
+    logical :: v_contract(max_materials)
+
+    mats%deck = path
+    mats%ndim = ndim
+    density = dflt%density
+    open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+    if (ios /= 0) then
+      call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
       return
     end if
-    do i = 1, size(named)
-      call check_finite(path, 'material', trim(keys(i)), named(i), err)
+    n = 0
+    do k = 1, max_materials + 1
+      call defaults(k)
+      call read_one(k, ios, unit=unit)
+      if (ios == iostat_end) exit
+      if (ios /= 0) then
+        close (unit)
+        err = namelist_error(path, label(k, k), ios, msg, text)
+        return
+      end if
+      if (k > max_materials) then
+        close (unit)
+        call new_error(err, status_invalid, 'material', path//': more than '// &
+          int_text(max_materials)//' &material groups'); return
+      end if
+      n = k
+    end do
+    close (unit)
+    if (n == 0) then
+      n = 1
+      call defaults(1)
+    end if
+
+    do i = 1, size(overrides)
+      eq = index(overrides(i), '=')
+      dot = index(overrides(i), '.')
+      if (dot < 2 .or. eq < dot + 2) cycle
+      grp = lower(overrides(i)(1:dot - 1))
+      if (.not. is_material_group(grp)) cycle
+      which = 1
+      if (len(grp) > 8) read (grp(9:), *) which
+      if (which < 1 .or. which > n) then
+        call new_error(err, status_invalid, grp, 'override "'//trim(overrides(i))// &
+          '": the deck has '//int_text(n)//' &material group(s)'); return
+      end if
+      call read_one(which, ios, line='&material '//trim(overrides(i)(dot + 1:))//' /')
+      if (ios /= 0) then
+        err = namelist_error('command line', 'material', ios, msg, trim(overrides(i)))
+        return
+      end if
+    end do
+
+    do k = 1, n
+      call convert(k)
       if (allocated(err)) return
     end do
-    out([prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, prop_h, prop_k_lim, &
-         prop_z_ref, prop_p_v, prop_p_d, prop_tau, prop_h_zeta, prop_length]) = named
-    out(prop_explicit) = 1.0_dp
-    nprops = prop_explicit
-  end subroutine material_props
+    call check_regions(mats, err)
+
+  contains
+
+    subroutine defaults(k)
+      integer, intent(in) :: k
+      v_dens(k) = dflt%density
+      if (k > 1) v_dens(k) = unset
+      v_nstatv(k) = dflt%nstatv
+      v_named(:, k) = dflt%named
+      v_props(:, k) = unset
+      v_model(k) = ''
+      v_region(k) = ''
+      v_x(:, k) = unset
+      v_y(:, k) = unset
+      v_contract(k) = .false.
+    end subroutine defaults
+
+    !> One READ of the namelist into occurrence occ's values.
+    subroutine read_one(occ, ios, unit, line)
+      integer, intent(in) :: occ
+      integer, intent(out) :: ios
+      integer, intent(in), optional :: unit
+      character(len=*), intent(in), optional :: line
+      real(dp) :: density, k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, h_zeta, l
+      real(dp) :: props(max_material_props), x(2), y(2)
+      integer :: nstatv
+      character(len=16) :: model, region
+      logical :: nonlocal_contract
+      namelist /material/ density, k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, &
+        h_zeta, l, props, nstatv, model, region, x, y, nonlocal_contract
+      integer :: kk
+      kk = min(occ, max_materials)
+      density = v_dens(kk)
+      associate (v => v_named(:, kk))
+        k = v(1); g = v(2); beta = v(3); beta_p = v(4); k0 = v(5); h = v(6)
+        k_lim = v(7); z_ref = v(8); p_v = v(9); p_d = v(10); tau = v(11); h_zeta = v(12)
+        l = v(13)
+      end associate
+      props = v_props(:, kk); x = v_x(:, kk); y = v_y(:, kk)
+      nstatv = v_nstatv(kk); model = v_model(kk); region = v_region(kk)
+      nonlocal_contract = v_contract(kk)
+      ios = 0
+      if (present(unit)) read (unit, nml=material, iostat=ios, iomsg=msg)
+      if (present(line)) read (line, nml=material, iostat=ios, iomsg=msg)
+      if (ios /= 0 .or. occ > max_materials) return
+      v_dens(occ) = density
+      v_named(:, occ) = [k, g, beta, beta_p, k0, h, k_lim, z_ref, p_v, p_d, tau, h_zeta, l]
+      v_props(:, occ) = props; v_x(:, occ) = x; v_y(:, occ) = y
+      v_nstatv(occ) = nstatv; v_model(occ) = model; v_region(occ) = region
+      v_contract(occ) = nonlocal_contract
+    end subroutine read_one
+
+    !> Occurrence k into the material set.
+    subroutine convert(k)
+      integer, intent(in) :: k
+      character(len=:), allocatable :: g, m, r
+      real(dp) :: pr(max_material_props)
+      integer :: np, j
+      logical :: box
+      g = label(k, n)
+      m = lower(trim(v_model(k)))
+      if (len(m) == 0) m = merge('umat     ', 'wellposed', any(is_set(v_props(:, k))))
+      m = trim(m)
+      if (k > 1 .and. is_set(v_dens(k))) then
+        if (v_dens(k) /= density) then
+          call new_error(err, status_invalid, 'density', path//': &'//g//': density = '// &
+            real_text(v_dens(k))//' differs from the first group''s '//real_text(density)// &
+            ' kg/m^3: a scene takes one density'); return
+        end if
+      end if
+      if (k == 1) then
+        call check_finite(path, g, 'density', v_dens(1), err); if (allocated(err)) return
+        density = v_dens(1)
+      end if
+      select case (m)
+      case ('wellposed')
+        if (any(is_set(v_props(:, k)))) then
+          call new_error(err, status_invalid, 'props', path//': &'//g//': props is '// &
+            'given with model = ''wellposed'' (our named keys); use model = ''umat'''); return
+        end if
+        do j = 1, 13
+          call check_finite(path, g, trim(named_keys(j)), v_named(j, k), err)
+          if (allocated(err)) return
+        end do
+        pr = 0.0_dp
+        pr([prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, prop_h, prop_k_lim, &
+            prop_z_ref, prop_p_v, prop_p_d, prop_tau, prop_h_zeta, prop_length]) = v_named(:, k)
+        pr(prop_explicit) = 1.0_dp
+        np = prop_explicit
+      case ('umat')
+        if (.not. any(is_set(v_props(:, k)))) then
+          call new_error(err, status_invalid, 'props', path//': &'//g//': model = '// &
+            '''umat'' needs props = <the UMAT''s PROPS>'); return
+        end if
+        np = findloc(is_set(v_props(:, k)), .true., back=.true., dim=1)
+        if (.not. all(is_set(v_props(1:np, k)))) then
+          call new_error(err, status_invalid, 'props', path//': &'//g//': props has '// &
+            'gaps; give every entry up to the last'); return
+        end if
+        call check_finite(path, g, 'props', v_props(1:np, k), err)
+        if (allocated(err)) return
+        pr(1:np) = v_props(1:np, k)
+      case default
+        call new_error(err, status_invalid, 'model', path//': &'//g//': model = '''// &
+          trim(v_model(k))//''' is not a known material: ''wellposed'' (our model, named '// &
+          'keys) or ''umat'' (the linked UMAT with props)'); return
+      end select
+      if (v_nstatv(k) < min_nstatv) then
+        call new_error(err, status_invalid, 'nstatv', path//': &'//g//': nstatv = '// &
+          int_text(v_nstatv(k))//' is below '//int_text(min_nstatv)//', what our model '// &
+          'needs (docs/umat.md) and the MPM''s outputs read (STATEV 2 and 4)'); return
+      end if
+      r = lower(trim(v_region(k)))
+      if (len(r) == 0) r = merge('box ', 'rest', any(is_set(v_x(:, k))))
+      r = trim(r)
+      select case (r)
+      case ('rest')
+        box = .false.
+        if (any(is_set(v_x(:, k))) .or. any(is_set(v_y(:, k)))) then
+          call new_error(err, status_invalid, 'region', path//': &'//g//': region = '// &
+            '''rest'' takes no x or y (they bound a box)'); return
+        end if
+      case ('box')
+        box = .true.
+        if (.not. all(is_set(v_x(:, k)))) then
+          call new_error(err, status_invalid, 'x', path//': &'//g//': a box region needs '// &
+            'x = lower, upper (m)'); return
+        end if
+        if (ndim == 1 .and. any(is_set(v_y(:, k)))) then
+          call new_error(err, status_invalid, 'y', path//': &'//g//': y is for plates; '// &
+            'a bar''s box is x = lower, upper'); return
+        end if
+        if (ndim == 2 .and. .not. all(is_set(v_y(:, k)))) then
+          call new_error(err, status_invalid, 'y', path//': &'//g//': a plate''s box needs '// &
+            'y = lower, upper (m) as well as x'); return
+        end if
+        call check_finite(path, g, 'x', v_x(:, k), err); if (allocated(err)) return
+        if (ndim == 2) call check_finite(path, g, 'y', v_y(:, k), err)
+        if (allocated(err)) return
+      case default
+        call new_error(err, status_invalid, 'region', path//': &'//g//': region = '''// &
+          trim(v_region(k))//''' is not one of ''rest'', ''box'''); return
+      end select
+      ! our slots (PROPS 12-14, STATEV 2/3) where the linked UMAT is ours,
+      ! however its PROPS are given; a user's UMAT build passes named keys
+      ! as plain PROPS
+      if (box) then
+        call add_material(mats, pr(1:np), v_nstatv(k), umat_is_ours(), &
+                          v_contract(k), err, [v_x(1, k), v_y(1, k)], [v_x(2, k), v_y(2, k)])
+      else
+        call add_material(mats, pr(1:np), v_nstatv(k), umat_is_ours(), &
+                          v_contract(k), err)
+      end if
+    end subroutine convert
+
+    !> 'material' for a deck of one group, else 'material (occurrence k)'.
+    function label(k, n) result(s)
+      integer, intent(in) :: k, n
+      character(len=:), allocatable :: s
+      s = 'material'
+      if (n > 1) s = s//' (occurrence '//int_text(k)//')'
+    end function label
+
+  end subroutine read_materials
 
 end module wellposed_mpm_material_deck

@@ -2,14 +2,17 @@
 !> a ps_config_t plus the list of cases a figure needs (meshes, sizes), with
 !> the wellposed_deck conventions (every message names file, group, key).
 !>   &scene     name, title
-!>   &plate     width, height (m), weak_x(2), weak_y(2) (m), weak_k0 (Pa; 0: none)
+!>   &plate     width, height (m); deprecated: weak_x(2), weak_y(2) (m),
+!>              weak_k0 (Pa), read as a second &material (a copy of the
+!>              first with k0 = weak_k0) in the box weak_x by weak_y
 !>   &grid      dx (m), ppc (per direction), pad_cells, shape ('cpdi'|'gimp'|'linear')
 !>   &time      t_end (s), cfl, scheme ('musl'|'usl'), stop_on_cutback (end a
 !>              case cleanly when a particle has softened to zero strength:
 !>              the UMAT's cut-back)
-!>   &material  density (kg/m^3), nstatv, K, G, beta, beta_p, k0, h, h_zeta, L
-!>              (Pa, m: PROPS 1-6, 12, 13 of the UMAT contract; PROPS(14) = 1)
-!>              OR props = <list> (a user's UMAT, passed as given)
+!>   &material  one or more groups (wellposed_mpm_material_deck): density
+!>              (kg/m^3), nstatv, our named keys (K, G, beta, beta_p, k0, h,
+!>              h_zeta, L, ...) or props = <list> (any UMAT), and a region
+!>              (x and y ranges, or 'rest')
 !>   &boundary  bottom ('roller'|'fixed'|'free'), top ('velocity'|'free'),
 !>              sides ('free'|'roller'), top_velocity (m/s), ramp_time (s),
 !>              top_lateral ('fixed': v_x = 0 on the top as the dissertation; 'free')
@@ -33,7 +36,11 @@ module wellposed_mpm_ps_deck
   use wellposed_text, only: int_text
   use wellposed_deck, only: namelist_error, check_finite, has_group, unset, &
                             is_set, lower, check_word
-  use wellposed_mpm_material_deck, only: material_props
+  use, intrinsic :: iso_fortran_env, only: error_unit
+  use wellposed_mpm_material_deck, only: read_materials, material_defaults_t, &
+                                         is_material_group
+  use wellposed_mpm_materials, only: add_material, check_regions, first_material
+  use wellposed_umat_layout, only: prop_k0
   use wellposed_mpm_deck_file, only: open_deck, override_line
   use wellposed_mpm_scene_kind, only: check_scene_name
   use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
@@ -85,10 +92,11 @@ contains
     real(dp) :: width, height, weak_x(2), weak_y(2), weak_k0
     real(dp) :: dx(max_cases), scale(max_cases)
     character(len=32) :: label(max_cases)
-    integer :: ppc, pad_cells, nstatv, max_iterations, stall_iterations, max_rounds, &
+    integer :: ppc, pad_cells, max_iterations, stall_iterations, max_rounds, &
                anderson_depth
     character(len=16) :: shape, bottom, top, sides, scheme, top_lateral, band_axis, time_scheme
-    real(dp) :: t_end, cfl, density, k, g, beta, beta_p, k0, h, h_zeta, l, props(40)
+    real(dp) :: t_end, cfl
+    type(material_defaults_t) :: mdef
     real(dp) :: top_velocity, ramp_time, a1, a2, tolerance, rel_tolerance, anderson_mixing, &
                 weight_cutoff, snapshot_dt, sample_dt, band_y, band_x, band_time
     logical :: progress, plot, stop_on_cutback
@@ -96,7 +104,6 @@ contains
     namelist /plate/ width, height, weak_x, weak_y, weak_k0
     namelist /grid/ dx, ppc, pad_cells, shape
     namelist /time/ t_end, cfl, scheme, stop_on_cutback
-    namelist /material/ density, nstatv, k, g, beta, beta_p, k0, h, h_zeta, l, props
     namelist /boundary/ bottom, top, sides, top_velocity, ramp_time, top_lateral
     namelist /viscosity/ a1, a2
     namelist /nonlocal/ scheme, tolerance, rel_tolerance, max_iterations, stall_iterations, &
@@ -107,23 +114,22 @@ contains
     integer :: unit, ios, i, nc
     character(len=512) :: msg
     character(len=:), allocatable :: line, group
-    character(len=9), parameter :: groups(10) = [character(len=9) :: 'scene', 'plate', 'grid', &
-      'time', 'material', 'boundary', 'viscosity', 'nonlocal', 'study', 'output']
+    character(len=9), parameter :: groups(9) = [character(len=9) :: 'scene', 'plate', 'grid', &
+      'time', 'boundary', 'viscosity', 'nonlocal', 'study', 'output']
 
     name = 'plate'
     title = 'plane-strain plate (fig. 4.1 of the dissertation)'
     kind = 'plate'
     width = cfg%width; height = cfg%height
-    weak_x = cfg%weak_x; weak_y = cfg%weak_y; weak_k0 = 375.0e6_dp
+    weak_x = unset; weak_y = unset; weak_k0 = unset
     dx = unset; dx(1) = cfg%dx
     scale = unset
     label = ''
     ppc = cfg%ppc; pad_cells = cfg%pad_cells; shape = 'cpdi'
     t_end = cfg%t_end; cfl = cfg%cfl; stop_on_cutback = .false.
-    density = cfg%density; nstatv = cfg%nstatv
-    k = 76.0e9_dp; g = 26.0e9_dp; beta = 0.0_dp; beta_p = 0.0_dp; k0 = 400.0e6_dp
-    h = -4.0e9_dp; h_zeta = 0.0_dp; l = 0.0_dp
-    props = unset
+    mdef%density = cfg%density; mdef%nstatv = cfg%nstatv
+    mdef%named = 0.0_dp
+    mdef%named(1:6) = [76.0e9_dp, 26.0e9_dp, 0.0_dp, 0.0_dp, 400.0e6_dp, -4.0e9_dp]
     bottom = 'roller'; top = 'velocity'; sides = 'free'; top_lateral = 'fixed'
     top_velocity = cfg%top_velocity; ramp_time = cfg%ramp_time
     a1 = cfg%visc_a1; a2 = cfg%visc_a2
@@ -155,6 +161,7 @@ contains
     do i = 1, size(overrides)
       call override_line(overrides(i), group, line, err)
       if (allocated(err)) return
+      if (is_material_group(group)) cycle   ! read_materials reads them
       if (.not. any(groups == group)) then
         call new_error(err, status_invalid, group, 'override "'//trim(overrides(i))// &
           '": no group &'//group)
@@ -171,19 +178,18 @@ contains
     cfg%title = trim(title)
     call check_scene_name(path, cfg%name, err)
     if (allocated(err)) return
-    call check_finite(path, 'plate', 'width', [width, height, weak_k0], err)
+    call check_finite(path, 'plate', 'width', [width, height], err)
     if (allocated(err)) return
     cfg%width = width; cfg%height = height
-    cfg%weak_x = weak_x; cfg%weak_y = weak_y; cfg%weak_k0 = weak_k0
     cfg%ppc = ppc; cfg%pad_cells = pad_cells
     cfg%shape = word(shape, shape2d_names, 'grid', 'shape'); if (allocated(err)) return
     cfg%t_end = t_end; cfg%cfl = cfl
     cfg%scheme = word(time_scheme, scheme_names, 'time', 'scheme'); if (allocated(err)) return
     call check_finite(path, 'time', 'cfl', [t_end, cfl], err); if (allocated(err)) return
-    cfg%density = density; cfg%nstatv = nstatv
-    call material_props(path, props, [k, g, beta, beta_p, k0, h, 0.0_dp, 0.0_dp, 0.0_dp, &
-                                      0.0_dp, 0.0_dp, h_zeta, l], cfg%props, cfg%nprops, err)
+    call read_materials(path, text, overrides, 2, mdef, cfg%materials, cfg%density, err)
     if (allocated(err)) return
+    call legacy_weak_zone(); if (allocated(err)) return
+    call first_material(cfg%materials, cfg%props, cfg%nprops, cfg%nstatv)
     cfg%bottom = word(bottom, bc2_names, 'boundary', 'bottom'); if (allocated(err)) return
     cfg%top = word(top, bc2_names, 'boundary', 'top'); if (allocated(err)) return
     cfg%sides = word(sides, bc2_names, 'boundary', 'sides'); if (allocated(err)) return
@@ -275,9 +281,6 @@ contains
         if (present(text)) read (text, nml=time, iostat=ios, iomsg=msg)
         time_scheme = scheme
         scheme = nl_word
-      case ('material')
-        if (present(unit)) read (unit, nml=material, iostat=ios, iomsg=msg)
-        if (present(text)) read (text, nml=material, iostat=ios, iomsg=msg)
       case ('boundary')
         if (present(unit)) read (unit, nml=boundary, iostat=ios, iomsg=msg)
         if (present(text)) read (text, nml=boundary, iostat=ios, iomsg=msg)
@@ -300,6 +303,36 @@ contains
       character(len=*), intent(in) :: value, names(:), grp, key
       call check_word(path, grp, key, value, names, id, err)
     end function word
+
+    !> The deprecated &plate weak_x, weak_y, weak_k0 (defaults 0, 1; 0, 1;
+    !> 375 MPa as before): a second material, the first's PROPS with k0 =
+    !> weak_k0, in the box weak_x by weak_y (none when weak_k0 = 0).
+    subroutine legacy_weak_zone()
+      real(dp) :: pr(size(cfg%materials%props, 1))
+      integer :: np
+      if (.not. (any(is_set([weak_x, weak_y])) .or. is_set(weak_k0))) return
+      write (error_unit, '(a)') path//': &plate weak_x, weak_y, weak_k0 are deprecated '// &
+        '(read for one more release): give the weak zone as a second &material with a box '// &
+        'region (docs/decks.md)'
+      if (.not. is_set(weak_k0)) weak_k0 = 375.0e6_dp
+      if (.not. all(is_set(weak_x))) weak_x = [0.0_dp, 1.0_dp]
+      if (.not. all(is_set(weak_y))) weak_y = [0.0_dp, 1.0_dp]
+      call check_finite(path, 'plate', 'weak_k0', [weak_k0, weak_x, weak_y], err)
+      if (allocated(err)) return
+      if (weak_k0 == 0.0_dp) return
+      np = cfg%materials%nprops(1)
+      if (np < prop_k0) then
+        call new_error(err, status_invalid, 'weak_k0', path//': &plate: weak_k0 needs '// &
+          'PROPS(5) (k0) in the first &material'); return
+      end if
+      pr(1:np) = cfg%materials%props(1:np, 1)
+      pr(prop_k0) = weak_k0
+      call add_material(cfg%materials, pr(1:np), cfg%materials%nstatv(1), &
+                        cfg%materials%ours(1), cfg%materials%contract(1), err, &
+                        [weak_x(1), weak_y(1)], [weak_x(2), weak_y(2)])
+      if (allocated(err)) return
+      call check_regions(cfg%materials, err)
+    end subroutine legacy_weak_zone
 
   end subroutine read_ps_deck
 

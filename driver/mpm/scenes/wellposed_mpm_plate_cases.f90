@@ -9,6 +9,7 @@ module wellposed_mpm_plate_cases
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_mpm_plane_strain, only: ps_config_t
   use wellposed_mpm_ps_deck, only: ps_study_t
+  use wellposed_mpm_materials, only: scale_regions
   implicit none
   private
   public :: case_out_t, case_tag, case_config, put_case_out, get_case_out, band_width, &
@@ -51,8 +52,7 @@ contains
     c%dx = study%dx(k)
     c%width = cfg0%width*f
     c%height = cfg0%height*f
-    c%weak_x = cfg0%weak_x*f
-    c%weak_y = cfg0%weak_y*f
+    call scale_regions(c%materials, f)
     c%top_velocity = cfg0%top_velocity*f
   end function case_config
 

@@ -5,6 +5,7 @@
 module wellposed_mpm_config
   use wellposed_kinds, only: dp
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t
+  use wellposed_mpm_materials, only: mpm_materials_t
   implicit none
   private
   public :: mpm_config_t, shape_linear, shape_gimp, shape_names, scheme_usl, scheme_musl, &
@@ -79,6 +80,8 @@ module wellposed_mpm_config
     !> Algorithm 1 of the dissertation (eq. 4.46-4.50): scheme, tolerances; it
     !> iterates only when PROPS(12) h_zeta /= 0 (wellposed_mpm_nonlocal).
     type(nonlocal_settings_t) :: nonlocal
+    !> materials by region (none: one material of props, nstatv)
+    type(mpm_materials_t) :: materials
   end type mpm_config_t
 
 end module wellposed_mpm_config

@@ -47,7 +47,8 @@ module wellposed_mpm_plane_strain
   use wellposed_text, only: int_text, real_text
   use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_error, &
                                 verdict_ok, verdict_cutback
-  use wellposed_umat_layout, only: prop_k0
+  use wellposed_mpm_materials, only: mpm_materials_t, single_material, material_of, &
+                                     check_covered
   use wellposed_mpm_particles, only: particles_t, new_particles
   use wellposed_mpm_config, only: scheme_musl
   use wellposed_mpm_grid, only: grid_t, new_grid
@@ -84,7 +85,7 @@ module wellposed_mpm_plane_strain
     integer :: nstep = 0
     real(dp) :: top_disp = 0.0_dp             !< vertical displacement of the top (m)
     real(dp) :: c_max = 0.0_dp, bulk = 0.0_dp, modulus = 0.0_dp
-    real(dp), allocatable :: props_p(:, :)    !< PROPS per material (nprops, 2): 1 body, 2 weak
+    type(mpm_materials_t) :: mats             !< the materials by region
     integer, allocatable :: mat(:)            !< material of each particle
     real(dp), allocatable :: q(:)             !< artificial viscous pressure (Pa)
     real(dp), allocatable :: s0(:, :), sv0(:, :), de(:, :)  !< start-of-step copies, increments
@@ -116,7 +117,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     type(comm_t), intent(in), optional :: comm
     integer :: ncx, ncy, np, p, a, b, k, nsup, g, i, j, nlocal, cap
-    real(dp) :: lp, xy(2), ds(4)
+    real(dp) :: lp, xy(2), ds(4), m_k
 
     call check_plate_config(cfg, err)
     if (allocated(err)) return
@@ -181,10 +182,8 @@ contains
     call new_particles(self%parts, cap, 2, nsup, cfg%nstatv)
     allocate (self%mat(cap), self%q(cap), self%s0(4, cap), self%sv0(cfg%nstatv, cap), &
               self%de(4, cap))
-    allocate (self%props_p(cfg%nprops, 2))
-    self%props_p(:, 1) = cfg%props(1:cfg%nprops)
-    self%props_p(:, 2) = cfg%props(1:cfg%nprops)
-    if (cfg%weak_k0 > 0.0_dp) self%props_p(prop_k0, 2) = cfg%weak_k0
+    self%mats = single_material(cfg%materials, cfg%props(1:cfg%nprops), cfg%nstatv, 2, &
+                                self%host%ours)
     p = 0
     g = 0
     do b = 1, ncy*cfg%ppc
@@ -195,10 +194,9 @@ contains
         p = p + 1
         self%parts%gid(p) = g
         self%parts%x0(:, p) = xy
-        self%mat(p) = 1
-        if (cfg%weak_k0 > 0.0_dp) then
-          if (xy(1) >= cfg%weak_x(1) .and. xy(1) <= cfg%weak_x(2) .and. &
-              xy(2) >= cfg%weak_y(1) .and. xy(2) <= cfg%weak_y(2)) self%mat(p) = 2
+        self%mat(p) = material_of(self%mats, xy)
+        if (self%mat(p) == 0) then
+          call check_covered(self%mats, reshape(xy, [2, 1]), err); return
         end if
       end do
     end do
@@ -225,18 +223,22 @@ contains
     ! every particle has this mass: the floor of the serial run's minval
     self%mass_floor = 1.0e-9_dp*(cfg%density*(2.0_dp*lp)**2)
 
-    ! moduli through the UMAT: uniaxial strain (M) and isotropic (3K)
-    ds = probe([-1.0e-7_dp, 0.0_dp, 0.0_dp, 0.0_dp])
-    if (allocated(err)) return
-    self%modulus = -ds(1)/1.0e-7_dp
-    ds = probe([-1.0e-7_dp, -1.0e-7_dp, -1.0e-7_dp, 0.0_dp])
-    if (allocated(err)) return
-    self%bulk = -ds(1)/3.0e-7_dp
-    if (.not. (self%modulus > 0.0_dp .and. self%bulk > 0.0_dp)) then
-      call new_error(err, status_invalid, 'material', 'the UMAT answers no positive '// &
-        'stiffness at the initial state (M = '//real_text(self%modulus)//' Pa, K = '// &
-        real_text(self%bulk)//' Pa)'); return
-    end if
+    ! moduli through the UMAT: uniaxial strain (M) and isotropic (3K), the
+    ! stiffest material's (the time step)
+    do k = 1, self%mats%n
+      ds = probe(k, [-1.0e-7_dp, 0.0_dp, 0.0_dp, 0.0_dp])
+      if (allocated(err)) return
+      m_k = -ds(1)/1.0e-7_dp
+      ds = probe(k, [-1.0e-7_dp, -1.0e-7_dp, -1.0e-7_dp, 0.0_dp])
+      if (allocated(err)) return
+      if (.not. (m_k > 0.0_dp .and. -ds(1)/3.0e-7_dp > 0.0_dp)) then
+        call new_error(err, status_invalid, 'material', 'the UMAT answers no positive '// &
+          'stiffness at the initial state (M = '//real_text(m_k)//' Pa, K = '// &
+          real_text(-ds(1)/3.0e-7_dp)//' Pa)'); return
+      end if
+      self%modulus = max(self%modulus, m_k)
+      self%bulk = max(self%bulk, -ds(1)/3.0e-7_dp)
+    end do
     self%c_max = sqrt(self%modulus/cfg%density)
     self%dt = cfg%cfl*cfg%dx/self%c_max
 
@@ -253,7 +255,8 @@ contains
 
     !> The stress of one UMAT call from the natural state (0 when the UMAT
     !> asks to cut back; a refusal or a non-finite answer is the error err).
-    function probe(d) result(dsig)
+    function probe(m, d) result(dsig)
+      integer, intent(in) :: m
       real(dp), intent(in) :: d(4)
       real(dp) :: dsig(4), s(4), sv(cfg%nstatv), e(4)
       integer :: verdict
@@ -264,7 +267,7 @@ contains
       self%host%dtime = 1.0e-6_dp
       self%host%noel = 1
       self%host%coords = 0.0_dp
-      call host_call(self%host, self%props_p(:, 1), s, sv, e, d, verdict)
+      call host_call(self%host, self%mats%props(1:self%mats%nprops(m), m), s, sv, e, d, verdict)
       dsig = s
       if (verdict /= verdict_ok) dsig = 0.0_dp
       if (verdict /= verdict_ok .and. verdict /= verdict_cutback) &
@@ -515,9 +518,12 @@ contains
       s = self%s0(:, p)
       sv = self%sv0(:, p)
       e = 0.0_dp
-      call umat_particle(h, self%props_p(:, self%mat(p)), self%t, self%dt, self%nstep + 1, &
-                         pt%gid(p), pt%x(:, p), s, sv, e, self%de(:, p), avg, dlambda, nsub, &
-                         err)
+      h%ours = self%mats%contract(self%mat(p))
+      associate (m => self%mat(p))
+        call umat_particle(h, self%mats%props(1:self%mats%nprops(m), m), self%t, self%dt, &
+                           self%nstep + 1, pt%gid(p), pt%x(:, p), s, sv, e, self%de(:, p), avg, &
+                           dlambda, nsub, err)
+      end associate
       if (allocated(err)) return
       pt%stress(1:4, p) = s
       pt%statev(:, p) = sv

@@ -5,7 +5,7 @@ module wellposed_mpm_plate_config
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_umat_layout, only: prop_k0
+  use wellposed_mpm_materials, only: mpm_materials_t
   use wellposed_mpm_config, only: scheme_musl
   use wellposed_mpm_shape_2d, only: shape2d_cpdi
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t
@@ -34,9 +34,8 @@ module wellposed_mpm_plate_config
     integer :: nprops = 14
     real(dp) :: props(max_props2) = 0.0_dp
     integer :: nstatv = 12
-    ! weak zone: particles whose initial centre lies in it get k0 = weak_k0
-    real(dp) :: weak_x(2) = [0.0_dp, 1.0_dp], weak_y(2) = [0.0_dp, 1.0_dp]
-    real(dp) :: weak_k0 = 0.0_dp                   !< Pa; 0: no weak zone
+    !> materials by region (none: one material of props, nstatv)
+    type(mpm_materials_t) :: materials
     ! boundaries
     integer :: bottom = bc_roller, top = bc_velocity, sides = bc_free2
     real(dp) :: top_velocity = -7.5_dp             !< v_y of the top (m/s, < 0 compresses)
@@ -85,9 +84,6 @@ contains
     end if
     if (cfg%nstatv < 12) then
       call bad('material', 'nstatv', 'must be >= 12 (the UMAT contract)'); return
-    end if
-    if (cfg%nprops < prop_k0 .and. cfg%weak_k0 > 0.0_dp) then
-      call bad('weak', 'k0', 'needs PROPS(5) (k0) in the material'); return
     end if
     if (cfg%visc_a1 < 0.0_dp .or. cfg%visc_a2 < 0.0_dp) then
       call bad('viscosity', 'a1', 'A1 and A2 must be >= 0 (0 switches a term off)'); return

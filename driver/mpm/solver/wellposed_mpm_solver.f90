@@ -45,6 +45,8 @@ module wellposed_mpm_solver
   use wellposed_umat_host, only: umat_host_t, new_umat_host, host_update
   use wellposed_mpm_particle_umat, only: strain_increment, umat_particle
   use wellposed_mpm_exchange, only: mpm_exchange_t, mpm_serial_t
+  use wellposed_mpm_materials, only: mpm_materials_t, single_material, material_of, &
+                                     check_covered
   use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, new_nonlocal, nonlocal_solve, &
                                     nonlocal_ghost_nodes, sweep_key
   implicit none
@@ -87,6 +89,7 @@ module wellposed_mpm_solver
     type(nonlocal_t) :: nl
     real(dp), allocatable :: s0(:, :), sv0(:, :), e0(:, :)
     type(umat_host_t) :: host             !< the UMAT host (NTENS = 6), one per scene
+    type(mpm_materials_t) :: mats         !< the materials by region (initial x)
   contains
     procedure :: update => scene_update
   end type mpm_scene_t
@@ -105,7 +108,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     class(mpm_exchange_t), intent(in), optional :: exchange
     integer :: ncell_body, ncells, p, c, k, np, ghost
-    real(dp) :: frac, lp
+    real(dp) :: frac, lp, m_elastic, m_plastic
 
     call check_scene(cfg, err)
     if (allocated(err)) return
@@ -113,6 +116,8 @@ contains
     call new_umat_host(self%host, 6, cfg%nstatv, err, what='particle')
     if (allocated(err)) return
     self%host%celent = cfg%dx
+    self%mats = single_material(cfg%materials, cfg%props(1:cfg%nprops), cfg%nstatv, 1, &
+                                self%host%ours)
     ncell_body = nint(cfg%length/cfg%dx)
     ncells = ncell_body + 2*cfg%pad_cells
     call new_grid_1d(self%grid, -cfg%pad_cells*cfg%dx, cfg%dx, ncells)
@@ -136,6 +141,8 @@ contains
       end do
     end do
     self%parts%n = np
+    call check_covered(self%mats, self%parts%x0(:, 1:np), err)
+    if (allocated(err)) return
     self%parts%x = self%parts%x0
     self%parts%v = cfg%velocity0
     self%parts%lp = lp
@@ -178,8 +185,14 @@ contains
     end if
     call size_workspace(self)
 
-    call probe_moduli(cfg, self%modulus_elastic, self%modulus_plastic, err)
-    if (allocated(err)) return
+    ! the stiffest material's moduli (the time step)
+    do k = 1, self%mats%n
+      call probe_moduli(cfg, self%mats%props(1:self%mats%nprops(k), k), m_elastic, m_plastic, &
+                        err)
+      if (allocated(err)) return
+      self%modulus_elastic = max(self%modulus_elastic, m_elastic)
+      self%modulus_plastic = max(self%modulus_plastic, m_plastic)
+    end do
     self%modulus_dt = max(self%modulus_elastic, self%modulus_plastic)
     self%dt = cfg%cfl*cfg%dx/sqrt(self%modulus_dt/cfg%density)
     self%kinetic0 = kinetic_energy(self)
@@ -270,8 +283,9 @@ contains
   !> (the first reaches the cone), each over a long DTIME (1000 s) so that
   !> a rate-dependent model answers with its quasi-static (stiffest) limit.
   !> Increments of 1e-5 strain. Pa.
-  subroutine probe_moduli(cfg, elastic, plastic, err)
+  subroutine probe_moduli(cfg, props, elastic, plastic, err)
     type(mpm_config_t), intent(in) :: cfg
+    real(dp), intent(in) :: props(:)
     real(dp), intent(out) :: elastic, plastic
     type(error_t), allocatable, intent(out) :: err
     real(dp), parameter :: de = 1.0e-5_dp
@@ -284,17 +298,17 @@ contains
     d = 0.0_dp
     s = cfg%stress0; sv = 0.0_dp; e = 0.0_dp; d(1) = -de
     h%dtime = 1.0e-6_dp
-    call host_update(h, cfg%props(1:cfg%nprops), s, sv, e, d, nsub, err)
+    call host_update(h, props, s, sv, e, d, nsub, err)
     if (allocated(err)) return
     elastic = (s(1) - cfg%stress0(1))/(-de)
     ! the plastic modulus over slow increments (a rate-dependent model relaxed)
     s = cfg%stress0; sv = 0.0_dp; e = 0.0_dp; d(1) = de
     h%dtime = 1.0e3_dp
-    call host_update(h, cfg%props(1:cfg%nprops), s, sv, e, d, nsub, err)
+    call host_update(h, props, s, sv, e, d, nsub, err)
     if (allocated(err)) return
     s1 = s(1)
     h%time = 1.0e3_dp
-    call host_update(h, cfg%props(1:cfg%nprops), s, sv, e, d, nsub, err)
+    call host_update(h, props, s, sv, e, d, nsub, err)
     if (allocated(err)) return
     plastic = (s(1) - s1)/de
     if (.not. (elastic > 0.0_dp .and. plastic > 0.0_dp)) then
@@ -465,15 +479,17 @@ contains
     real(dp), intent(in) :: avg
     real(dp), intent(out) :: dlambda
     type(error_t), allocatable, intent(out) :: err
-    integer :: nsub
-    associate (pt => self%parts, cfg => self%cfg)
+    integer :: nsub, k
+    associate (pt => self%parts)
       pt%stress(:, p) = self%s0(:, p)
       pt%statev(:, p) = self%sv0(:, p)
       pt%stran(:, p) = self%e0(:, p)
-      call umat_particle(self%host, cfg%props(1:cfg%nprops), self%t, self%dt, self%nstep + 1, &
-                         pt%gid(p), pt%x(:, p), pt%stress(:, p), pt%statev(:, p), &
-                         pt%stran(:, p), [self%dstrain(p), 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, &
-                         0.0_dp], avg, dlambda, nsub, err)
+      k = material_of(self%mats, pt%x0(:, p))
+      self%host%ours = self%mats%contract(k)
+      call umat_particle(self%host, self%mats%props(1:self%mats%nprops(k), k), self%t, &
+                         self%dt, self%nstep + 1, pt%gid(p), pt%x(:, p), pt%stress(:, p), &
+                         pt%statev(:, p), pt%stran(:, p), [self%dstrain(p), 0.0_dp, 0.0_dp, &
+                         0.0_dp, 0.0_dp, 0.0_dp], avg, dlambda, nsub, err)
       if (allocated(err)) return
       if (nsub > self%max_substeps_step) self%max_substeps_step = nsub
     end associate
