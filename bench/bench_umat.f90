@@ -4,8 +4,8 @@
 !> measured in the same run: the elastic trial stress alone
 !> (bench_elastic_trial) and a minimal closed-form Drucker-Prager return with
 !> its tangent, no validation and no conversions (bench_reference). Then the
-!> extended flow rule against the regular cone call, and where a cone call's
-!> time goes. Times are CPU time (what other processes take is not
+!> extended flow rule against the regular cone call, the VUMAT per point of
+!> a block, and where a cone call's time goes. Times are CPU time (what other processes take is not
 !> counted) and every figure is the fastest of 30 short rounds, each round
 !> timing every case once, so that the ratios hold on a shared machine
 !> where absolute times drift.
@@ -17,6 +17,7 @@ program bench_umat
   use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_kinds, only: dp
   use wellposed_umat_interface, only: umat
+  use wellposed_vumat_interface, only: vumat
   use wellposed_dp_params, only: dp_params_t, fill_dp_params
   use wellposed_dp_point, only: point_closed_form
   implicit none
@@ -35,11 +36,14 @@ program bench_umat
     end subroutine bench_reference
   end interface
   integer, parameter :: nrounds = 30
+  !> Points per VUMAT call (Abaqus/Explicit's usual block is 136 at most).
+  integer, parameter :: nblock = 128
   character(len=*), parameter :: names(3) = ['elastic     ', 'plastic cone', 'apex        ']
   character(len=34), parameter :: efr_names(3) = [character(len=34) :: 'regular flow rule', &
     'EFR P_v = 0.5 (the dissertation)', 'EFR P_d = 0.5 (seven unknowns)']
   real(dp) :: strains(6, 3), base_stress(6, 3), props(14)
   real(dp) :: t_trial, t_case(3, 2), t_ref(3, 2), t_efr(3, 2), t_check, t_kernel, sink
+  real(dp) :: t_vumat(3)
   integer :: ncalls, icase, itan, iround, i
   character(len=32) :: arg
 
@@ -61,7 +65,7 @@ program bench_umat
   sink = 0.0_dp
   call check_reference()
   t_trial = huge(1.0_dp); t_case = huge(1.0_dp); t_ref = huge(1.0_dp); t_efr = huge(1.0_dp)
-  t_check = huge(1.0_dp); t_kernel = huge(1.0_dp)
+  t_check = huge(1.0_dp); t_kernel = huge(1.0_dp); t_vumat = huge(1.0_dp)
   do iround = 1, nrounds
     t_trial = min(t_trial, time_trial(base_stress(:, 2), strains(:, 2)))
     do itan = 1, 2
@@ -75,6 +79,9 @@ program bench_umat
         t_efr(i, itan) = min(t_efr(i, itan), time_umat(efr_props(i), base_stress(:, 2), &
                              strains(:, 2), 1, itan == 2, max(1, ncalls/20)))
       end do
+    end do
+    do icase = 1, 3
+      t_vumat(icase) = min(t_vumat(icase), time_vumat(base_stress(:, icase), strains(:, icase)))
     end do
     t_check = min(t_check, time_check())
     t_kernel = min(t_kernel, time_kernel(base_stress(:, 2), strains(:, 2)))
@@ -93,6 +100,12 @@ program bench_umat
   write (output_unit, '(a)') '  targets /trial: elastic 2.5 / 2, cone 4 / 3, apex 5 / 4'
   write (output_unit, '(a)') '  (ref: the minimal closed-form return of bench_reference.f90, no'// &
     ' checks, no conversions)'
+  write (output_unit, '(a,i0,a)') '  VUMAT, blocks of ', nblock, ' points: ns per point '// &
+    '(/trial, /UMAT explicit call)'
+  do icase = 1, 3
+    write (output_unit, '(4x,a12,f10.1,2f8.2)') names(icase), t_vumat(icase), &
+      t_vumat(icase)/t_trial, t_vumat(icase)/t_case(icase, 2)
+  end do
   write (output_unit, '(a)') '  extended flow rule (beta_p = beta), cone case:'// &
     ' DDSDDE ns  /regular  explicit ns  /regular'
   do i = 1, 3
@@ -186,6 +199,36 @@ contains
     call cpu_time(t1)
     ns = (t1 - t0)*1.0e9_dp/n
   end function time_umat
+
+  !> ns per point of the external vumat on blocks of nblock copies of one
+  !> case (VUMAT order 11, 22, 33, 12, 23, 31, tensor shears), old arrays
+  !> read and new arrays written as by Abaqus/Explicit.
+  function time_vumat(s0, de) result(ns)
+    real(dp), intent(in) :: s0(6), de(6)
+    real(dp) :: ns
+    real(dp) :: coord(nblock, 3), clen(nblock), rho(nblock), dstr(nblock, 6), spin(nblock, 3)
+    real(dp) :: temp(nblock), stretch(nblock, 6), fgrad(nblock, 9), field(nblock, 1)
+    real(dp) :: s_old(nblock, 6), sv_old(nblock, 12), e_old(nblock), s_new(nblock, 6)
+    real(dp) :: sv_new(nblock, 12), e_new(nblock), e2_new(nblock), t0, t1
+    character(len=80) :: cmname
+    integer :: i, k, n
+    coord = 0; clen = 1; rho = 2500; spin = 0; temp = 0; stretch = 0; fgrad = 0; field = 0
+    sv_old = 0; e_old = 0; s_new = 0; sv_new = 0; cmname = 'BENCH'
+    do k = 1, nblock
+      s_old(k, :) = s0([1, 2, 3, 4, 6, 5])
+      dstr(k, :) = [de(1:3), 0.5_dp*de([4, 6, 5])]
+    end do
+    n = max(1, ncalls/nblock)
+    call cpu_time(t0)
+    do i = 1, n
+      call vumat(nblock, 3, 3, 12, 0, 14, 0, 1.0_dp, 1.0_dp, 1.0e-3_dp, cmname, coord, clen, &
+                 props, rho, dstr, spin, temp, stretch, fgrad, field, s_old, sv_old, e_old, &
+                 e_old, temp, stretch, fgrad, field, s_new, sv_new, e_new, e2_new)
+      sink = sink + s_new(1, 1)
+    end do
+    call cpu_time(t1)
+    ns = (t1 - t0)*1.0e9_dp/(real(n, dp)*nblock)
+  end function time_vumat
 
   !> ns per call of the minimal reference, with the same resets.
   function time_reference(s0, de, tangent) result(ns)

@@ -21,7 +21,7 @@ module wellposed_umat_adapter
   !> PNEWDT requested on status -2 (a smaller increment may succeed).
   real(dp), parameter :: cutback_factor = 0.5_dp
 
-  ! What check_inputs finds, in the order it checks.
+  ! What the checks of umat_update find, in the order they check.
   integer, parameter :: fault_layout = 1, fault_nstatv = 2, fault_nprops = 3, &
                         fault_extra_prop = 4, fault_params = 5, fault_explicit = 6, &
                         fault_dtime = 7, fault_non_finite = 8
@@ -46,20 +46,31 @@ contains
     integer :: fault, status
     logical :: want_tangent
 
-    call check_inputs(ndi, nshr, ntens, nstatv, nprops, props, dtime, stress, dstran, stran, &
-                      statev, p, want_tangent, fault)
+    call check_props(ndi, nshr, ntens, nstatv, nprops, props, dtime, p, want_tangent, fault)
+    if (fault == 0) then
+      ! Abaqus order 11, 22, 33, 12, 13, 23. NTENS is 6 or 4 here: literal
+      ! bounds let the compiler unroll the copies.
+      if (ntens == ntens6) then
+        sig = stress(1:6)
+        de = dstran(1:6)
+        fault = merge(0, fault_non_finite, all_finite(stran(1:6)))
+      else
+        sig(1:4) = stress(1:4)
+        sig(5:6) = 0.0_dp
+        de(1:4) = dstran(1:4)
+        de(5:6) = 0.0_dp
+        fault = merge(0, fault_non_finite, all_finite(stran(1:4)))
+      end if
+      if (.not. (all_finite(sig) .and. all_finite(de) .and. &
+                 all_finite(statev(1:nstatv_min)))) fault = fault_non_finite
+    end if
     if (fault /= 0) then
       call explain(fault, ndi, nshr, ntens, nstatv, nprops, props, dtime, err)
       call fail(); return
     end if
 
-    ! Abaqus order 11, 22, 33, 12, 13, 23 with engineering shears in the
-    ! strains; the model takes tensor shears.
-    sig(1:ntens) = stress
-    sig(ntens + 1:) = 0.0_dp
-    de(1:3) = dstran(1:3)
-    de(4:ntens) = 0.5_dp*dstran(4:ntens)
-    de(ntens + 1:) = 0.0_dp
+    ! Engineering shears in the strains; the model takes tensor shears.
+    de(4:6) = 0.5_dp*de(4:6)
     eps_p(1:3) = statev(sv_eps_p:sv_eps_p + 2)
     eps_p(4:6) = 0.5_dp*statev(sv_eps_p + 3:sv_eps_p + 5)
     z = statev(sv_z)
@@ -77,7 +88,11 @@ contains
       call fail(); return
     end if
 
-    stress = sig(1:ntens)
+    if (ntens == ntens6) then
+      stress(1:6) = sig
+    else
+      stress(1:4) = sig(1:4)
+    end if
     statev(sv_z) = z
     statev(sv_dlambda) = dlambda
     statev(sv_zeta) = zeta
@@ -115,29 +130,11 @@ contains
 
   end subroutine umat_update
 
-  !> `fault` is 0 when the layout, PROPS, DTIME and every input of the
-  !> increment are valid (`p` then holds the validated parameters and
-  !> `want_tangent` says whether DDSDDE is wanted), else the first check that
-  !> fails (a fault_* code): comparisons only, no text.
-  pure subroutine check_inputs(ndi, nshr, ntens, nstatv, nprops, props, dtime, stress, dstran, &
-                               stran, statev, p, want_tangent, fault)
-    integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops
-    real(dp), intent(in) :: props(nprops), dtime, stress(ntens), dstran(ntens), stran(ntens)
-    real(dp), intent(in) :: statev(nstatv)
-    type(dp_params_t), intent(out) :: p
-    logical, intent(out) :: want_tangent
-    integer, intent(out) :: fault
-
-    call check_props(ndi, nshr, ntens, nstatv, nprops, props, dtime, p, want_tangent, fault)
-    if (fault /= 0) return
-    fault = fault_non_finite
-    if (.not. (all_finite(stress) .and. all_finite(dstran) .and. all_finite(stran) .and. &
-               all_finite(statev(1:nstatv_min)))) return
-    fault = 0
-  end subroutine check_inputs
-
-  !> The checks of check_inputs that concern a whole block of points: layout,
-  !> PROPS (fill_dp_params) and DTIME.
+  !> The checks of the UMAT's inputs that concern a whole block of points:
+  !> layout, PROPS (fill_dp_params) and DTIME. `fault` is 0 when all hold
+  !> (`p` then holds the validated parameters and `want_tangent` says
+  !> whether DDSDDE is wanted), else the first check that fails (a fault_*
+  !> code): comparisons only, no text.
   pure subroutine check_props(ndi, nshr, ntens, nstatv, nprops, props, dtime, p, want_tangent, &
                               fault)
     integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops
@@ -190,7 +187,7 @@ contains
     fault = 0
   end function layout_fault
 
-  !> The error of a fault found by check_inputs: status and message naming
+  !> The error of a fault found by umat_update's checks: status and message naming
   !> the entry, its value and the valid range.
   pure subroutine explain(fault, ndi, nshr, ntens, nstatv, nprops, props, dtime, err)
     integer, intent(in) :: fault, ndi, nshr, ntens, nstatv, nprops

@@ -112,7 +112,8 @@ contains
     real(dp) :: bulk, shear, zeta_new, tr_de, sig_tr(ntens6), s(ntens6), i1_tr, q, k_n, f_tr
     real(dp) :: x, x_max, shrink, i1, dep(ntens6), dz, sig_new(ntens6), w, s_ap, c0, c1, a2
     real(dp) :: b2, c2, disc, sh(ntens6), cm(ntens6), cn(ntens6), rate, lam, g2, coef, qn, rn
-    integer :: i, j
+    real(dp) :: t(ntens6, ntens6)
+    integer :: j
     logical :: apex
 
     bulk = p%el%bulk
@@ -206,22 +207,22 @@ contains
         rate = 1.0_dp/(p%a_m + p%hard%h)
         g2 = x*2.0_dp*sqrt2*shear**2*rn/q
         lam = bulk - third*(2.0_dp*shear - g2)
-        do j = 1, n
-          do i = 1, n
-            tangent(i, j) = g2*sh(i)*sh(j) - cm(i)*cn(j)*rate
-          end do
-          tangent(j, j) = tangent(j, j) + merge(2.0_dp*shear - g2, shear - 0.5_dp*g2, j <= 3)
-        end do
-        tangent(1:3, 1:3) = tangent(1:3, 1:3) + lam
+        call cone_tangent(shear, g2, rate, lam, sh, cm, cn, t)
+        ! One copy into the host's array; n = 6 spelt out so that its
+        ! stores are unrolled.
+        if (n == ntens6) then
+          tangent = t
+        else
+          tangent = t(1:n, 1:n)
+        end if
       else
         ! d sigma = s' I (x) E_hat/(1 + s' tr(E_hat)/(3K)), s' = h/(3 beta).
         coef = 0.0_dp
         qn = p%hard%h/(3.0_dp*p%beta)
         if (dz > 0.0_dp) coef = qn/(1.0_dp + qn*(dep(1) + dep(2) + dep(3))/(dz*3.0_dp*bulk))/dz
         do j = 1, n
-          do i = 1, n
-            tangent(i, j) = merge(coef*dep(j), 0.0_dp, i <= 3)
-          end do
+          tangent(1:3, j) = coef*dep(j)
+          tangent(4:n, j) = 0.0_dp
         end do
       end if
     end if
@@ -252,8 +253,8 @@ contains
   end subroutine point_closed_form
 
   !> The isotropic stiffness in Voigt form (leading n x n block):
-  !> K + 4G/3 and K - 2G/3 on the normal block, G on the shears. Written
-  !> element by element (no separate zeroing pass).
+  !> K + 4G/3 and K - 2G/3 on the normal block, G on the shears. Each entry
+  !> written once; n = 6 spelt out so that its stores are unrolled.
   pure subroutine voigt_stiffness(bulk, shear, n, c)
     real(dp), intent(in) :: bulk, shear
     integer, intent(in) :: n
@@ -261,13 +262,45 @@ contains
     real(dp) :: lam
     integer :: i, j
     lam = bulk - 2.0_dp*shear/3.0_dp
-    do j = 1, n
-      do i = 1, n
-        c(i, j) = merge(lam, 0.0_dp, i <= 3 .and. j <= 3)
+    if (n == ntens6) then
+      do j = 1, ntens6
+        do i = 1, ntens6
+          c(i, j) = stiffness_entry(i, j, lam, shear)
+        end do
       end do
-      c(j, j) = c(j, j) + merge(2.0_dp*shear, shear, j <= 3)
-    end do
+    else
+      do j = 1, n
+        do i = 1, n
+          c(i, j) = stiffness_entry(i, j, lam, shear)
+        end do
+      end do
+    end if
   end subroutine voigt_stiffness
+
+  !> Entry (i, j) of the Voigt stiffness (lam = K - 2G/3).
+  pure function stiffness_entry(i, j, lam, shear) result(c)
+    integer, intent(in) :: i, j
+    real(dp), intent(in) :: lam, shear
+    real(dp) :: c
+    c = merge(lam, 0.0_dp, i <= 3 .and. j <= 3) + &
+        merge(merge(2.0_dp*shear, shear, j <= 3), 0.0_dp, i == j)
+  end function stiffness_entry
+
+  !> The consistent cone tangent of point_closed_form (6 x 6):
+  !> g2 S_hat (x) S_hat - (C:M_hat)(x)(C:N)/(a + h), plus 2G - g2 (normal)
+  !> or G - g2/2 (shear) on the diagonal and lam on the normal block.
+  pure subroutine cone_tangent(shear, g2, rate, lam, sh, cm, cn, t)
+    real(dp), intent(in) :: shear, g2, rate, lam, sh(ntens6), cm(ntens6), cn(ntens6)
+    real(dp), intent(out) :: t(ntens6, ntens6)
+    integer :: i, j
+    do j = 1, ntens6
+      do i = 1, ntens6
+        t(i, j) = g2*sh(i)*sh(j) - cm(i)*cn(j)*rate
+      end do
+      t(j, j) = t(j, j) + merge(2.0_dp*shear - g2, shear - 0.5_dp*g2, j <= 3)
+    end do
+    t(1:3, 1:3) = t(1:3, 1:3) + lam
+  end subroutine cone_tangent
 
   !> c = (1 - w) c + w C (Voigt form, leading n x n block).
   pure subroutine blend_voigt_stiffness(bulk, shear, n, w, c)

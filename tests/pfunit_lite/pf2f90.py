@@ -11,7 +11,9 @@ pFUnit 4 replaces it,
 
 (#line markers keep compiler messages on the .pf), and DRIVER.F90, a program
 that runs each @test between its @before and @after and ends with
-`error stop 1` when one failed.
+`error stop 1` when one failed. With --max-pes N (CMake's MAX_PES) the
+files hold MPI tests, `@test(npes=[...])`, which the driver runs once per
+npes value on that many ranks of an mpirun of N (module `pfunit`).
 
 Strict on purpose: what real pFUnit 4.14 refuses and a test could slip into
 (README.md, "What is refused") stops here too, as `file:line: error: ...`.
@@ -36,7 +38,7 @@ TOLERANT = {'assertequal', 'assertrelativelyequal'}
 PFUNIT_ONLY = {'assertnotequal', 'assertnotall', 'assertnone', 'assertsameshape', 'assertfail',
                'assertexceptionraised', 'assertassociated', 'assertnotassociated',
                'assertequivalent', 'assertequaluserdefined', 'testcase', 'testparameter',
-               'suite', 'mpitest', 'mpiassertequal', 'mpiasserttrue', 'mpiassertfalse'}
+               'suite', 'mpiassertequal', 'mpiasserttrue', 'mpiassertfalse'}
 # Accepted by pFUnit 4.14's parser, but the code it writes does not compile.
 PFUNIT_BROKEN = {'assertisinfinite', 'assertthat', 'assertismemberof', 'assertcontains',
                  'assertispermutationof'}
@@ -57,6 +59,9 @@ RESERVED = set('''t suite abstractmatcher abstracttestparameter all_of allof any
     stub subject taplistener test testannotation testcase testlistener testlistenervector
     testmethod testresult testrunner testsuite throw timeoutannotation trim_all true wascalled
     wascalledonce wasnotcalled whitespaceoptions xmlprinter'''.split())
+# What `use pfunit` adds in an MPI test module (besides every name of `use mpi`).
+RESERVED_MPI = {'mpitestmethod', 'mpitestcase', 'mpicontext', 'mpitestparameter', 'mpi'}
+NPES = re.compile(r'^\(\s*npes\s*=\s*\[\s*(\d+(?:\s*,\s*\d+)*)\s*\]\s*\)$', re.I)
 COLUMNS = 132  # gfortran's free-form line limit, which pFUnit's output must keep
 
 DIRECTIVE = re.compile(r'^\s*@(\w+)\s*(.*?)\s*$')
@@ -108,12 +113,14 @@ def split_args(text):
 
 
 class PfFile:
-    def __init__(self, path):
+    def __init__(self, path, max_pes=None):
+        self.max_pes = max_pes     # MAX_PES of the test: MPI tests allowed
         self.path = os.path.abspath(path)
         self.base = os.path.basename(path)
         self.stem = os.path.splitext(self.base)[0]
         self.module = None
-        self.tests = []            # (name, disabled)
+        self.tests = []            # (name, disabled, npes list or None), in file order
+        self.self_arg = None       # (dummy, line) of an MPI test awaiting its declaration
         self.fixture = {}          # 'before'/'after' -> name
         self.out = ['#line 1 "%s"\n' % self.path]
         self.depth = 0             # nesting of subroutines and functions
@@ -125,16 +132,18 @@ class PfFile:
     def translate(self):
         with open(self.path, encoding='utf-8') as f:
             lines = f.read().splitlines()
-        waiting = None    # [directive, its line, disabled] until its subroutine
-        uses_funit = False
+        waiting = None    # [directive, its line, disabled, npes] until its subroutine
+        uses = None       # 'funit' or 'pfunit', from the module's use line
         for n, text in enumerate(lines, 1):
             code, comment = split_code(text)
             m = DIRECTIVE.match(code)
             if not m:
+                if self.self_arg and code.strip():
+                    self.check_self(code, n)
                 if waiting and code.strip():
                     self.take_subroutine(waiting, code, n)
                     waiting = None
-                uses_funit |= self.check_statement(code, comment, n)
+                uses = self.check_statement(code, comment, n) or uses
                 self.out.append(text + '\n')
                 continue
             name, rest = m.group(1), m.group(2)
@@ -150,12 +159,10 @@ class PfFile:
                 raise self.error(n, 'comment after @%s: pFUnit then leaves the line untranslated; put '
                                     'the comment on the line above' % name)
             if key in ('test', 'before', 'after'):
-                if rest:
-                    raise self.error(n, '@%s%s: pfunit_lite supports @%s without options (npes=, '
-                                        'cases=, ... need real pFUnit)' % (name, rest, key))
+                npes = self.npes(key, name, rest, n)
                 if key in self.fixture:
                     raise self.error(n, 'second @%s in one file' % key)
-                waiting = [key, n, False]
+                waiting = [key, n, False, npes]
             elif key == 'disable':
                 if rest or not waiting or waiting[0] != 'test':
                     raise self.error(n, '@disable goes alone on the line between @test and its '
@@ -166,6 +173,9 @@ class PfFile:
                 self.out.append(self.expand(key, name, rest, n))
                 self.out.append('#line %d\n' % (n + 1))
                 continue
+            elif key == 'mpitest':
+                raise self.error(n, '@mpitest is deprecated in pFUnit 4 (its parser: "should now just '
+                                    'use @test"): write @test(npes=[...])')
             elif key in PFUNIT_ONLY:
                 raise self.error(n, '@%s is pFUnit 4 but pfunit_lite does not support it (no test used '
                                     'it yet): add it to gen_funit.py and pf2f90.py with a self-test'
@@ -181,12 +191,54 @@ class PfFile:
         if self.module is None:
             raise self.error(1, 'no "module %s": pFUnit 4 wants one module named after the file'
                              % self.stem)
-        if not uses_funit:
-            raise self.error(self.module_line, 'module %s does not "use funit" on a line of its '
-                             'own (pFUnit 4 test modules use funit; pfunit is MPI-only, pfunit_mod '
-                             'is gone)' % self.module)
         if not self.tests:
             raise self.error(1, 'no @test in %s' % self.base)
+        self.check_kind(uses)
+
+    def npes(self, key, name, rest, n):
+        """The npes list of `@test(npes=[...])` (None for a plain @test)."""
+        if not rest:
+            return None
+        m = NPES.match(rest)
+        if key != 'test' or not m:
+            raise self.error(n, '@%s%s: pfunit_lite supports @%s without options%s (cases=, ifdef=, '
+                                '... need real pFUnit)' % (name, rest, key,
+                                                        ' or with npes=[...] alone' * (key == 'test')))
+        npes = [int(v) for v in m.group(1).split(',')]
+        if self.max_pes is None:
+            raise self.error(n, '@%s%s is an MPI test: register it with wellposed_add_pf_test(... '
+                                'MAX_PES <n>)' % (name, rest))
+        if min(npes) < 1 or max(npes) > self.max_pes:
+            raise self.error(n, '@%s%s: every npes must be 1 to MAX_PES = %d (pFUnit fails a test '
+                                'with more: "Insufficient processes")' % (name, rest, self.max_pes))
+        return npes
+
+    def check_kind(self, uses):
+        """Serial files use funit; MPI files use pfunit, hold MPI tests only, no fixtures."""
+        mpi = [t for t in self.tests if t[2]]
+        want = 'pfunit' if mpi else 'funit'
+        if uses != want:
+            raise self.error(self.module_line, 'module %s does not "use %s" on a line of its own '
+                             '(pFUnit 4 test modules use funit, MPI ones (@test(npes=...)) pfunit; '
+                             'pfunit_mod is gone)' % (self.module, want))
+        if mpi and len(mpi) < len(self.tests):
+            raise self.error(self.module_line, 'module %s mixes serial @test and MPI '
+                             '@test(npes=...): pfunit_lite runs a file of either kind' % self.module)
+        if mpi and self.fixture:
+            raise self.error(self.module_line, '@%s in a file of MPI tests: pfunit_lite lacks MPI '
+                             'fixtures (class(MpiTestMethod) arguments)' % sorted(self.fixture)[0])
+        if self.max_pes is not None and not mpi:
+            raise self.error(self.module_line, 'MAX_PES given for %s, which holds no MPI test '
+                             '(@test(npes=[...]))' % self.base)
+
+    def check_self(self, code, n):
+        """An MPI test's first statement declares its dummy as pFUnit's interface wants."""
+        arg, line = self.self_arg
+        self.self_arg = None
+        if not re.match(r'^\s*class\s*\(\s*MpiTestMethod\s*\)\s*,\s*intent\s*\(\s*inout\s*\)'
+                        r'\s*::\s*%s\s*$' % re.escape(arg), code, re.I):
+            raise self.error(n, 'the first statement of an MPI test (line %d) must be '
+                                '"class(MpiTestMethod), intent(inout) :: %s"' % (line, arg))
 
     def check_statement(self, code, comment, n):
         """File-shape rules of a plain line; True when it is `use funit`."""
@@ -221,18 +273,30 @@ class PfFile:
             if name.lower() in RESERVED | {self.stem.lower() + '_suite', 'wrap' + self.stem.lower()}:
                 raise self.error(n, '"%s" is a name pFUnit defines in a test module (through use '
                                     'funit) or in the suite it generates; rename it' % name)
-        return re.match(r'^\s*use\s+funit\s*$', code, re.I) is not None
+        for name in names if self.max_pes is not None else []:
+            if name.lower() in RESERVED_MPI or name.lower().startswith('mpi_'):
+                raise self.error(n, '"%s" is a name "use pfunit" brings into an MPI test module '
+                                    '(with all of "use mpi", whose names begin mpi_); rename it'
+                                 % name)
+        m = re.match(r'^\s*use\s+(p?funit)\s*$', code, re.I)
+        return m.group(1).lower() if m else None
 
     def take_subroutine(self, waiting, code, n):
-        key, line, disabled = waiting
+        key, line, disabled, npes = waiting
         m = SUBROUTINE.match(code)
         if not m:
             raise self.error(n, 'expected "subroutine <name>()" after @%s (line %d)' % (key, line))
+        if npes:
+            if not re.match(r'^\s*\w+\s*$', m.group(2) or ''):
+                raise self.error(n, 'an MPI test takes one argument: subroutine %s(this)' % m.group(1))
+            self.tests.append((m.group(1), disabled, npes))
+            self.self_arg = (m.group(2).strip(), n)
+            return
         if (m.group(2) or '').strip():
             raise self.error(n, 'subroutine %s(%s): pfunit_lite runs tests without arguments '
                                 '(fixtures and test cases need real pFUnit)' % (m.group(1), m.group(2)))
         if key == 'test':
-            self.tests.append((m.group(1), disabled))
+            self.tests.append((m.group(1), disabled, None))
         else:
             self.fixture[key] = m.group(1)
 
@@ -266,16 +330,23 @@ class PfFile:
         return call + '  if (anyExceptions()) return\n'
 
 
-def driver_source(files):
+def driver_source(files, mpi):
+    """The program: serial tests in order; MPI ones once per npes (pfunit_run_test)."""
     uses, calls, k = [], [], 0
     for f in files:
         alias = {}
-        for proc in [t for t, _ in f.tests] + list(f.fixture.values()):
+        for proc in [t[0] for t in f.tests] + list(f.fixture.values()):
             k += 1
             alias[proc] = 'p%d' % k
             uses.append('  use %s, only: p%d => %s' % (f.module, k, proc))
-        for name, disabled in f.tests:
+        for name, disabled, npes in f.tests:
             label = "'%s::%s'" % (f.module, name)
+            for n in npes or []:
+                mpi_label = "'%s::%s[npes=%d]'" % (f.module, name, n)
+                calls.append('  call funit_skip_test(%s)' % mpi_label if disabled else
+                             '  call pfunit_run_test(%s, %s, %d)' % (mpi_label, alias[name], n))
+            if npes:
+                continue
             if disabled:
                 calls.append('  call funit_skip_test(%s)' % label)
                 continue
@@ -288,11 +359,15 @@ def driver_source(files):
             else:
                 calls += ['  ' + b for b in body]
             calls.append('  call funit_end_test()')
+    start, stop = [], []
+    if mpi:
+        uses.insert(0, '  use pfunit, only: pfunit_start, pfunit_run_test, pfunit_stop')
+        start, stop = ['  call pfunit_start()'], ['  call pfunit_stop()']
     return '\n'.join(['! Written by pf2f90.py (pfunit_lite).', 'program funit_lite_driver',
                       '  use funit, only: funit_begin_test, funit_end_test, funit_skip_test, &',
                       '    funit_summary, anyExceptions'] + uses +
-                     ['  implicit none', '  integer :: n_failed'] + calls +
-                     ['  call funit_summary(n_failed)', '  if (n_failed > 0) error stop 1',
+                     ['  implicit none', '  integer :: n_failed'] + start + calls +
+                     ['  call funit_summary(n_failed)'] + stop + ['  if (n_failed > 0) error stop 1',
                       'end program funit_lite_driver', ''])
 
 
@@ -300,10 +375,11 @@ def main(argv):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument('--outdir', required=True)
     ap.add_argument('--driver', required=True)
+    ap.add_argument('--max-pes', type=int, help='MAX_PES: the files hold MPI tests')
     ap.add_argument('sources', nargs='+')
     opts = ap.parse_args(argv)
     try:
-        files = [PfFile(src) for src in opts.sources]
+        files = [PfFile(src, opts.max_pes) for src in opts.sources]
         for f in files:
             f.translate()
         os.makedirs(opts.outdir, exist_ok=True)
@@ -311,7 +387,7 @@ def main(argv):
             with open(os.path.join(opts.outdir, f.stem + '.F90'), 'w', encoding='utf-8') as out:
                 out.write(''.join(f.out))
         with open(opts.driver, 'w', encoding='utf-8') as out:
-            out.write(driver_source(files))
+            out.write(driver_source(files, opts.max_pes is not None))
     except (PfError, OSError) as e:
         sys.stderr.write('pf2f90: %s\n' % e)
         return 1

@@ -218,7 +218,7 @@ contains
     call cut_r2(grid%velocity)
     call cut_r2(grid%accel)
     call cut_l2(grid%fixed)
-    call cut_l2(grid%given)
+    if (allocated(grid%given)) call cut_l2(grid%given)
     grid%glo = glo
     grid%ghi = ghi
   contains
