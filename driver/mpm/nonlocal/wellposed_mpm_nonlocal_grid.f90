@@ -1,0 +1,373 @@
+!> The grid-based nonlocal average of the dissertation (section 4.5) for
+!> the MPM, the same code for 1D and 2D grids: the nodal field, its
+!> projection from particles and the average at a particle, and the state
+!> Algorithm 1 (wellposed_mpm_algorithm1) keeps between steps.
+!>
+!> Grid-based nonlocal integral (eq. 4.46-4.48):
+!>   dlambda_i  = sum_p phi_ip m_p dlambda_p / m_i            (eq. 4.46)
+!>   <dlambda>_p = sum_i alpha(x_p - x_i) m_i dlambda_i / M_p  (eq. 4.47)
+!>   M_p        = sum_i alpha(x_p - x_i) m_i                  (eq. 4.48)
+!> with alpha the Gaussian of eq. 4.27, cut where alpha < weight_cutoff.
+!> Nodes without mass (outside the body) drop out of both sums, so a uniform
+!> field averages to itself exactly, also next to a free boundary. On the
+!> uniform grid the Gaussian factorises, alpha = alpha_x(i) alpha_y(j), so a
+!> particle's weights cost 2 (2R+1) exponentials, not (2R+1)^2, and nothing
+!> is stored between sweeps: no neighbour lists, as the dissertation intends.
+module wellposed_mpm_nonlocal_grid
+  use, intrinsic :: iso_fortran_env, only: int64
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_text, only: real_text, int_text
+  use wellposed_nonlocal, only: nonlocal_weight, weight_support, &
+                                lipschitz_local_implicit, lipschitz_local_explicit
+  use wellposed_dp_params, only: dp_params_t, new_dp_params
+  use wellposed_umat_host, only: umat_is_ours
+  use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
+                                   prop_h, prop_k_lim, prop_z_ref, prop_p_v, prop_p_d, &
+                                   prop_tau, prop_h_zeta, prop_length, nprops_known
+  use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_fixed_point, nl_anderson
+  implicit none
+  private
+  public :: nonlocal_t, nonlocal_step_stats_t, new_nonlocal, nonlocal_ghost_nodes, &
+            nonlocal_project, nonlocal_average, cached_average
+
+  !> Measures of the last solve (one time step).
+  type :: nonlocal_step_stats_t
+    integer :: iterations = 0        !< sweeps of step 2, all rounds
+    integer :: rounds = 0            !< step-2 rounds (1 + reclassifications that re-ran it)
+    integer :: n_plastic = 0         !< plastic particles at the end
+    integer :: n_reclassified = 0    !< elastic -> plastic in step 3 (plastic diffusion)
+    integer :: umat_calls = 0
+    real(dp) :: error = 0.0_dp       !< last max |dlambda^{k+1} - dlambda^k|
+    real(dp) :: max_dlambda = 0.0_dp
+    real(dp) :: n_alpha = 0.0_dp     !< largest particle count in a plastic particle's support
+    real(dp) :: bound_printed = 0.0_dp  !< eq. 4.43 (scheme 1) with that N_alpha
+  end type nonlocal_step_stats_t
+
+  !> Nonlocal solver state: settings, material constants for the bounds,
+  !> grid geometry, the nodal field, and run totals.
+  type :: nonlocal_t
+    type(nonlocal_settings_t) :: set
+    logical :: active = .false.       !< h_zeta /= 0
+    real(dp) :: h_zeta = 0.0_dp       !< Pa
+    real(dp) :: length = 0.0_dp       !< L (m)
+    real(dp) :: radius = 0.0_dp       !< support radius of the cut Gaussian (m)
+    real(dp) :: bound_43 = 0.0_dp     !< |h_zeta/(a + h_eta)|: eq. 4.43 with N_alpha = 1
+    real(dp) :: bound_45 = 0.0_dp     !< |(h_eta + h_zeta)/a|: eq. 4.45 with N_alpha = 1
+    ! grid: node g at origin + dx*(g mod n1, g / n1) (2D), origin + dx*g (1D)
+    integer :: ndim = 1
+    real(dp) :: origin(2) = 0.0_dp
+    real(dp) :: dx = 1.0_dp
+    integer :: nnode(2) = 1
+    integer :: glo = 0, ghi = -1
+    real(dp), allocatable :: node_mass(:)   !< m_i = sum_p phi_ip m_p (glo:ghi)
+    !> m_i dlambda_i (glo:ghi), eq. 4.46 times the node mass: the sums of
+    !> eq. 4.47 need only this product, and eq. 4.49-4.50 update it without
+    !> a division
+    real(dp), allocatable :: field(:)
+    ! per-step cache of each particle's separable weights (eq. 4.27) and M_p
+    integer :: nbmax = 0
+    real(dp), allocatable :: wx(:, :), wy(:, :), den(:)
+    integer, allocatable :: blo(:, :), bhi(:, :)
+    logical, allocatable :: cached(:)
+    real(dp), allocatable :: dl(:)          !< dlambda_p of the current iterate
+    logical, allocatable :: plastic(:)
+    type(nonlocal_step_stats_t) :: last
+    ! run totals over the steps that iterated
+    integer :: steps_iterated = 0
+    integer :: iterations_total = 0
+    integer :: iterations_max = 0
+    logical :: warned_sharp = .false., warned_printed = .false.
+    !> Cost accounting (system_clock ticks and UMAT calls): step 1, the local
+    !> pass; and the sweeps with their averages, UMAT calls and corrections.
+    integer(int64) :: ticks_local = 0, ticks_sweeps = 0
+    integer(int64) :: calls_local = 0, calls_sweeps = 0
+  end type nonlocal_t
+
+contains
+
+  !> Node layers beyond a particle's cell that Algorithm 1 reads around it
+  !> (0 when h_zeta = 0): the cut Gaussian's radius in cells, rounded up,
+  !> plus one because the averages are taken at the end-of-step positions,
+  !> up to a cell (CFL < 1) away from the cell that holds the particle when
+  !> the step begins. A patch needs at least this many ghost layers.
+  pure integer function nonlocal_ghost_nodes(self) result(layers)
+    type(nonlocal_t), intent(in) :: self
+    layers = 0
+    if (self%active) layers = ceiling(self%radius/self%dx) + 1
+  end function nonlocal_ghost_nodes
+
+  !> Validate the settings, read h_zeta and L from PROPS (wellposed's
+  !> layout, PROPS 12-13) and lay out the nodal field on the patch [glo, ghi]
+  !> of a grid with `nnode(1:ndim)` nodes per direction, node 0 at `origin`
+  !> (m), cell size `dx` (m). Errors name the deck key.
+  subroutine new_nonlocal(self, settings, props, ndim, origin, dx, nnode, glo, ghi, err)
+    type(nonlocal_t), intent(out) :: self
+    type(nonlocal_settings_t), intent(in) :: settings
+    real(dp), intent(in) :: props(:), origin(:), dx
+    integer, intent(in) :: ndim, nnode(:), glo, ghi
+    type(error_t), allocatable, intent(out) :: err
+    real(dp) :: pr(nprops_known)
+    type(dp_params_t) :: mat
+    type(error_t), allocatable :: perr
+
+    associate (s => settings)
+      if (s%scheme /= nl_fixed_point .and. s%scheme /= nl_anderson) then
+        call bad('scheme', 'must be fixed_point or anderson'); return
+      end if
+      if (.not. (s%tolerance >= 0.0_dp .and. s%rel_tolerance >= 0.0_dp .and. &
+                 s%tolerance + s%rel_tolerance > 0.0_dp .and. ieee_is_finite(s%tolerance) &
+                 .and. ieee_is_finite(s%rel_tolerance))) then
+        call bad('tolerance', 'tolerance and rel_tolerance must be finite, >= 0 and not '// &
+          'both 0 (tolerance = '//real_text(s%tolerance)//', rel_tolerance = '// &
+          real_text(s%rel_tolerance)//')'); return
+      end if
+      if (s%max_iterations < 1 .or. s%max_iterations > 100000) then
+        call bad('max_iterations', 'must be 1 ... 100000 (is '// &
+          int_text(s%max_iterations)//')'); return
+      end if
+      if (s%stall_iterations < 2) then
+        call bad('stall_iterations', 'must be >= 2 (is '//int_text(s%stall_iterations)//')')
+        return
+      end if
+      if (s%max_rounds < 1) then
+        call bad('max_rounds', 'must be >= 1 (is '//int_text(s%max_rounds)//')'); return
+      end if
+      if (s%anderson_depth < 1 .or. s%anderson_depth > 50) then
+        call bad('anderson_depth', 'must be 1 ... 50 (is '//int_text(s%anderson_depth)//')')
+        return
+      end if
+      if (.not. (s%anderson_mixing > 0.0_dp .and. s%anderson_mixing <= 1.0_dp)) then
+        call bad('anderson_mixing', 'must lie in (0, 1] (is '// &
+          real_text(s%anderson_mixing)//')'); return
+      end if
+      if (.not. (s%weight_cutoff > 0.0_dp .and. s%weight_cutoff < 0.5_dp)) then
+        call bad('weight_cutoff', 'must lie in (0, 0.5): the Gaussian is cut where it '// &
+          'falls below it (is '//real_text(s%weight_cutoff)//')'); return
+      end if
+    end associate
+    if (ndim < 1 .or. ndim > 2 .or. size(nnode) < ndim .or. size(origin) < ndim) then
+      call bad('ndim', 'the nonlocal average serves 1D and 2D grids'); return
+    end if
+    if (.not. (dx > 0.0_dp)) then
+      call bad('dx', 'the cell size must be > 0'); return
+    end if
+
+    self%set = settings
+    self%ndim = ndim
+    self%origin(1:ndim) = origin(1:ndim)
+    self%dx = dx
+    self%nnode(1:ndim) = nnode(1:ndim)
+    self%glo = glo
+    self%ghi = ghi
+    allocate (self%node_mass(glo:ghi), self%field(glo:ghi))
+    self%node_mass = 0.0_dp
+    self%field = 0.0_dp
+
+    pr = 0.0_dp
+    ! PROPS(12), PROPS(13) are wellposed's nonlocal slots: a user's own UMAT
+    ! has other PROPS and runs local
+    if (umat_is_ours()) pr(1:min(size(props), nprops_known)) = &
+      props(1:min(size(props), nprops_known))
+    self%h_zeta = pr(prop_h_zeta)
+    self%length = pr(prop_length)
+    self%active = self%h_zeta /= 0.0_dp
+    if (.not. self%active) return
+    if (.not. (self%length > 0.0_dp .and. ieee_is_finite(self%length))) then
+      call new_error(err, status_invalid, 'L', 'h_zeta = '//real_text(self%h_zeta)// &
+        ' needs a nonlocal length L > 0 m (PROPS(13)); L = '//real_text(self%length))
+      return
+    end if
+    self%radius = weight_support(self%length, settings%weight_cutoff)
+    if (self%radius < 0.5_dp*dx) then
+      call new_error(err, status_invalid, 'L', 'L = '//real_text(self%length)// &
+        ' m is too short for the grid: the Gaussian (cut at '// &
+        real_text(settings%weight_cutoff)//') reaches '//real_text(self%radius)// &
+        ' m, less than half a cell (dx = '//real_text(dx)//' m), so no node would carry '// &
+        'the average')
+      return
+    end if
+    call new_dp_params(mat, pr(prop_bulk), pr(prop_shear), pr(prop_beta), pr(prop_beta_p), &
+                       pr(prop_k0), pr(prop_h), pr(prop_k_lim), pr(prop_z_ref), pr(prop_p_v), &
+                       pr(prop_p_d), pr(prop_tau), pr(prop_h_zeta), pr(prop_length), perr)
+    if (allocated(perr)) then
+      ! Not wellposed's parameter layout (a user's UMAT): no bound to report.
+      self%bound_43 = -1.0_dp
+      self%bound_45 = -1.0_dp
+    else
+      self%bound_43 = lipschitz_local_implicit(mat, 1.0_dp)
+      self%bound_45 = lipschitz_local_explicit(mat, 1.0_dp)
+    end if
+
+  contains
+
+    subroutine bad(key, what)
+      character(len=*), intent(in) :: key, what
+      call new_error(err, status_invalid, key, '&nonlocal '//key//' '//what)
+    end subroutine bad
+
+  end subroutine new_nonlocal
+
+  !> Node mass and the nodal field of eq. 4.46 from particle values:
+  !> m_i = sum_p phi_ip m_p and field_i = m_i dlambda_i = sum_p phi_ip m_p
+  !> values_p. node(k, p) are global node numbers inside [glo, ghi].
+  pure subroutine nonlocal_project(self, mass, node, phi, values)
+    type(nonlocal_t), intent(inout) :: self
+    real(dp), intent(in) :: mass(:), phi(:, :), values(:)
+    integer, intent(in) :: node(:, :)
+    integer :: p, k, i
+    real(dp) :: w
+    self%node_mass = 0.0_dp
+    self%field = 0.0_dp
+    do p = 1, size(mass)
+      do k = 1, size(node, 1)
+        i = node(k, p)
+        w = phi(k, p)*mass(p)
+        self%node_mass(i) = self%node_mass(i) + w
+        self%field(i) = self%field(i) + w*values(p)
+      end do
+    end do
+  end subroutine nonlocal_project
+
+  !> <dlambda> at position xp (m) from the nodal field, eq. 4.47-4.48; also
+  !> the mass in the support (kg, optional: the dissertation's N_alpha times the
+  !> particle mass). Zero where no node with mass lies in the support.
+  pure subroutine nonlocal_average(self, xp, avg, support_mass)
+    type(nonlocal_t), intent(in) :: self
+    real(dp), intent(in) :: xp(:)
+    real(dp), intent(out) :: avg
+    real(dp), intent(out), optional :: support_mass
+    integer, parameter :: rmax = 256
+    real(dp) :: ax(-rmax:rmax), ay(-rmax:rmax), num, den, rowm, rowf, smass, r2
+    integer :: lo(2), hi(2), i, j, g
+    call box(self, xp, lo, hi)
+    num = 0.0_dp
+    den = 0.0_dp
+    smass = 0.0_dp
+    do i = lo(1), hi(1)
+      ax(i - lo(1)) = nonlocal_weight(xp(1) - (self%origin(1) + self%dx*i), self%length)
+    end do
+    if (self%ndim == 1) then
+      do i = lo(1), hi(1)
+        if (i < self%glo .or. i > self%ghi) cycle
+        num = num + ax(i - lo(1))*self%field(i)
+        den = den + ax(i - lo(1))*self%node_mass(i)
+        if (present(support_mass)) then
+          if (abs(xp(1) - (self%origin(1) + self%dx*i)) <= self%radius) &
+            smass = smass + self%node_mass(i)
+        end if
+      end do
+    else
+      do j = lo(2), hi(2)
+        ay(j - lo(2)) = nonlocal_weight(xp(2) - (self%origin(2) + self%dx*j), self%length)
+      end do
+      do j = lo(2), hi(2)
+        rowm = 0.0_dp
+        rowf = 0.0_dp
+        do i = lo(1), hi(1)
+          g = i + self%nnode(1)*j
+          if (g < self%glo .or. g > self%ghi) cycle
+          rowm = rowm + ax(i - lo(1))*self%node_mass(g)
+          rowf = rowf + ax(i - lo(1))*self%field(g)
+          if (present(support_mass)) then
+            r2 = (xp(1) - (self%origin(1) + self%dx*i))**2 + &
+                 (xp(2) - (self%origin(2) + self%dx*j))**2
+            if (r2 <= self%radius**2) smass = smass + self%node_mass(g)
+          end if
+        end do
+        num = num + ay(j - lo(2))*rowf
+        den = den + ay(j - lo(2))*rowm
+      end do
+    end if
+    avg = 0.0_dp
+    if (den > 0.0_dp) avg = num/den
+    if (present(support_mass)) support_mass = smass
+  end subroutine nonlocal_average
+
+  !> <dlambda> of particle p at xp within a solve: its separable weights and
+  !> M_p (eq. 4.48) are computed at the first call of the step and kept, so a
+  !> sweep costs (2R+1)^ndim multiply-adds per particle and no exponential.
+  subroutine cached_average(self, p, xp, avg)
+    type(nonlocal_t), intent(inout) :: self
+    integer, intent(in) :: p
+    real(dp), intent(in) :: xp(:)
+    real(dp), intent(out) :: avg
+    integer :: lo(2), hi(2), i, j, g, nb
+    real(dp) :: num, row, den
+    if (.not. self%cached(p)) then
+      call box(self, xp, lo, hi)
+      hi = min(hi, lo + self%nbmax - 1)
+      self%blo(:, p) = lo
+      self%bhi(:, p) = hi
+      do i = lo(1), hi(1)
+        self%wx(i - lo(1) + 1, p) = nonlocal_weight(xp(1) - (self%origin(1) + self%dx*i), &
+                                                    self%length)
+      end do
+      den = 0.0_dp
+      if (self%ndim == 1) then
+        do i = max(lo(1), self%glo), min(hi(1), self%ghi)
+          den = den + self%wx(i - lo(1) + 1, p)*self%node_mass(i)
+        end do
+      else
+        do j = lo(2), hi(2)
+          self%wy(j - lo(2) + 1, p) = nonlocal_weight(xp(2) - (self%origin(2) + self%dx*j), &
+                                                      self%length)
+          row = 0.0_dp
+          do i = lo(1), hi(1)
+            g = i + self%nnode(1)*j
+            if (g < self%glo .or. g > self%ghi) cycle
+            row = row + self%wx(i - lo(1) + 1, p)*self%node_mass(g)
+          end do
+          den = den + self%wy(j - lo(2) + 1, p)*row
+        end do
+      end if
+      self%den(p) = den
+      self%cached(p) = .true.
+    end if
+    avg = 0.0_dp
+    if (.not. self%den(p) > 0.0_dp) return
+    lo = self%blo(:, p)
+    hi = self%bhi(:, p)
+    num = 0.0_dp
+    if (self%ndim == 1) then
+      do i = max(lo(1), self%glo), min(hi(1), self%ghi)
+        num = num + self%wx(i - lo(1) + 1, p)*self%field(i)
+      end do
+    else
+      nb = hi(1) - lo(1) + 1
+      do j = lo(2), hi(2)
+        g = lo(1) + self%nnode(1)*j
+        if (g < self%glo .or. g + nb - 1 > self%ghi) then
+          row = 0.0_dp
+          do i = lo(1), hi(1)
+            g = i + self%nnode(1)*j
+            if (g >= self%glo .and. g <= self%ghi) &
+              row = row + self%wx(i - lo(1) + 1, p)*self%field(g)
+          end do
+        else
+          row = dot_product(self%wx(1:nb, p), self%field(g:g + nb - 1))
+        end if
+        num = num + self%wy(j - lo(2) + 1, p)*row
+      end do
+    end if
+    avg = num/self%den(p)
+  end subroutine cached_average
+
+  !> Node index box [lo, hi] per direction covering the cut Gaussian at xp.
+  pure subroutine box(self, xp, lo, hi)
+    type(nonlocal_t), intent(in) :: self
+    real(dp), intent(in) :: xp(:)
+    integer, intent(out) :: lo(2), hi(2)
+    integer :: d
+    lo = 0
+    hi = 0
+    do d = 1, self%ndim
+      lo(d) = max(0, ceiling((xp(d) - self%radius - self%origin(d))/self%dx))
+      hi(d) = min(self%nnode(d) - 1, floor((xp(d) + self%radius - self%origin(d))/self%dx))
+      ! at most 2*256 + 1 nodes per direction (the radius is L*sqrt(-ln cutoff)/k)
+      hi(d) = min(hi(d), lo(d) + 512)
+    end do
+  end subroutine box
+
+end module wellposed_mpm_nonlocal_grid
