@@ -12,7 +12,8 @@ program bench_scaling
   use wellposed_mpi, only: comm_t, comm_start, comm_stop, comm_self, barrier, allreduce_max, &
                            allreduce_sum
   use wellposed_mpm_plane_strain, only: ps_config_t, ps_scene_t, new_ps_scene, ps_advance, &
-                                        ps_save, bc_free2, ps_plastic_count
+                                        bc_free2, ps_plastic_count
+  use wellposed_mpm_plate_restart, only: ps_save
   use wellposed_mpm_shape_2d, only: shape2d_cpdi
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint
   use wellposed_fs, only: remove_tree

@@ -11,7 +11,7 @@ module wellposed_mpm_grid
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: grid_t, new_grid_1d, grid_reset, cell_layer
+  public :: grid_t, new_grid, new_grid_1d, grid_reset, cell_layer
 
   type :: grid_t
     integer :: ndim = 1
@@ -26,8 +26,12 @@ module wellposed_mpm_grid
     real(dp), allocatable :: fext(:, :)     !< external force
     real(dp), allocatable :: velocity(:, :) !< v_i after the update, eq. 4.10 (m/s)
     real(dp), allocatable :: accel(:, :)    !< a_i, eq. 4.9 (m/s^2)
-    !> Per node and component: .true. where the velocity is prescribed zero.
+    !> Per node and component: .true. where the velocity is prescribed zero
+    !> (its nodal force is a reaction)
     logical, allocatable :: fixed(:, :)
+    !> Per node and component: .true. where the velocity is given (a moving
+    !> boundary; the value is the step's, wellposed_mpm_transfer)
+    logical, allocatable :: given(:, :)
   end type grid_t
 
 contains
@@ -50,23 +54,34 @@ contains
     type(grid_t), intent(out) :: self
     real(dp), intent(in) :: origin, dx
     integer, intent(in) :: ncells
-    self%ndim = 1
+    call new_grid(self, 1, origin, dx, ncells + 1, 0, ncells)
+  end subroutine new_grid_1d
+
+  !> A grid of `nnodes` nodes in `ndim` dimensions (node 0 at `origin` along
+  !> x, cell size `dx`) of which this process holds the patch [glo, ghi]
+  !> and owns all: free nodes at rest, nothing accumulated.
+  pure subroutine new_grid(self, ndim, origin, dx, nnodes, glo, ghi)
+    type(grid_t), intent(out) :: self
+    integer, intent(in) :: ndim, nnodes, glo, ghi
+    real(dp), intent(in) :: origin, dx
+    self%ndim = ndim
     self%origin = origin
     self%dx = dx
-    self%nnodes = ncells + 1
-    self%ilo = 0
-    self%ihi = ncells
-    self%glo = 0
-    self%ghi = ncells
-    allocate (self%mass(self%glo:self%ghi))
-    allocate (self%momentum(1, self%glo:self%ghi), self%fint(1, self%glo:self%ghi), &
-              self%fext(1, self%glo:self%ghi), self%velocity(1, self%glo:self%ghi), &
-              self%accel(1, self%glo:self%ghi), self%fixed(1, self%glo:self%ghi))
+    self%nnodes = nnodes
+    self%ilo = glo
+    self%ihi = ghi
+    self%glo = glo
+    self%ghi = ghi
+    allocate (self%mass(glo:ghi))
+    allocate (self%momentum(ndim, glo:ghi), self%fint(ndim, glo:ghi), &
+              self%fext(ndim, glo:ghi), self%velocity(ndim, glo:ghi), &
+              self%accel(ndim, glo:ghi), self%fixed(ndim, glo:ghi), self%given(ndim, glo:ghi))
     self%fixed = .false.
+    self%given = .false.
     call grid_reset(self)
     self%velocity = 0.0_dp
     self%accel = 0.0_dp
-  end subroutine new_grid_1d
+  end subroutine new_grid
 
   !> Zero the accumulated fields before a particle-to-grid pass.
   pure subroutine grid_reset(self)

@@ -17,8 +17,8 @@
 !> position (`owner_of_position`); `hand_off_particles` sends those that
 !> moved to another rank's cells there (all-to-all, any distance), keeping
 !> the order of the ones that stay and appending arrivals in rank order, so
-!> a run on N ranks is deterministic. Particle data travel whole (every
-!> field of particles_t except the connectivity, which is rebuilt from x).
+!> a run on N ranks is deterministic. Particle data travel whole, as the
+!> records of wellposed_mpm_particles.
 !>
 !> Ghost sums: a node held by several patches receives contributions on
 !> each; `sum_ghost_values` exchanges the shared node ranges pairwise and
@@ -34,14 +34,14 @@ module wellposed_mpm_decomposition
                            allreduce_any, gatherv_real, gatherv_int, allreduce_sum
   use wellposed_nonlocal, only: weight_support
   use wellposed_mpm_grid, only: grid_t, cell_layer
-  use wellposed_mpm_particles, only: particles_t, new_particles
+  use wellposed_mpm_particles, only: particles_t, copy_particle, particle_record_length, &
+                                     pack_particle, unpack_particle, ensure_capacity
   implicit none
   private
   public :: decomposition_t, new_decomposition, owner_of_layer, owner_of_position, &
             layer_of_position, &
             restrict_grid, restrict_particles, hand_off_particles, sum_ghost_values, &
-            sum_ghost_grid, copy_owned_to_ghosts, ensure_capacity, particle_record_length, &
-            pack_particle, unpack_particle, gather_by_gid, check_support, ghost_layers
+            sum_ghost_grid, copy_owned_to_ghosts, gather_by_gid, check_support, ghost_layers
   public :: patch_nodes, hand_off_particles_with
 
   !> How the grid is shared out; the same on every rank but for `rank`.
@@ -218,6 +218,7 @@ contains
     call cut_r2(grid%velocity)
     call cut_r2(grid%accel)
     call cut_l2(grid%fixed)
+    if (allocated(grid%given)) call cut_l2(grid%given)
     grid%glo = glo
     grid%ghi = ghi
   contains
@@ -275,151 +276,6 @@ contains
       real_text(self%origin)//', '//real_text(self%origin + self%ncells*self%dx)// &
       '] m; enlarge the grid (grid%pad_cells) or shorten the run')
   end subroutine outside
-
-  !> Move particle q's data to slot m (connectivity included).
-  pure subroutine copy_particle(parts, q, m)
-    type(particles_t), intent(inout) :: parts
-    integer, intent(in) :: q, m
-    parts%gid(m) = parts%gid(q)
-    parts%x0(:, m) = parts%x0(:, q)
-    parts%x(:, m) = parts%x(:, q)
-    parts%v(:, m) = parts%v(:, q)
-    parts%lp(:, m) = parts%lp(:, q)
-    parts%mass(m) = parts%mass(q)
-    parts%vol0(m) = parts%vol0(q)
-    parts%vol(m) = parts%vol(q)
-    parts%defgrad(:, :, m) = parts%defgrad(:, :, q)
-    parts%stress(:, m) = parts%stress(:, q)
-    parts%stran(:, m) = parts%stran(:, q)
-    parts%statev(:, m) = parts%statev(:, q)
-    parts%node(:, m) = parts%node(:, q)
-    parts%phi(:, m) = parts%phi(:, q)
-    parts%grad(:, :, m) = parts%grad(:, :, q)
-  end subroutine copy_particle
-
-  !> Reals per particle in a hand-off record.
-  pure integer function particle_record_length(parts) result(n)
-    type(particles_t), intent(in) :: parts
-    n = 1 + 4*parts%ndim + 3 + 9 + 6 + 6 + parts%nstatv
-  end function particle_record_length
-
-  !> Particle p as one record of reals (the global id is exact as a real
-  !> below 2**53). The connectivity is not sent: it is rebuilt from x.
-  pure subroutine pack_particle(parts, p, rec)
-    type(particles_t), intent(in) :: parts
-    integer, intent(in) :: p
-    real(dp), intent(out) :: rec(:)
-    integer :: k, d
-    d = parts%ndim
-    rec(1) = real(parts%gid(p), dp)
-    k = 1
-    rec(k + 1:k + d) = parts%x0(:, p); k = k + d
-    rec(k + 1:k + d) = parts%x(:, p); k = k + d
-    rec(k + 1:k + d) = parts%v(:, p); k = k + d
-    rec(k + 1:k + d) = parts%lp(:, p); k = k + d
-    rec(k + 1) = parts%mass(p)
-    rec(k + 2) = parts%vol0(p)
-    rec(k + 3) = parts%vol(p); k = k + 3
-    rec(k + 1:k + 9) = reshape(parts%defgrad(:, :, p), [9]); k = k + 9
-    rec(k + 1:k + 6) = parts%stress(:, p); k = k + 6
-    rec(k + 1:k + 6) = parts%stran(:, p); k = k + 6
-    rec(k + 1:k + parts%nstatv) = parts%statev(:, p)
-  end subroutine pack_particle
-
-  !> The inverse of pack_particle into slot p (connectivity zeroed).
-  pure subroutine unpack_particle(parts, p, rec)
-    type(particles_t), intent(inout) :: parts
-    integer, intent(in) :: p
-    real(dp), intent(in) :: rec(:)
-    integer :: k, d
-    d = parts%ndim
-    parts%gid(p) = nint(rec(1))
-    k = 1
-    parts%x0(:, p) = rec(k + 1:k + d); k = k + d
-    parts%x(:, p) = rec(k + 1:k + d); k = k + d
-    parts%v(:, p) = rec(k + 1:k + d); k = k + d
-    parts%lp(:, p) = rec(k + 1:k + d); k = k + d
-    parts%mass(p) = rec(k + 1)
-    parts%vol0(p) = rec(k + 2)
-    parts%vol(p) = rec(k + 3); k = k + 3
-    parts%defgrad(:, :, p) = reshape(rec(k + 1:k + 9), [3, 3]); k = k + 9
-    parts%stress(:, p) = rec(k + 1:k + 6); k = k + 6
-    parts%stran(:, p) = rec(k + 1:k + 6); k = k + 6
-    parts%statev(:, p) = rec(k + 1:k + parts%nstatv)
-    parts%node(:, p) = 0
-    parts%phi(:, p) = 0.0_dp
-    parts%grad(:, :, p) = 0.0_dp
-  end subroutine unpack_particle
-
-  !> Room for at least `needed` particles, keeping the first n (grows by
-  !> half again at least, so repeated arrivals reallocate rarely). A set
-  !> never allocated is allocated with its ndim, nsup and nstatv.
-  pure subroutine ensure_capacity(parts, needed)
-    type(particles_t), intent(inout) :: parts
-    integer, intent(in) :: needed
-    integer :: cap, n, ndim, nsup, nstatv
-    if (.not. allocated(parts%gid)) then
-      ndim = parts%ndim                  ! copies: new_particles resets parts on entry
-      nsup = parts%nsup
-      nstatv = parts%nstatv
-      call new_particles(parts, max(needed, 1), ndim, nsup, nstatv)
-      return
-    end if
-    if (size(parts%gid) >= needed) return
-    cap = max(needed, size(parts%gid) + size(parts%gid)/2 + 16)
-    n = parts%n
-    call grow_i1(parts%gid)
-    call grow_r2(parts%x0)
-    call grow_r2(parts%x)
-    call grow_r2(parts%v)
-    call grow_r2(parts%lp)
-    call grow_r1(parts%mass)
-    call grow_r1(parts%vol0)
-    call grow_r1(parts%vol)
-    call grow_r3(parts%defgrad)
-    call grow_r2(parts%stress)
-    call grow_r2(parts%stran)
-    call grow_r2(parts%statev)
-    call grow_i2(parts%node)
-    call grow_r2(parts%phi)
-    call grow_r3(parts%grad)
-  contains
-    pure subroutine grow_i1(a)
-      integer, allocatable, intent(inout) :: a(:)
-      integer, allocatable :: b(:)
-      allocate (b(cap))
-      b(1:n) = a(1:n)
-      call move_alloc(b, a)
-    end subroutine grow_i1
-    pure subroutine grow_i2(a)
-      integer, allocatable, intent(inout) :: a(:, :)
-      integer, allocatable :: b(:, :)
-      allocate (b(size(a, 1), cap))
-      b(:, 1:n) = a(:, 1:n)
-      call move_alloc(b, a)
-    end subroutine grow_i2
-    pure subroutine grow_r1(a)
-      real(dp), allocatable, intent(inout) :: a(:)
-      real(dp), allocatable :: b(:)
-      allocate (b(cap))
-      b(1:n) = a(1:n)
-      call move_alloc(b, a)
-    end subroutine grow_r1
-    pure subroutine grow_r2(a)
-      real(dp), allocatable, intent(inout) :: a(:, :)
-      real(dp), allocatable :: b(:, :)
-      allocate (b(size(a, 1), cap))
-      b(:, 1:n) = a(:, 1:n)
-      call move_alloc(b, a)
-    end subroutine grow_r2
-    pure subroutine grow_r3(a)
-      real(dp), allocatable, intent(inout) :: a(:, :, :)
-      real(dp), allocatable :: b(:, :, :)
-      allocate (b(size(a, 1), size(a, 2), cap))
-      b(:, :, 1:n) = a(:, :, 1:n)
-      call move_alloc(b, a)
-    end subroutine grow_r3
-  end subroutine ensure_capacity
 
   !> Send every particle whose cell another rank owns to that rank, and take
   !> in the particles other ranks send here (collective). Stayers keep their

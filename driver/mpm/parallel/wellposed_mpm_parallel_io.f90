@@ -16,10 +16,9 @@ module wellposed_mpm_parallel_io
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_mpi, only: comm_t, gatherv_real, broadcast, allreduce_sum
   use wellposed_checkpoint, only: checkpoint_t
-  use wellposed_mpm_particles, only: particles_t
+  use wellposed_mpm_particles, only: particles_t, particle_record_length, pack_particle, &
+                                     unpack_particle, ensure_capacity
   use wellposed_mpm_stations, only: stations_t, nfields
-  use wellposed_mpm_decomposition, only: particle_record_length, pack_particle, &
-                                         unpack_particle, ensure_capacity
   implicit none
   private
   public :: gather_particles, station_proxy_t, make_station_proxy, fill_station_proxy, &

@@ -15,11 +15,10 @@ module wellposed_mpm_restart
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text, real_text
   use wellposed_checkpoint, only: checkpoint_t
-  use wellposed_mpm_particles, only: particles_t
+  use wellposed_mpm_particles, only: particles_t, ensure_capacity, particle_record_length, &
+                                     pack_particle, unpack_particle
   use wellposed_mpm_solver, only: mpm_scene_t
-  use wellposed_mpm_decomposition, only: decomposition_t, ensure_capacity, &
-                                         particle_record_length, pack_particle, &
-                                         unpack_particle, owner_of_position
+  use wellposed_mpm_decomposition, only: decomposition_t, owner_of_position
   use wellposed_mpi, only: comm_t, gatherv_real, allreduce_max
   implicit none
   private

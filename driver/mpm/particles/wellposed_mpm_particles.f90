@@ -5,11 +5,14 @@
 !> hand-off between ranks, and `n` may be below the allocated
 !> capacity so particles can arrive and leave without reallocating.
 !> The connectivity (node, phi, grad) is recomputed each step from x.
+!> A particle travels (hand-off, checkpoint, snapshot gathers) as one record
+!> of reals: every field but the connectivity.
 module wellposed_mpm_particles
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: particles_t, new_particles, particle_bytes
+  public :: particles_t, new_particles, particle_bytes, copy_particle, particle_record_length, &
+            pack_particle, unpack_particle, ensure_capacity
 
   type :: particles_t
     integer :: n = 0                 !< particles in use
@@ -56,5 +59,150 @@ contains
     integer, intent(in) :: ndim, nsup, nstatv
     particle_bytes = 4 + 8*(4*ndim + 3 + 9 + 6 + 6 + nstatv) + nsup*(4 + 8 + 8*ndim)
   end function particle_bytes
+
+  !> Move particle q's data to slot m (connectivity included).
+  pure subroutine copy_particle(parts, q, m)
+    type(particles_t), intent(inout) :: parts
+    integer, intent(in) :: q, m
+    parts%gid(m) = parts%gid(q)
+    parts%x0(:, m) = parts%x0(:, q)
+    parts%x(:, m) = parts%x(:, q)
+    parts%v(:, m) = parts%v(:, q)
+    parts%lp(:, m) = parts%lp(:, q)
+    parts%mass(m) = parts%mass(q)
+    parts%vol0(m) = parts%vol0(q)
+    parts%vol(m) = parts%vol(q)
+    parts%defgrad(:, :, m) = parts%defgrad(:, :, q)
+    parts%stress(:, m) = parts%stress(:, q)
+    parts%stran(:, m) = parts%stran(:, q)
+    parts%statev(:, m) = parts%statev(:, q)
+    parts%node(:, m) = parts%node(:, q)
+    parts%phi(:, m) = parts%phi(:, q)
+    parts%grad(:, :, m) = parts%grad(:, :, q)
+  end subroutine copy_particle
+
+  !> Reals per particle in a hand-off record.
+  pure integer function particle_record_length(parts) result(n)
+    type(particles_t), intent(in) :: parts
+    n = 1 + 4*parts%ndim + 3 + 9 + 6 + 6 + parts%nstatv
+  end function particle_record_length
+
+  !> Particle p as one record of reals (the global id is exact as a real
+  !> below 2**53). The connectivity is not sent: it is rebuilt from x.
+  pure subroutine pack_particle(parts, p, rec)
+    type(particles_t), intent(in) :: parts
+    integer, intent(in) :: p
+    real(dp), intent(out) :: rec(:)
+    integer :: k, d
+    d = parts%ndim
+    rec(1) = real(parts%gid(p), dp)
+    k = 1
+    rec(k + 1:k + d) = parts%x0(:, p); k = k + d
+    rec(k + 1:k + d) = parts%x(:, p); k = k + d
+    rec(k + 1:k + d) = parts%v(:, p); k = k + d
+    rec(k + 1:k + d) = parts%lp(:, p); k = k + d
+    rec(k + 1) = parts%mass(p)
+    rec(k + 2) = parts%vol0(p)
+    rec(k + 3) = parts%vol(p); k = k + 3
+    rec(k + 1:k + 9) = reshape(parts%defgrad(:, :, p), [9]); k = k + 9
+    rec(k + 1:k + 6) = parts%stress(:, p); k = k + 6
+    rec(k + 1:k + 6) = parts%stran(:, p); k = k + 6
+    rec(k + 1:k + parts%nstatv) = parts%statev(:, p)
+  end subroutine pack_particle
+
+  !> The inverse of pack_particle into slot p (connectivity zeroed).
+  pure subroutine unpack_particle(parts, p, rec)
+    type(particles_t), intent(inout) :: parts
+    integer, intent(in) :: p
+    real(dp), intent(in) :: rec(:)
+    integer :: k, d
+    d = parts%ndim
+    parts%gid(p) = nint(rec(1))
+    k = 1
+    parts%x0(:, p) = rec(k + 1:k + d); k = k + d
+    parts%x(:, p) = rec(k + 1:k + d); k = k + d
+    parts%v(:, p) = rec(k + 1:k + d); k = k + d
+    parts%lp(:, p) = rec(k + 1:k + d); k = k + d
+    parts%mass(p) = rec(k + 1)
+    parts%vol0(p) = rec(k + 2)
+    parts%vol(p) = rec(k + 3); k = k + 3
+    parts%defgrad(:, :, p) = reshape(rec(k + 1:k + 9), [3, 3]); k = k + 9
+    parts%stress(:, p) = rec(k + 1:k + 6); k = k + 6
+    parts%stran(:, p) = rec(k + 1:k + 6); k = k + 6
+    parts%statev(:, p) = rec(k + 1:k + parts%nstatv)
+    parts%node(:, p) = 0
+    parts%phi(:, p) = 0.0_dp
+    parts%grad(:, :, p) = 0.0_dp
+  end subroutine unpack_particle
+
+  !> Room for at least `needed` particles, keeping the first n (grows by
+  !> half again at least, so repeated arrivals reallocate rarely). A set
+  !> never allocated is allocated with its ndim, nsup and nstatv.
+  pure subroutine ensure_capacity(parts, needed)
+    type(particles_t), intent(inout) :: parts
+    integer, intent(in) :: needed
+    integer :: cap, n, ndim, nsup, nstatv
+    if (.not. allocated(parts%gid)) then
+      ndim = parts%ndim                  ! copies: new_particles resets parts on entry
+      nsup = parts%nsup
+      nstatv = parts%nstatv
+      call new_particles(parts, max(needed, 1), ndim, nsup, nstatv)
+      return
+    end if
+    if (size(parts%gid) >= needed) return
+    cap = max(needed, size(parts%gid) + size(parts%gid)/2 + 16)
+    n = parts%n
+    call grow_i1(parts%gid)
+    call grow_r2(parts%x0)
+    call grow_r2(parts%x)
+    call grow_r2(parts%v)
+    call grow_r2(parts%lp)
+    call grow_r1(parts%mass)
+    call grow_r1(parts%vol0)
+    call grow_r1(parts%vol)
+    call grow_r3(parts%defgrad)
+    call grow_r2(parts%stress)
+    call grow_r2(parts%stran)
+    call grow_r2(parts%statev)
+    call grow_i2(parts%node)
+    call grow_r2(parts%phi)
+    call grow_r3(parts%grad)
+  contains
+    pure subroutine grow_i1(a)
+      integer, allocatable, intent(inout) :: a(:)
+      integer, allocatable :: b(:)
+      allocate (b(cap))
+      b(1:n) = a(1:n)
+      call move_alloc(b, a)
+    end subroutine grow_i1
+    pure subroutine grow_i2(a)
+      integer, allocatable, intent(inout) :: a(:, :)
+      integer, allocatable :: b(:, :)
+      allocate (b(size(a, 1), cap))
+      b(:, 1:n) = a(:, 1:n)
+      call move_alloc(b, a)
+    end subroutine grow_i2
+    pure subroutine grow_r1(a)
+      real(dp), allocatable, intent(inout) :: a(:)
+      real(dp), allocatable :: b(:)
+      allocate (b(cap))
+      b(1:n) = a(1:n)
+      call move_alloc(b, a)
+    end subroutine grow_r1
+    pure subroutine grow_r2(a)
+      real(dp), allocatable, intent(inout) :: a(:, :)
+      real(dp), allocatable :: b(:, :)
+      allocate (b(size(a, 1), cap))
+      b(:, 1:n) = a(:, 1:n)
+      call move_alloc(b, a)
+    end subroutine grow_r2
+    pure subroutine grow_r3(a)
+      real(dp), allocatable, intent(inout) :: a(:, :, :)
+      real(dp), allocatable :: b(:, :, :)
+      allocate (b(size(a, 1), size(a, 2), cap))
+      b(:, :, 1:n) = a(:, :, 1:n)
+      call move_alloc(b, a)
+    end subroutine grow_r3
+  end subroutine ensure_capacity
 
 end module wellposed_mpm_particles

@@ -27,8 +27,9 @@ module wellposed_mpm_plate_run
   use wellposed_error, only: error_t, status_cutback
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_plane_strain, only: ps_config_t, ps_scene_t, new_ps_scene, ps_advance, &
-                                        ps_applied_stress, ps_plastic_strain, ps_save, &
-                                        ps_restore, ps_max_substeps, ps_plastic_count
+                                        ps_applied_stress, ps_plastic_strain, &
+                                        ps_max_substeps, ps_plastic_count
+  use wellposed_mpm_plate_restart, only: ps_save, ps_restore
   use wellposed_mpm_shape_2d, only: shape2d_names
   use wellposed_mpm_config, only: scheme_names
   use wellposed_mpm_nonlocal, only: nl_scheme_names

@@ -42,72 +42,35 @@
 !> serial ones.
 module wellposed_mpm_plane_strain
   use, intrinsic :: iso_fortran_env, only: int64
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_text, only: int_text, real_text
-  use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_update, &
-                                host_error, verdict_ok, verdict_cutback
+  use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_error, &
+                                verdict_ok, verdict_cutback
   use wellposed_mpm_materials, only: mpm_materials_t, single_material, material_of, &
                                      check_covered
   use wellposed_mpm_particles, only: particles_t, new_particles
   use wellposed_mpm_config, only: scheme_musl
-  use wellposed_mpm_shape_2d, only: shape_2d, support_size_2d, shape2d_cpdi, shape2d_gimp, &
-                                    shape2d_linear, shape2d_reach, shape2d_names
-  use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nonlocal_t, nonlocal_host_t, &
-                                    new_nonlocal, nonlocal_solve, nonlocal_ghost_nodes, &
-                                    sweep_key
+  use wellposed_mpm_grid, only: grid_t, new_grid
+  use wellposed_mpm_particle_umat, only: strain_increment, umat_particle
+  use wellposed_mpm_transfer, only: p2g, p2g_momentum, grid_update, velocity_from_momentum, &
+                                    g2p, velocity_gradient
+  use wellposed_mpm_shape_2d, only: shape_2d, support_size_2d, shape2d_reach, shape2d_names
+  use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, new_nonlocal, nonlocal_solve, &
+                                    nonlocal_ghost_nodes, sweep_key
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpi, only: comm_t, allreduce_any, allreduce_min, allreduce_max, &
-                           allreduce_sum, broadcast, gatherv_real
+                           allreduce_sum, broadcast
   use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, patch_nodes, &
                                          owner_of_position, hand_off_particles_with, &
-                                         layer_of_position, &
-                                         sum_ghost_values, particle_record_length, &
-                                         pack_particle, unpack_particle, ensure_capacity
-  use wellposed_checkpoint, only: checkpoint_t
+                                         layer_of_position, sum_ghost_grid
+  use wellposed_mpm_plate_config, only: ps_config_t, check_plate_config, bc_roller, &
+                                        bc_fixed2, bc_free2, bc_velocity, bc2_names
   implicit none
   private
   public :: ps_config_t, ps_scene_t, new_ps_scene, ps_advance, ps_applied_stress, &
             ps_plastic_strain, bc_roller, bc_fixed2, bc_free2, bc_velocity, bc2_names, &
-            ps_kinetic_energy, ps_save, ps_restore, ps_max_substeps, ps_plastic_count
-
-  !> Boundary kinds in 2D.
-  integer, parameter :: bc_roller = 1, bc_fixed2 = 2, bc_free2 = 3, bc_velocity = 4
-  character(len=8), parameter :: bc2_names(4) = [character(len=8) :: 'roller', 'fixed', 'free', &
-                                                 'velocity']
-  integer, parameter :: max_props2 = 40
-  !> Version of the checkpoint entries of ps_save; ps_restore refuses others.
-  integer, parameter :: ps_layout_version = 1
-
-  !> One plane-strain scene (defaults: the 4 m x 5 m plate of fig. 4.1 with
-  !> the local softening material of section 4.7.1, h = 0.5 m).
-  type :: ps_config_t
-    character(len=:), allocatable :: name, title
-    real(dp) :: width = 4.0_dp, height = 5.0_dp   !< m
-    real(dp) :: dx = 0.5_dp                        !< cell size h (m)
-    integer :: ppc = 2                             !< particles per cell per direction
-    integer :: pad_cells = 2
-    integer :: shape = shape2d_cpdi
-    real(dp) :: t_end = 0.02_dp, cfl = 0.2_dp      !< s, fraction of the CFL step
-    integer :: scheme = scheme_musl                !< USL or MUSL (wellposed_mpm_config)
-    real(dp) :: density = 1000.0_dp                !< kg/m^3
-    integer :: nprops = 14
-    real(dp) :: props(max_props2) = 0.0_dp
-    integer :: nstatv = 12
-    !> materials by region (none: one material of props, nstatv)
-    type(mpm_materials_t) :: materials
-    ! boundaries
-    integer :: bottom = bc_roller, top = bc_velocity, sides = bc_free2
-    real(dp) :: top_velocity = -7.5_dp             !< v_y of the top (m/s, < 0 compresses)
-    real(dp) :: ramp_time = 0.0_dp                 !< s, linear ramp of the top velocity
-    logical :: top_lateral_fixed = .true.          !< v_x = 0 on the top too (the dissertation's)
-    ! initial state
-    real(dp) :: velocity_gradient0(2, 2) = 0.0_dp  !< initial v = L0 x (patch test), 1/s
-    ! artificial viscosity
-    real(dp) :: visc_a1 = 0.4_dp, visc_a2 = 4.0_dp
-    type(nonlocal_settings_t) :: nonlocal
-  end type ps_config_t
+            ps_kinetic_energy, ps_max_substeps, ps_plastic_count, ps_size_workspace
 
   !> The state of a running scene.
   type, extends(nonlocal_host_t) :: ps_scene_t
@@ -117,8 +80,7 @@ module wellposed_mpm_plane_strain
     ! grid: node g = i + nx*j at origin + dx*(i, j)
     integer :: nx = 0, ny = 0, nnodes = 0
     real(dp) :: origin(2) = 0.0_dp
-    real(dp), allocatable :: gmass(:), gmom(:, :), gforce(:, :), gvel(:, :), gacc(:, :)
-    integer, allocatable :: gfix(:, :)        !< 0 free, 1 zero, 2 prescribed top (2, node)
+    type(grid_t) :: grid                      !< this rank's patch of nodes
     real(dp) :: t = 0.0_dp, dt = 0.0_dp
     integer :: nstep = 0
     real(dp) :: top_disp = 0.0_dp             !< vertical displacement of the top (m)
@@ -157,7 +119,7 @@ contains
     integer :: ncx, ncy, np, p, a, b, k, nsup, g, i, j, nlocal, cap
     real(dp) :: lp, xy(2), ds(4), m_k
 
-    call check(cfg, err)
+    call check_plate_config(cfg, err)
     if (allocated(err)) return
     self%cfg = cfg
     call new_umat_host(self%host, 4, cfg%nstatv, err, what='particle')
@@ -179,28 +141,28 @@ contains
                            self%origin(2), cfg%dx, err)
     if (allocated(err)) return
     call patch_nodes(self%dec, self%glo, self%ghi)
-    allocate (self%gmass(self%glo:self%ghi), self%gmom(2, self%glo:self%ghi), &
-              self%gforce(2, self%glo:self%ghi), self%gvel(2, self%glo:self%ghi), &
-              self%gacc(2, self%glo:self%ghi), self%gfix(2, self%glo:self%ghi))
-    self%gvel = 0.0_dp
-    self%gacc = 0.0_dp
-    self%gfix = 0
+    call new_grid(self%grid, 2, self%origin(1), cfg%dx, self%nnodes, self%glo, self%ghi)
     do j = self%glo/self%nx, self%ghi/self%nx
       do i = 0, self%nx - 1
         g = i + self%nx*j
         xy = self%origin + cfg%dx*[i, j]
         if (xy(2) <= 0.5_dp*cfg%dx*1.0e-6_dp) then
-          if (cfg%bottom == bc_roller) self%gfix(2, g) = 1
-          if (cfg%bottom == bc_fixed2) self%gfix(:, g) = 1
+          if (cfg%bottom == bc_roller) self%grid%fixed(2, g) = .true.
+          if (cfg%bottom == bc_fixed2) self%grid%fixed(:, g) = .true.
         end if
         if (cfg%sides == bc_roller .and. (xy(1) <= 1.0e-6_dp*cfg%dx .or. &
                                            xy(1) >= cfg%width - 1.0e-6_dp*cfg%dx)) &
-          self%gfix(1, g) = 1
+          self%grid%fixed(1, g) = .true.
         ! the platen covers the top face only: nodes at y >= height, 0 <= x <= width
+        ! (its velocity (0, v_top) wins over the other conditions)
         if (cfg%top == bc_velocity .and. xy(2) >= cfg%height - 1.0e-6_dp*cfg%dx .and. &
             xy(1) >= -1.0e-6_dp*cfg%dx .and. xy(1) <= cfg%width + 1.0e-6_dp*cfg%dx) then
-          self%gfix(2, g) = 2
-          if (cfg%top_lateral_fixed) self%gfix(1, g) = 2
+          self%grid%fixed(2, g) = .false.
+          self%grid%given(2, g) = .true.
+          if (cfg%top_lateral_fixed) then
+            self%grid%fixed(1, g) = .false.
+            self%grid%given(1, g) = .true.
+          end if
         end if
       end do
     end do
@@ -314,54 +276,6 @@ contains
 
   end subroutine new_ps_scene
 
-  !> Checks on the deck values a scene needs.
-  subroutine check(cfg, err)
-    type(ps_config_t), intent(in) :: cfg
-    type(error_t), allocatable, intent(out) :: err
-    real(dp) :: r(2)
-    if (.not. (cfg%dx > 0.0_dp .and. ieee_is_finite(cfg%dx))) then
-      call bad('grid', 'dx', 'must be a finite cell size > 0 m'); return
-    end if
-    r = [cfg%width, cfg%height]/cfg%dx
-    if (any(abs(r - nint(r)) > 1.0e-9_dp*r) .or. any(nint(r) < 2)) then
-      call bad('plate', 'width', 'and height must be whole numbers (>= 2) of cells dx')
-      return
-    end if
-    if (product(real(nint(r), dp))*cfg%ppc**2 > 2.0e7_dp) then
-      call bad('grid', 'dx', 'gives more than 2e7 particles'); return
-    end if
-    if (cfg%ppc < 1 .or. cfg%ppc > 4) then
-      call bad('grid', 'ppc', 'particles per cell per direction must be 1 ... 4'); return
-    end if
-    if (cfg%pad_cells < 2) then
-      call bad('grid', 'pad_cells', 'must be >= 2 (GIMP/CPDI supports reach past the body)')
-      return
-    end if
-    if (.not. (cfg%cfl > 0.0_dp .and. cfg%cfl <= 1.0_dp)) then
-      call bad('time', 'cfl', 'the CFL fraction must lie in (0, 1]'); return
-    end if
-    if (.not. (cfg%t_end > 0.0_dp .and. ieee_is_finite(cfg%t_end))) then
-      call bad('time', 't_end', 'must be a finite end time > 0 s'); return
-    end if
-    if (.not. (cfg%density > 0.0_dp)) then
-      call bad('material', 'density', 'must be > 0 kg/m^3'); return
-    end if
-    if (cfg%nstatv < 12) then
-      call bad('material', 'nstatv', 'must be >= 12 (the UMAT contract)'); return
-    end if
-    if (cfg%visc_a1 < 0.0_dp .or. cfg%visc_a2 < 0.0_dp) then
-      call bad('viscosity', 'a1', 'A1 and A2 must be >= 0 (0 switches a term off)'); return
-    end if
-    if (cfg%ramp_time < 0.0_dp) then
-      call bad('boundary', 'ramp_time', 'must be >= 0 s'); return
-    end if
-  contains
-    subroutine bad(group, key, what)
-      character(len=*), intent(in) :: group, key, what
-      call new_error(err, status_invalid, group//'%'//key, '&'//group//' '//key//' '//what)
-    end subroutine bad
-  end subroutine check
-
   !> One explicit step: weights, P2G, grid update with boundaries, G2P,
   !> MUSL velocity, L and F, artificial viscosity, Jaumann rotation, and
   !> the stress update of every particle through Algorithm 1.
@@ -369,10 +283,9 @@ contains
     type(ps_scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
     integer, intent(in), optional :: log_unit
-    integer :: p, k, i, n, ns
-    real(dp) :: dt, w, vtop, mmin, lg(2, 2), dkk, rho, sig(2, 2), wspin, f2(2, 2), c
+    integer :: p, n
+    real(dp) :: dt, vtop, mmin, lg(2, 2), dkk, rho, wspin, f2(2, 2), c, reaction(2)
     real(dp) :: s4(4)
-    real(dp), allocatable :: sums(:, :)
     integer(int64), allocatable :: skey(:)
     integer(int64) :: t0, t1, t2
 
@@ -385,7 +298,6 @@ contains
     associate (pt => self%parts, cfg => self%cfg)
       n = pt%n
       dt = self%dt
-      ns = pt%nsup
       ! --- Algorithm 1's sweep order: the owning cell row at x^n (the
       ! positions the hand-off above decided from), then the id; the same
       ! keys on one rank as on N (a local model sweeps nothing)
@@ -418,86 +330,31 @@ contains
       end do
       call sync_error(self, err)
       if (allocated(err)) return
-      ! --- P2G: mass, momentum, internal force (sigma - q I)
-      self%gmass = 0.0_dp
-      self%gmom = 0.0_dp
-      self%gforce = 0.0_dp
-      do p = 1, n
-        sig = reshape([pt%stress(1, p) - self%q(p), pt%stress(4, p), pt%stress(4, p), &
-                       pt%stress(2, p) - self%q(p)], [2, 2])
-        do k = 1, ns
-          i = pt%node(k, p)
-          w = pt%phi(k, p)*pt%mass(p)
-          self%gmass(i) = self%gmass(i) + w
-          self%gmom(:, i) = self%gmom(:, i) + w*pt%v(:, p)
-          self%gforce(:, i) = self%gforce(:, i) - pt%vol(p)*matmul(sig, pt%grad(:, k, p))
-        end do
-      end do
-      ! nodes shared with other ranks: the sums over every rank
-      if (self%dec%nnb > 0) then
-        allocate (sums(5, self%glo:self%ghi))
-        sums(1, :) = self%gmass
-        sums(2:3, :) = self%gmom
-        sums(4:5, :) = self%gforce
-        call sum_ghost_values(self%dec, self%comm, sums)
-        self%gmass = sums(1, :)
-        self%gmom = sums(2:3, :)
-        self%gforce = sums(4:5, :)
-      end if
-      ! --- grid update and boundaries, on every node of the patch
+      ! --- P2G: mass, momentum, internal force (sigma - q I), summed over
+      ! the ranks sharing a node
+      call p2g(self%grid, pt, n, self%q)
+      call sum_ghost_grid(self%dec, self%comm, self%grid, .false.)
+      ! --- grid update and boundaries (the platen's (0, v_top)), on every
+      ! node of the patch
       vtop = cfg%top_velocity
       if (cfg%ramp_time > 0.0_dp) vtop = vtop*min(1.0_dp, (self%t + dt)/cfg%ramp_time)
       mmin = self%mass_floor
-      do i = self%glo, self%ghi
-        if (self%gmass(i) > mmin) then
-          self%gacc(:, i) = self%gforce(:, i)/self%gmass(i)
-          self%gvel(:, i) = self%gmom(:, i)/self%gmass(i) + self%gacc(:, i)*dt
-        else
-          self%gacc(:, i) = 0.0_dp
-          self%gvel(:, i) = 0.0_dp
-        end if
-        call apply_bc(i)
-      end do
+      call grid_update(self%grid, dt, mmin, [0.0_dp, vtop], reaction)
       ! --- G2P: FLIP velocity, position
-      do p = 1, n
-        do k = 1, ns
-          i = pt%node(k, p)
-          pt%v(:, p) = pt%v(:, p) + dt*pt%phi(k, p)*self%gacc(:, i)
-          pt%x(:, p) = pt%x(:, p) + dt*pt%phi(k, p)*self%gvel(:, i)
-        end do
-      end do
+      call g2p(self%grid, pt, n, dt)
       ! --- MUSL: grid velocity from the updated particle momentum (USL
       ! keeps the updated grid velocity v_i^{n+1}, eq. 4.10-4.11)
       if (cfg%scheme == scheme_musl) then
-        self%gmom = 0.0_dp
-        do p = 1, n
-          do k = 1, ns
-            i = pt%node(k, p)
-            self%gmom(:, i) = self%gmom(:, i) + pt%phi(k, p)*pt%mass(p)*pt%v(:, p)
-          end do
-        end do
-        if (self%dec%nnb > 0) call sum_ghost_values(self%dec, self%comm, self%gmom)
-        do i = self%glo, self%ghi
-          if (self%gmass(i) > mmin) then
-            self%gvel(:, i) = self%gmom(:, i)/self%gmass(i)
-          else
-            self%gvel(:, i) = 0.0_dp
-          end if
-          self%gacc(:, i) = 0.0_dp
-          call apply_bc(i)
-        end do
+        call p2g_momentum(self%grid, pt, n)
+        call sum_ghost_grid(self%dec, self%comm, self%grid, .true.)
+        call velocity_from_momentum(self%grid, mmin, [0.0_dp, vtop])
       end if
       ! --- velocity gradient (eq. 4.11), F, volume, viscosity, rotation
       c = sqrt(self%bulk/cfg%density)
       do p = 1, n
-        lg = 0.0_dp
-        do k = 1, ns
-          i = pt%node(k, p)
-          lg(:, 1) = lg(:, 1) + self%gvel(:, i)*pt%grad(1, k, p)
-          lg(:, 2) = lg(:, 2) + self%gvel(:, i)*pt%grad(2, k, p)
-        end do
+        call velocity_gradient(self%grid, pt, p, lg)
         ! lg(a, b) = d v_a / d x_b
-        self%de(:, p) = dt*[lg(1, 1), lg(2, 2), 0.0_dp, lg(1, 2) + lg(2, 1)]
+        call strain_increment(lg, dt, self%de(:, p))
         f2 = pt%defgrad(1:2, 1:2, p)
         pt%defgrad(1:2, 1:2, p) = f2 + dt*matmul(lg, f2)
         pt%vol(p) = pt%vol0(p)*(pt%defgrad(1, 1, p)*pt%defgrad(2, 2, p) - &
@@ -562,23 +419,6 @@ contains
     call system_clock(t2)
     self%ticks_total = self%ticks_total + (t2 - t0)
 
-  contains
-
-    subroutine apply_bc(node)
-      integer, intent(in) :: node
-      integer :: d
-      do d = 1, 2
-        select case (self%gfix(d, node))
-        case (1)
-          self%gvel(d, node) = 0.0_dp
-          self%gacc(d, node) = 0.0_dp
-        case (2)
-          self%gvel(d, node) = merge(vtop, 0.0_dp, d == 2)
-          self%gacc(d, node) = 0.0_dp
-        end select
-      end do
-    end subroutine apply_bc
-
   end subroutine ps_advance
 
   !> The name of shape family `kind`.
@@ -595,7 +435,7 @@ contains
     type(ps_scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
     real(dp), allocatable :: extra(:, :)
-    integer :: n, cap, moved
+    integer :: n, moved
     n = self%parts%n
     allocate (extra(2, size(self%parts%gid)))
     extra(1, 1:n) = self%q(1:n)
@@ -604,15 +444,24 @@ contains
     if (allocated(err)) return
     self%moved = self%moved + moved
     n = self%parts%n
+    call ps_size_workspace(self)
+    self%q(1:n) = extra(1, 1:n)
+    self%mat(1:n) = nint(extra(2, 1:n))
+  end subroutine hand_off
+
+  !> Per-particle workspace (viscous pressure, material, start-of-step
+  !> copies, increments) for as many particles as the set can hold (a
+  !> rank's count changes as particles cross; a restart refills it).
+  subroutine ps_size_workspace(self)
+    type(ps_scene_t), intent(inout) :: self
+    integer :: cap
     cap = size(self%parts%gid)
     if (size(self%q) < cap) then
       deallocate (self%q, self%mat, self%s0, self%sv0, self%de)
       allocate (self%q(cap), self%mat(cap), self%s0(4, cap), self%sv0(self%cfg%nstatv, cap), &
                 self%de(4, cap))
     end if
-    self%q(1:n) = extra(1, 1:n)
-    self%mat(1:n) = nint(extra(2, 1:n))
-  end subroutine hand_off
+  end subroutine ps_size_workspace
 
   !> Make an error on any rank an error on every rank (collective; nothing
   !> on one rank): the status and message of the lowest rank where it arose
@@ -668,24 +517,16 @@ contains
     associate (pt => self%parts, h => self%host)
       s = self%s0(:, p)
       sv = self%sv0(:, p)
-      ! the nonlocal slots (STATEV 2 in, 3 out) only for a UMAT that has them
-      h%ours = self%mats%contract(self%mat(p))
-      if (h%ours) sv(3) = avg
       e = 0.0_dp
-      h%time = self%t
-      h%dtime = self%dt
-      h%kinc = self%nstep + 1
-      h%noel = pt%gid(p)
-      h%coords = [pt%x(1, p), pt%x(2, p), 0.0_dp]
+      h%ours = self%mats%contract(self%mat(p))
       associate (m => self%mat(p))
-        call host_update(h, self%mats%props(1:self%mats%nprops(m), m), s, sv, e, self%de(:, p), &
-                         nsub, err)
+        call umat_particle(h, self%mats%props(1:self%mats%nprops(m), m), self%t, self%dt, &
+                           self%nstep + 1, pt%gid(p), pt%x(:, p), s, sv, e, self%de(:, p), avg, &
+                           dlambda, nsub, err)
       end associate
       if (allocated(err)) return
       pt%stress(1:4, p) = s
       pt%statev(:, p) = sv
-      dlambda = 0.0_dp
-      if (h%ours) dlambda = sv(2)
       self%max_substeps = max(self%max_substeps, nsub)
     end associate
   end subroutine ps_update
@@ -745,154 +586,5 @@ contains
     if (self%dec%nranks > 1) call allreduce_sum(self%comm, e)
   end function ps_kinetic_energy
 
-  !> Put the state of a running scene into `ckpt` (collective; `ckpt` is
-  !> filled on rank 0 only): time, step, time step, top displacement, the
-  !> run totals of Algorithm 1, and every particle (all fields but the
-  !> connectivity, rebuilt each step, with its viscous pressure and
-  !> material) in every rank's order, with the count each rank held. The
-  !> grid is rebuilt every step, so this is all the next step reads.
-  subroutine ps_save(self, ckpt)
-    type(ps_scene_t), intent(in) :: self
-    type(checkpoint_t), intent(inout) :: ckpt
-    real(dp), allocatable :: rec(:), recs(:)
-    integer, allocatable :: counts(:)
-    integer :: plen, reclen, p, nsub, moved
-    plen = particle_record_length(self%parts)
-    reclen = plen + 2
-    allocate (rec(reclen*self%parts%n))
-    do p = 1, self%parts%n
-      call pack_particle(self%parts, p, rec((p - 1)*reclen + 1:(p - 1)*reclen + plen))
-      rec((p - 1)*reclen + plen + 1) = self%q(p)
-      rec(p*reclen) = real(self%mat(p), dp)
-    end do
-    call gatherv_real(self%comm, rec, recs, 0, counts)
-    nsub = ps_max_substeps(self)
-    moved = self%moved
-    if (self%dec%nranks > 1) call allreduce_sum(self%comm, moved)
-    if (self%comm%rank /= 0) return
-    call ckpt%put('ps/layout', [ps_layout_version, self%parts%ndim, self%parts%nsup, &
-                                self%parts%nstatv, self%ntotal, self%comm%size, reclen])
-    call ckpt%put('ps/counts', counts/reclen)
-    call ckpt%put('ps/particles', recs)
-    call ckpt%put('ps/scalars', [self%t, self%dt, self%top_disp, self%cfg%dx])
-    call ckpt%put('ps/steps', [self%nstep, nsub, moved])
-    call ckpt%put('ps/nonlocal', [self%nl%steps_iterated, self%nl%iterations_total, &
-                                  self%nl%iterations_max, merge(1, 0, self%nl%warned_sharp), &
-                                  merge(1, 0, self%nl%warned_printed)])
-  end subroutine ps_save
-
-  !> Continue `self`, freshly built by new_ps_scene from the deck of the run
-  !> that wrote `ckpt` (every rank holds the whole checkpoint). Saved on as
-  !> many ranks as now: every rank takes back its particles in their order,
-  !> and the run continues bit for bit. Saved on another number: every rank
-  !> takes the particles of its cell rows in global-id order (the
-  !> continuation then differs by the order of nodal additions only). A
-  !> checkpoint of another layout, cell size or time step is refused.
-  subroutine ps_restore(self, ckpt, err)
-    type(ps_scene_t), intent(inout) :: self
-    type(checkpoint_t), intent(in) :: ckpt
-    type(error_t), allocatable, intent(out) :: err
-    integer, allocatable :: layout(:), counts(:), steps(:), nl(:), order(:)
-    real(dp), allocatable :: recs(:), sc(:)
-    integer :: plen, reclen, nsaved, first, p, m, g, cap, k
-    call ckpt%get('ps/layout', layout, err)
-    if (allocated(err)) return
-    plen = particle_record_length(self%parts)
-    if (size(layout) /= 7) then
-      call bad('its plane-strain layout entry is garbled'); return
-    end if
-    if (layout(1) /= ps_layout_version) then
-      call bad('plane-strain checkpoint layout '//int_text(layout(1))//', this program '// &
-               'reads '//int_text(ps_layout_version)); return
-    end if
-    if (layout(2) /= self%parts%ndim .or. layout(3) /= self%parts%nsup .or. &
-        layout(4) /= self%parts%nstatv .or. layout(5) /= self%ntotal .or. &
-        layout(7) /= plen + 2) then
-      call bad('it holds '//int_text(layout(5))//' particles with nsup, nstatv = '// &
-               int_text(layout(3))//', '//int_text(layout(4))//'; this deck gives '// &
-               int_text(self%ntotal)//', '//int_text(self%parts%nsup)//', '// &
-               int_text(self%parts%nstatv)//' (another deck?)'); return
-    end if
-    reclen = layout(7)
-    nsaved = layout(6)
-    call ckpt%get('ps/scalars', sc, err); if (allocated(err)) return
-    if (size(sc) /= 4) then
-      call bad('its scalars entry is garbled'); return
-    end if
-    if (sc(4) /= self%cfg%dx .or. sc(2) /= self%dt) then
-      call bad('it was written with dx = '//real_text(sc(4))//' m and dt = '// &
-               real_text(sc(2))//' s; this deck gives '//real_text(self%cfg%dx)//' m and '// &
-               real_text(self%dt)//' s: restart with the deck (and overrides) of the '// &
-               'interrupted run'); return
-    end if
-    call ckpt%get('ps/counts', counts, err); if (allocated(err)) return
-    call ckpt%get('ps/particles', recs, err); if (allocated(err)) return
-    call ckpt%get('ps/steps', steps, err); if (allocated(err)) return
-    call ckpt%get('ps/nonlocal', nl, err); if (allocated(err)) return
-    if (size(counts) /= nsaved .or. sum(counts) /= self%ntotal .or. &
-        size(recs) /= reclen*self%ntotal .or. size(steps) /= 3 .or. size(nl) /= 5) then
-      call bad('its particle entries do not match its layout'); return
-    end if
-    ! which saved records this rank takes, in which order
-    if (nsaved == self%comm%size) then
-      first = sum(counts(1:self%comm%rank))
-      order = [(first + p, p=1, counts(self%comm%rank + 1))]
-    else
-      allocate (order(self%ntotal))
-      order = 0
-      do p = 1, self%ntotal
-        g = nint(recs((p - 1)*reclen + 1))
-        if (g < 1 .or. g > self%ntotal) then
-          call bad('its particle ids are not 1 .. '//int_text(self%ntotal)); return
-        end if
-        order(g) = p
-      end do
-      m = 0
-      do k = 1, self%ntotal
-        p = order(k)
-        if (p == 0) then
-          call bad('its particle ids are not 1 .. '//int_text(self%ntotal)); return
-        end if
-        if (owner_of_position(self%dec, recs((p - 1)*reclen + 1 + self%parts%ndim + self%dec%axis)) &
-            /= self%dec%rank) cycle
-        m = m + 1
-        order(m) = p
-      end do
-      order = order(1:m)
-    end if
-    m = size(order)
-    self%parts%n = 0
-    call ensure_capacity(self%parts, m)
-    cap = size(self%parts%gid)
-    if (size(self%q) < cap) then
-      deallocate (self%q, self%mat, self%s0, self%sv0, self%de)
-      allocate (self%q(cap), self%mat(cap), self%s0(4, cap), self%sv0(self%cfg%nstatv, cap), &
-                self%de(4, cap))
-    end if
-    do k = 1, m
-      p = order(k)
-      call unpack_particle(self%parts, k, recs((p - 1)*reclen + 1:(p - 1)*reclen + plen))
-      self%q(k) = recs((p - 1)*reclen + plen + 1)
-      self%mat(k) = nint(recs(p*reclen))
-    end do
-    self%parts%n = m
-    self%t = sc(1)
-    self%top_disp = sc(3)
-    self%nstep = steps(1)
-    self%max_substeps = steps(2)
-    self%moved = 0
-    if (self%comm%rank == 0) self%moved = steps(3)
-    self%nl%steps_iterated = nl(1)
-    self%nl%iterations_total = nl(2)
-    self%nl%iterations_max = nl(3)
-    self%nl%warned_sharp = nl(4) == 1
-    self%nl%warned_printed = nl(5) == 1
-  contains
-    subroutine bad(why)
-      character(len=*), intent(in) :: why
-      call new_error(err, status_invalid, 'checkpoint', 'the checkpoint cannot continue this '// &
-                     'scene: '//why)
-    end subroutine bad
-  end subroutine ps_restore
 
 end module wellposed_mpm_plane_strain

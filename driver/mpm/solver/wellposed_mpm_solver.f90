@@ -36,11 +36,14 @@ module wellposed_mpm_solver
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_config
-  use wellposed_mpm_grid, only: grid_t, new_grid_1d, grid_reset, cell_layer
+  use wellposed_mpm_grid, only: grid_t, new_grid_1d, cell_layer
   use wellposed_mpm_particles, only: particles_t, new_particles
   use wellposed_mpm_shape, only: support_size, shape_1d
   use wellposed_mpm_loads, only: surface_stress
+  use wellposed_mpm_transfer, only: p2g, p2g_momentum, grid_update, velocity_from_momentum, &
+                                    g2p, velocity_gradient
   use wellposed_umat_host, only: umat_host_t, new_umat_host, host_update
+  use wellposed_mpm_particle_umat, only: strain_increment, umat_particle
   use wellposed_mpm_exchange, only: mpm_exchange_t, mpm_serial_t
   use wellposed_mpm_materials, only: mpm_materials_t, single_material, material_of, &
                                      check_covered
@@ -322,8 +325,8 @@ contains
     type(error_t), allocatable, intent(out) :: err
     integer(int64) :: t0, t1
     integer(int64), allocatable :: skey(:)
-    integer :: p, k, i, n, psurf
-    real(dp) :: dt, sig_b, xs, w, fs(2), vsurf, de, vs, ds, lg, mmin, surf(4)
+    integer :: p, n, psurf
+    real(dp) :: dt, sig_b, xs, w, fs(2), vsurf, de, lg, mmin, surf(4), reaction(1), l1(1, 1), de6(6)
     integer :: is
 
     associate (g => self%grid, pt => self%parts, cfg => self%cfg, ex => self%exchange)
@@ -353,16 +356,7 @@ contains
       call ex%check_support(pt, g, err)
       if (allocated(err)) return
       ! --- particle to grid: eq. 4.4, momentum, eq. 4.5
-      call grid_reset(g)
-      do p = 1, n
-        do k = 1, pt%nsup
-          i = pt%node(k, p)
-          w = pt%phi(k, p)*pt%mass(p)
-          g%mass(i) = g%mass(i) + w
-          g%momentum(1, i) = g%momentum(1, i) + w*pt%v(1, p)
-          g%fint(1, i) = g%fint(1, i) - pt%vol(p)*pt%stress(1, p)*pt%grad(1, k, p)
-        end do
-      end do
+      call p2g(g, pt, n)
       call ex%sum_grid(g, .false.)
       ! surface traction t_x = -sigma_b on the outward normal -x, at the
       ! surface x_s = x_1 - lp_1, spread with the linear hat; worked out by
@@ -400,24 +394,10 @@ contains
       ! --- grid update, eq. 4.9-4.10, and the reaction at fixed nodes, over
       ! the whole patch: ghost nodes hold the same sums as their owners and
       ! give this rank's particles the same velocities
+      ! the reaction at the fixed far end enters the impulse
       mmin = self%mass_floor
-      lg = 0.0_dp
-      do i = g%glo, g%ghi
-        if (g%mass(i) > mmin) then
-          g%accel(1, i) = (g%fint(1, i) + g%fext(1, i))/g%mass(i)
-          g%velocity(1, i) = g%momentum(1, i)/g%mass(i) + g%accel(1, i)*dt
-        else
-          g%accel(1, i) = 0.0_dp
-          g%velocity(1, i) = 0.0_dp
-        end if
-        if (g%fixed(1, i)) then
-          ! the reaction cancels the nodal force: it enters the impulse
-          ! (counted by the node's owner only)
-          if (i >= g%ilo .and. i <= g%ihi) lg = lg - (g%fint(1, i) + g%fext(1, i))
-          g%accel(1, i) = 0.0_dp
-          g%velocity(1, i) = 0.0_dp
-        end if
-      end do
+      call grid_update(g, dt, mmin, [0.0_dp], reaction)
+      lg = reaction(1)
       ! the surface force enters the impulse of the surface particle's rank
       if (psurf > 0) then
         self%impulse = self%impulse + dt*(fs(1) + fs(2) + lg)
@@ -428,42 +408,18 @@ contains
       self%ticks(timer_grid) = self%ticks(timer_grid) + (t1 - t0)
       t0 = t1
       ! --- grid to particle: FLIP velocity (eq. 4.13), position (eq. 4.12)
-      do p = 1, n
-        vs = 0.0_dp
-        ds = 0.0_dp
-        do k = 1, pt%nsup
-          i = pt%node(k, p)
-          vs = vs + pt%phi(k, p)*g%accel(1, i)
-          ds = ds + pt%phi(k, p)*g%velocity(1, i)
-        end do
-        pt%v(1, p) = pt%v(1, p) + dt*vs
-        pt%x(1, p) = pt%x(1, p) + dt*ds
-      end do
+      call g2p(g, pt, n, dt)
       if (cfg%scheme == scheme_musl) then
         ! rebuild the grid velocity from the updated particle momentum
-        g%momentum = 0.0_dp
-        do p = 1, n
-          do k = 1, pt%nsup
-            i = pt%node(k, p)
-            g%momentum(1, i) = g%momentum(1, i) + pt%phi(k, p)*pt%mass(p)*pt%v(1, p)
-          end do
-        end do
+        call p2g_momentum(g, pt, n)
         call ex%sum_grid(g, .true.)
-        do i = g%glo, g%ghi
-          if (g%mass(i) > mmin .and. .not. g%fixed(1, i)) then
-            g%velocity(1, i) = g%momentum(1, i)/g%mass(i)
-          else
-            g%velocity(1, i) = 0.0_dp
-          end if
-        end do
+        call velocity_from_momentum(g, mmin, [0.0_dp])
       end if
       ! --- velocity gradient, eq. 4.11: the axial strain increment
       do p = 1, n
-        de = 0.0_dp
-        do k = 1, pt%nsup
-          de = de + pt%grad(1, k, p)*g%velocity(1, pt%node(k, p))
-        end do
-        self%dstrain(p) = de*dt
+        call velocity_gradient(g, pt, p, l1)
+        call strain_increment(l1, dt, de6)
+        self%dstrain(p) = de6(1)
       end do
       ! external work: surface force times the surface velocity of the strain
       ! (by the surface particle's rank, which holds both nodes when w < 1)
@@ -528,22 +484,14 @@ contains
       pt%stress(:, p) = self%s0(:, p)
       pt%statev(:, p) = self%sv0(:, p)
       pt%stran(:, p) = self%e0(:, p)
-      ! the nonlocal slots (STATEV 2 in, 3 out) only for a UMAT that has them
       k = material_of(self%mats, pt%x0(:, p))
       self%host%ours = self%mats%contract(k)
-      if (self%host%ours) pt%statev(3, p) = avg
-      self%host%time = self%t
-      self%host%dtime = self%dt
-      self%host%kinc = self%nstep + 1
-      self%host%noel = pt%gid(p)
-      self%host%coords = [pt%x(1, p), 0.0_dp, 0.0_dp]
-      call host_update(self%host, self%mats%props(1:self%mats%nprops(k), k), pt%stress(:, p), &
-                       pt%statev(:, p), pt%stran(:, p), [self%dstrain(p), 0.0_dp, 0.0_dp, &
-                       0.0_dp, 0.0_dp, 0.0_dp], nsub, err)
+      call umat_particle(self%host, self%mats%props(1:self%mats%nprops(k), k), self%t, &
+                         self%dt, self%nstep + 1, pt%gid(p), pt%x(:, p), pt%stress(:, p), &
+                         pt%statev(:, p), pt%stran(:, p), [self%dstrain(p), 0.0_dp, 0.0_dp, &
+                         0.0_dp, 0.0_dp, 0.0_dp], avg, dlambda, nsub, err)
       if (allocated(err)) return
       if (nsub > self%max_substeps_step) self%max_substeps_step = nsub
-      dlambda = 0.0_dp
-      if (self%host%ours) dlambda = pt%statev(2, p)
     end associate
   end subroutine scene_update
 

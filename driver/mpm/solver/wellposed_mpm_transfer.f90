@@ -1,0 +1,173 @@
+!> The transfers of one explicit MPM step (the dissertation's section 4.3),
+!> written once for ndim = 1 and 2 on grid_t and particles_t: particle to
+!> grid (lumped mass eq. 4.4, momentum, internal force eq. 4.5), the grid
+!> update with its boundary conditions (eq. 4.9-4.10), grid to particle
+!> (FLIP velocity eq. 4.13, position eq. 4.12), the MUSL velocity rebuild
+!> and the velocity gradient (eq. 4.11). Every loop runs over the
+!> precomputed support of each particle (parts%node, phi, grad: the shape
+!> kernels' output, once per particle and step) and over the patch's nodes
+!> [glo, ghi]; sums over ranks are the caller's (between the calls).
+!>
+!> Two sums keep the order each dimension has always had, so that every
+!> bar and plate reproduces its reference bit for bit: the internal force
+!> of a bar is (V sigma) G, of a plate V (sigma G); G2P of a bar adds the
+!> weighted nodal values and then the step, a plate adds node by node.
+module wellposed_mpm_transfer
+  use wellposed_kinds, only: dp
+  use wellposed_mpm_grid, only: grid_t, grid_reset
+  use wellposed_mpm_particles, only: particles_t
+  implicit none
+  private
+  public :: p2g, p2g_momentum, grid_update, velocity_from_momentum, g2p, velocity_gradient
+
+contains
+
+  !> Mass, momentum and internal force of particles 1 .. n on the grid
+  !> (the grid's sums zeroed first). The force takes sigma - q I in the
+  !> plane (q: a viscous pressure per particle, optional). Components of
+  !> the stress: Abaqus order (11, 22, 33, 12, ...).
+  subroutine p2g(g, pt, n, q)
+    type(grid_t), intent(inout) :: g
+    type(particles_t), intent(in) :: pt
+    integer, intent(in) :: n
+    real(dp), intent(in), optional :: q(:)
+    integer :: p, k, i
+    real(dp) :: w, sig(2, 2), qp
+    call grid_reset(g)
+    do p = 1, n
+      qp = 0.0_dp
+      if (present(q)) qp = q(p)
+      if (g%ndim == 2) sig = reshape([pt%stress(1, p) - qp, pt%stress(4, p), pt%stress(4, p), &
+                                      pt%stress(2, p) - qp], [2, 2])
+      do k = 1, pt%nsup
+        i = pt%node(k, p)
+        w = pt%phi(k, p)*pt%mass(p)
+        g%mass(i) = g%mass(i) + w
+        g%momentum(:, i) = g%momentum(:, i) + w*pt%v(:, p)
+        if (g%ndim == 1) then
+          g%fint(1, i) = g%fint(1, i) - pt%vol(p)*(pt%stress(1, p) - qp)*pt%grad(1, k, p)
+        else
+          g%fint(:, i) = g%fint(:, i) - pt%vol(p)*matmul(sig, pt%grad(:, k, p))
+        end if
+      end do
+    end do
+  end subroutine p2g
+
+  !> The momentum of particles 1 .. n alone on the grid (MUSL's rebuild).
+  subroutine p2g_momentum(g, pt, n)
+    type(grid_t), intent(inout) :: g
+    type(particles_t), intent(in) :: pt
+    integer, intent(in) :: n
+    integer :: p, k, i
+    g%momentum = 0.0_dp
+    do p = 1, n
+      do k = 1, pt%nsup
+        i = pt%node(k, p)
+        g%momentum(:, i) = g%momentum(:, i) + pt%phi(k, p)*pt%mass(p)*pt%v(:, p)
+      end do
+    end do
+  end subroutine p2g_momentum
+
+  !> Acceleration and velocity of every patch node, eq. 4.9-4.10 (nodes at
+  !> or below `mmin` count as empty), then the boundary conditions: a
+  !> fixed component is held at rest and its nodal force enters `reaction`
+  !> (owned nodes only, so the ranks' shares add up), a given component
+  !> takes `given(d)`.
+  subroutine grid_update(g, dt, mmin, given, reaction)
+    type(grid_t), intent(inout) :: g
+    real(dp), intent(in) :: dt, mmin, given(:)
+    real(dp), intent(out) :: reaction(:)
+    integer :: i, d
+    reaction = 0.0_dp
+    do i = g%glo, g%ghi
+      if (g%mass(i) > mmin) then
+        g%accel(:, i) = (g%fint(:, i) + g%fext(:, i))/g%mass(i)
+        g%velocity(:, i) = g%momentum(:, i)/g%mass(i) + g%accel(:, i)*dt
+      else
+        g%accel(:, i) = 0.0_dp
+        g%velocity(:, i) = 0.0_dp
+      end if
+      do d = 1, g%ndim
+        if (g%fixed(d, i)) then
+          if (i >= g%ilo .and. i <= g%ihi) reaction(d) = reaction(d) - (g%fint(d, i) + &
+                                                                         g%fext(d, i))
+          g%accel(d, i) = 0.0_dp
+          g%velocity(d, i) = 0.0_dp
+        else if (g%given(d, i)) then
+          g%accel(d, i) = 0.0_dp
+          g%velocity(d, i) = given(d)
+        end if
+      end do
+    end do
+  end subroutine grid_update
+
+  !> MUSL: the grid velocity from the rebuilt momentum (no acceleration),
+  !> with the boundary conditions of grid_update.
+  subroutine velocity_from_momentum(g, mmin, given)
+    type(grid_t), intent(inout) :: g
+    real(dp), intent(in) :: mmin, given(:)
+    integer :: i, d
+    do i = g%glo, g%ghi
+      if (g%mass(i) > mmin) then
+        g%velocity(:, i) = g%momentum(:, i)/g%mass(i)
+      else
+        g%velocity(:, i) = 0.0_dp
+      end if
+      g%accel(:, i) = 0.0_dp
+      do d = 1, g%ndim
+        if (g%fixed(d, i)) then
+          g%velocity(d, i) = 0.0_dp
+        else if (g%given(d, i)) then
+          g%velocity(d, i) = given(d)
+        end if
+      end do
+    end do
+  end subroutine velocity_from_momentum
+
+  !> FLIP velocity (eq. 4.13) and position (eq. 4.12) of particles 1 .. n.
+  subroutine g2p(g, pt, n, dt)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(inout) :: pt
+    integer, intent(in) :: n
+    real(dp), intent(in) :: dt
+    integer :: p, k, i
+    real(dp) :: vs, ds
+    do p = 1, n
+      if (g%ndim == 1) then
+        vs = 0.0_dp
+        ds = 0.0_dp
+        do k = 1, pt%nsup
+          i = pt%node(k, p)
+          vs = vs + pt%phi(k, p)*g%accel(1, i)
+          ds = ds + pt%phi(k, p)*g%velocity(1, i)
+        end do
+        pt%v(1, p) = pt%v(1, p) + dt*vs
+        pt%x(1, p) = pt%x(1, p) + dt*ds
+      else
+        do k = 1, pt%nsup
+          i = pt%node(k, p)
+          pt%v(:, p) = pt%v(:, p) + dt*pt%phi(k, p)*g%accel(:, i)
+          pt%x(:, p) = pt%x(:, p) + dt*pt%phi(k, p)*g%velocity(:, i)
+        end do
+      end if
+    end do
+  end subroutine g2p
+
+  !> Velocity gradient of particle p, eq. 4.11: lg(a, b) = d v_a / d x_b
+  !> (ndim x ndim) from the grid velocity.
+  pure subroutine velocity_gradient(g, pt, p, lg)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(in) :: pt
+    integer, intent(in) :: p
+    real(dp), intent(out) :: lg(:, :)
+    integer :: k, i, b
+    lg = 0.0_dp
+    do k = 1, pt%nsup
+      i = pt%node(k, p)
+      do b = 1, g%ndim
+        lg(:, b) = lg(:, b) + g%velocity(:, i)*pt%grad(b, k, p)
+      end do
+    end do
+  end subroutine velocity_gradient
+
+end module wellposed_mpm_transfer
