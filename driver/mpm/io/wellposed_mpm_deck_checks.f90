@@ -18,7 +18,7 @@
 module wellposed_mpm_deck_checks
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_text, only: real_text
+  use wellposed_text, only: int_text, real_text
   use wellposed_mpm_config, only: mpm_config_t, bc_free, pulse_ramp_sine
   use wellposed_mpm_loads, only: surface_stress
   use wellposed_mpm_plane_strain, only: ps_config_t
@@ -131,15 +131,41 @@ contains
     end if
   end subroutine check_equilibrium
 
-  !> The initial stress inside or on the yield surface (module comment).
+  !> The initial stress inside or on the yield surface (module comment) of
+  !> every material of the bar: each region starts from the same stress.
   subroutine check_yield(path, cfg, err)
     character(len=*), intent(in) :: path
     type(mpm_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
+    integer :: k
+    if (cfg%materials%n == 0) then
+      call check_yield_of(path, cfg, cfg%props(1:cfg%nprops), 'its &material', err)
+      return
+    end if
+    do k = 1, cfg%materials%n
+      if (cfg%materials%n == 1) then
+        call check_yield_of(path, cfg, cfg%materials%props(1:cfg%materials%nprops(1), 1), &
+                            'its &material', err)
+      else
+        call check_yield_of(path, cfg, cfg%materials%props(1:cfg%materials%nprops(k), k), &
+                            '&material group '//int_text(k), err)
+      end if
+      if (allocated(err)) return
+    end do
+  end subroutine check_yield
+
+  !> check_yield for one material of PROPS `mat_props`, named `which`.
+  subroutine check_yield_of(path, cfg, mat_props, which, err)
+    character(len=*), intent(in) :: path, which
+    type(mpm_config_t), intent(in) :: cfg
+    real(dp), intent(in) :: mat_props(:)
+    type(error_t), allocatable, intent(out) :: err
     type(umat_host_t) :: h
-    real(dp) :: props(max(cfg%nprops, slot_tau)), s(6), sv(cfg%nstatv), zero(6), f, moved, scale
-    integer :: verdict
-    if (cfg%nstatv < 12 .or. cfg%nprops < 1) return   ! the scene's own checks say why
+    real(dp) :: props(max(size(mat_props), slot_tau)), s(6), sv(cfg%nstatv), zero(6), f, moved, &
+                scale
+    integer :: verdict, np
+    np = size(mat_props)
+    if (cfg%nstatv < 12 .or. np < 1) return   ! the scene's own checks say why
     call new_umat_host(h, 6, cfg%nstatv, err, what='particle')
     if (allocated(err)) return
     h%celent = cfg%dx
@@ -149,10 +175,10 @@ contains
     ! a zero increment from the initial state: a state the material can hold
     ! comes back unchanged
     props = 0.0_dp
-    props(1:cfg%nprops) = cfg%props(1:cfg%nprops)
+    props(1:np) = mat_props
     s = cfg%stress0
     sv = 0.0_dp
-    call host_call(h, props(1:cfg%nprops), s, sv, zero, zero, verdict)
+    call host_call(h, props(1:np), s, sv, zero, zero, verdict)
     if (verdict /= verdict_ok) then
       call host_error(h, verdict, err, 'a zero increment from the initial stress')
       err%message = path//': '//err%message
@@ -171,15 +197,15 @@ contains
     end if
     if (f > yield_tol*scale) then
       call new_error(err, status_invalid, 'stress', path//': &initial: stress = '// &
-        stress_text(cfg%stress0)//' MPa is outside the yield surface of its &material by '// &
+        stress_text(cfg%stress0)//' MPa is outside the yield surface of '//trim(which)//' by '// &
         'f = sqrt(J2) + beta I1 - k = '//mpa(f)//' MPa (eq. 2.3; a zero-increment UMAT '// &
         'call, STATEV(11)): no state the material can hold')
     else if (moved > yield_tol*scale) then
       call new_error(err, status_invalid, 'stress', path//': &initial: stress = '// &
-        stress_text(cfg%stress0)//' MPa is outside the yield surface of its &material: a '// &
+        stress_text(cfg%stress0)//' MPa is outside the yield surface of '//trim(which)//': a '// &
         'zero strain increment from it moves it by '//mpa(moved)//' MPa (through the UMAT)')
     end if
-  end subroutine check_yield
+  end subroutine check_yield_of
 
   !> A stress in MPa, short: three decimals ("-50.0", "9.096"), or
   !> real_text below 0.01 MPa.
