@@ -137,19 +137,16 @@ contains
     character(len=*), intent(in) :: path
     type(mpm_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
+    character(len=:), allocatable :: which
     integer :: k
     if (cfg%materials%n == 0) then
       call check_yield_of(path, cfg, cfg%props(1:cfg%nprops), 'its &material', err)
       return
     end if
     do k = 1, cfg%materials%n
-      if (cfg%materials%n == 1) then
-        call check_yield_of(path, cfg, cfg%materials%props(1:cfg%materials%nprops(1), 1), &
-                            'its &material', err)
-      else
-        call check_yield_of(path, cfg, cfg%materials%props(1:cfg%materials%nprops(k), k), &
-                            '&material group '//int_text(k), err)
-      end if
+      which = '&material group '//int_text(k)
+      if (cfg%materials%n == 1) which = 'its &material'
+      call check_yield_of(path, cfg, cfg%materials%props(1:cfg%materials%nprops(k), k), which, err)
       if (allocated(err)) return
     end do
   end subroutine check_yield
