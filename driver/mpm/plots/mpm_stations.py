@@ -22,6 +22,7 @@ When OTHER.h5 does not exist or cannot be read, the figure carries a note
 saying so and the COMMAND that makes it, and the same line is printed: a
 missing reference is never left out silently.
 """
+import argparse
 import math
 import os
 import sys
@@ -30,6 +31,8 @@ import h5py
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "common"))
+from summary_text import read_summary  # noqa: E402
 
 GUIDE = "0.6"          # grey of the guide lines
 NA = "not_applicable"  # the summary's word for a figure that does not apply
@@ -53,19 +56,6 @@ def load(path):
         title = text_attr(f, "title")
     ds = (s - s[:, :1]) / 1e6
     return t, x, ds, nums, title
-
-
-def read_summary(folder):
-    """{key: value text} of folder/summary.txt ({} when there is none)."""
-    out = {}
-    path = os.path.join(folder, "summary.txt")
-    if os.path.exists(path):
-        with open(path) as f:
-            for line in f:
-                key, eq, rest = line.partition("=")
-                if eq:
-                    out[key.strip()] = rest.split("#")[0].strip()
-    return out
 
 
 def uniaxial_plastic_speed(props, density, h):
@@ -181,27 +171,16 @@ def draw(run, out, reference=None, label=None, make=None):
 
 
 def main(argv):
-    args = argv[1:]
-    reference = label = make = None
-    if "--make" in args:
-        k = args.index("--make")
-        if k + 1 >= len(args):
-            sys.stderr.write(__doc__)
-            return 2
-        make = args[k + 1]
-        del args[k:k + 2]
-    if "--reference" in args:
-        k = args.index("--reference")
-        if k + 1 >= len(args):
-            sys.stderr.write(__doc__)
-            return 2
-        reference = args[k + 1]
-        label = args[k + 2] if len(args) > k + 2 else None
-        del args[k:]
-    if len(args) != 2:
-        sys.stderr.write(__doc__)
-        return 2
-    fig, _, _ = draw(args[0], args[1], reference, label, make)
+    p = argparse.ArgumentParser(prog="mpm_stations.py", description=__doc__.split("\n")[0])
+    p.add_argument("run", metavar="RUN.h5")
+    p.add_argument("out", metavar="OUT.png")
+    p.add_argument("--reference", nargs="+", metavar="OTHER.h5 [LABEL]")
+    p.add_argument("--make", metavar="COMMAND")
+    a = p.parse_args(argv[1:])
+    reference, label = (a.reference + [None])[:2] if a.reference else (None, None)
+    if a.reference and len(a.reference) > 2:
+        p.error("--reference takes OTHER.h5 and at most one LABEL")
+    fig, _, _ = draw(a.run, a.out, reference, label, a.make)
     plt.close(fig)
     return 0
 

@@ -21,6 +21,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import h5py  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "common"))
+from summary_text import read_summary  # noqa: E402
 
 plt.rcParams.update({"font.size": 11, "axes.grid": True, "grid.alpha": 0.3,
                      "figure.dpi": 110, "savefig.bbox": "tight"})
@@ -206,19 +208,6 @@ def plot_gudehus(f, labels):
 RESIDUAL_WARN = 0.1
 LABEL_OFFSETS = [(4, 4), (4, 4), (4, 4), (-12, -12)]  # D away from A (near them in fig. 3.4)
 PRIMED_OFFSETS = [(5, 5), (5, -12), (-16, 5), (-16, -12)]  # A'-D' gather near the origin
-
-
-def read_summary(folder):
-    """{key: value text} of folder/summary.txt ({} when there is none)."""
-    out = {}
-    path = os.path.join(folder, "summary.txt")
-    if os.path.exists(path):
-        with open(path) as f:
-            for line in f:
-                key, eq, rest = line.partition("=")
-                if eq:
-                    out[key.strip()] = rest.split("#")[0].strip()
-    return out
 
 
 def fit_note(summary, label):
