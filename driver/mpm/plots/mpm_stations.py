@@ -88,13 +88,13 @@ def guides(nums, summary):
         low = uniaxial_plastic_speed(props, nums["density"], props[5] + h_zeta)
         if abs(local - c_p) <= 1e-6 * c_p and math.isfinite(low):
             head = (low, f"x/C_P: ideal head, C_P(h_eta + h_zeta) = {low:.0f} m/s "
-                         f"(overlocal, low frequency; h_eta alone: {c_p:.0f} m/s)")
+                         f"\n(overlocal, low frequency; h_eta alone: {c_p:.0f} m/s)")
         else:
             head = None
             skipped.append("no x/C_P guide: the overlocal low-frequency C_P has no closed "
                            "form for this model and state")
     elif len(props) > 10 and props[10] > 0.0:
-        head = (c_p, f"x/C_P: ideal head, rate-independent C_P = {c_p:.0f} m/s (De -> 0)")
+        head = (c_p, f"x/C_P: ideal head, rate-independent\nC_P = {c_p:.0f} m/s (De -> 0)")
     out = [("head",) + head] if head else []
     out.append(("end", c_e, f"x/C_E + tau: ideal end, C_E = {c_e:.0f} m/s"))
     return out, skipped
@@ -122,7 +122,7 @@ def draw(run, out, reference=None, label=None, make=None):
     if reference:
         label = label or os.path.basename(os.path.dirname(os.path.abspath(reference)))
         ref, note = load_reference(reference, label, make)
-    fig, ax = plt.subplots(figsize=(9.5, 5.2))
+    fig, ax = plt.subplots(figsize=(12.5, 5.2))
     tau = nums["load_duration"] * 1e3
     drawn = 0
     for i, xi in enumerate(x):
@@ -163,7 +163,9 @@ def draw(run, out, reference=None, label=None, make=None):
     hs, ls = ax.get_legend_handles_labels()
     order = sorted(range(len(ls)), key=lambda j: (not ls[j].startswith("x = "),
                                                  not ls[j].startswith("dashed"), j))
-    ax.legend([hs[j] for j in order], [ls[j] for j in order], fontsize=7.5, loc="upper left")
+    # outside the axes: the peaks of figs. 2.7-2.10 fill the upper left corner
+    ax.legend([hs[j] for j in order], [ls[j] for j in order], fontsize=7.5, loc="upper left",
+              bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
