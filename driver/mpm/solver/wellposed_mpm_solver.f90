@@ -125,7 +125,10 @@ contains
     self%node_far = cfg%pad_cells + ncell_body
     select case (cfg%bc_far)
     case (bc_fixed, bc_symmetric)
-      self%grid%fixed(1, self%node_far) = .true.
+      ! a wall at x = length: the node on it and those beyond (a GIMP
+      ! particle's domain pressed past the wall would give them a sliver
+      ! of mass, and USL's v = p/m + f dt/m on it no bound)
+      self%grid%fixed(1, self%node_far:) = .true.
     end select
 
     np = ncell_body*cfg%ppc
