@@ -35,10 +35,11 @@ contains
   !>    around that peak; a run that reaches the body's edge in the slice is
   !>    left out (its centre would be biased inward).
   !> 2. x = x0 + slope*y by least squares, each slice weighted by its peak.
-  !> 3. The particles whose position along the line lies within the fitted
-  !>    slices' span, binned by signed normal distance (bins of spacing/4):
-  !>    the FWHM of the bins' mean ep, half-maximum crossings interpolated
-  !>    linearly between neighbouring non-empty bins.
+  !> 3. The particles of the window whose position along the line lies
+  !>    within the fitted slices' span, binned by signed normal distance (bins
+  !>    of spacing/4): the FWHM of the bins' mean ep around the largest bin
+  !>    within max(spacing, 2 rms) of the line, half-maximum crossings
+  !>    interpolated linearly between neighbouring non-empty bins.
   pure subroutine fit_band(xy, ep, spacing, ylo, yhi, fit)
     real(dp), intent(in) :: xy(:, :), ep(:), spacing, ylo, yhi
     type(band_fit_t), intent(out) :: fit
@@ -153,7 +154,7 @@ contains
       allocate (use(size(ep)), d(size(ep)))
       do p = 1, size(ep)
         s_p = along(xy(1, p), xy(2, p))
-        use(p) = s_p >= smin .and. s_p <= smax
+        use(p) = s_p >= smin .and. s_p <= smax .and. xy(2, p) >= ylo .and. xy(2, p) <= yhi
         d(p) = (xy(1, p) - bf%x0 - bf%slope*xy(2, p))/nrm
       end do
       kb = nint(pack(d, use)/bw)
@@ -171,7 +172,13 @@ contains
       pv = pack(bsum, bcnt > 0)/pack(real(bcnt, dp), bcnt > 0)
       pd = pack(dsum, bcnt > 0)/pack(real(bcnt, dp), bcnt > 0)
       np = size(pv)
-      ipk = maxloc(pv, dim=1)
+      ! the band's own peak: the largest bin near the line (another plastic
+      ! zone further off, e.g. a loaded corner, is not the band)
+      ipk = maxloc(pv, dim=1, mask=abs(pd) <= max(spacing, 2.0_dp*bf%rms))
+      if (ipk == 0) then
+        bf%why = 'no particle lies near the fitted centre line'
+        return
+      end if
       bf%peak = pv(ipk)
       half = 0.5_dp*bf%peak
       dl = -huge(1.0_dp); dr = -huge(1.0_dp)

@@ -99,9 +99,10 @@ def main(argv):
         label = mark_band(ax, sm, tag, float(np.max(xy[:, 1])))
         ax.set_xlim(float(np.min(xy[:, 0])) - 0.1, float(np.max(xy[:, 0])) + 0.1)
         stage = number(sm, tag + ".band_stage_time")
-        ax.set_title("%s, t = %.2f ms%s%s" % (
+        ax.set_title("%s, t = %.2f ms%s\n%s" % (
             tag, 1e3 * float(snap["time"][0]),
-            "" if stage is None else " (stage %.2f ms)" % (1e3 * stage), label), fontsize=7)
+            "" if stage is None else " (stage %.2f ms)" % (1e3 * stage), label.lstrip(", ")),
+            fontsize=7)
         ax.set_xlabel("x (m)")
     axes[0][0].set_ylabel("y (m)")
     fig.colorbar(cs, ax=axes[0].tolist(), label="||eps^p||", shrink=0.85)
