@@ -10,7 +10,7 @@ module wellposed_mpm_band
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: band_fit_t, fit_band, in_grown_box
+  public :: band_fit_t, fit_band, in_grown_box, half_crossings
 
   !> A measured band.
   type :: band_fit_t
@@ -149,7 +149,7 @@ contains
       integer, allocatable :: bcnt(:), kb(:)
       logical, allocatable :: use(:)
       real(dp) :: bw, half, dl, dr, s_p
-      integer :: p, kmin, kmax, np, ipk, j
+      integer :: p, kmin, kmax, ipk, j
       bw = 0.25_dp*spacing
       allocate (use(size(ep)), d(size(ep)))
       do p = 1, size(ep)
@@ -171,7 +171,6 @@ contains
       end do
       pv = pack(bsum, bcnt > 0)/pack(real(bcnt, dp), bcnt > 0)
       pd = pack(dsum, bcnt > 0)/pack(real(bcnt, dp), bcnt > 0)
-      np = size(pv)
       ! the band's own peak: the largest bin near the line (another plastic
       ! zone further off, e.g. a loaded corner, is not the band)
       ipk = maxloc(pv, dim=1, mask=abs(pd) <= max(spacing, 2.0_dp*bf%rms))
@@ -182,18 +181,7 @@ contains
       bf%peak = pv(ipk)
       half = 0.5_dp*bf%peak
       dl = -huge(1.0_dp); dr = -huge(1.0_dp)
-      do j = ipk, 2, -1
-        if (pv(j - 1) < half) then
-          dl = pd(j - 1) + (half - pv(j - 1))*(pd(j) - pd(j - 1))/(pv(j) - pv(j - 1))
-          exit
-        end if
-      end do
-      do j = ipk, np - 1
-        if (pv(j + 1) < half) then
-          dr = pd(j) + (pv(j) - half)*(pd(j + 1) - pd(j))/(pv(j) - pv(j + 1))
-          exit
-        end if
-      end do
+      call half_crossings(pd, pv, ipk, half, dl, dr)
       if (dl == -huge(1.0_dp) .or. dr == -huge(1.0_dp)) then
         bf%why = 'the profile across the band does not fall to half its peak in the body'
         return
@@ -203,6 +191,28 @@ contains
     end subroutine normal_fwhm
 
   end subroutine fit_band
+
+  !> The crossings of `half` by the profile v(x) (x sorted) on either side of
+  !> its peak at index ipk, interpolated linearly between neighbours; xl, xr
+  !> are left as given where the profile does not fall below half.
+  pure subroutine half_crossings(x, v, ipk, half, xl, xr)
+    real(dp), intent(in) :: x(:), v(:), half
+    integer, intent(in) :: ipk
+    real(dp), intent(inout) :: xl, xr
+    integer :: j
+    do j = ipk, 2, -1
+      if (v(j - 1) < half) then
+        xl = x(j - 1) + (half - v(j - 1))*(x(j) - x(j - 1))/(v(j) - v(j - 1))
+        exit
+      end if
+    end do
+    do j = ipk, size(v) - 1
+      if (v(j + 1) < half) then
+        xr = x(j) + (v(j) - half)*(x(j + 1) - x(j))/(v(j) - v(j + 1))
+        exit
+      end if
+    end do
+  end subroutine half_crossings
 
   !> Whether point x (2) lies in the box lo..hi grown by `grow` on every side.
   pure logical function in_grown_box(x, lo, hi, grow)
