@@ -27,7 +27,11 @@
 !>              band where its width is measured, in units of the unscaled
 !>              plate), band_axis ('x': along y = band_y; 'y': along x =
 !>              band_x, for a column), band_x (m), band_time (s: when to
-!>              measure it; 0: at the end of each case), progress, plot
+!>              measure it; 0: at the end of each case), band_drop (the
+!>              stage where the band is measured normal to itself: the
+!>              apparent stress this fraction below its peak; default 0.05),
+!>              band_onset_strain (||eps^p|| whose first crossing marks where
+!>              the band starts; default 1e-3), progress, plot
 !> Overrides from the command line, `group.key=value`, are read after the
 !> deck as one-line namelists.
 module wellposed_mpm_ps_deck
@@ -70,6 +74,9 @@ module wellposed_mpm_ps_deck
     !> Time (s) at which the band width is measured (0: at the end), so that
     !> meshes are compared at the same apparent strain.
     real(dp) :: band_time = 0.0_dp
+    !> The stage (drop of the apparent stress below its peak, a fraction) and
+    !> the onset threshold of ||eps^p|| (wellposed_mpm_band_watch)
+    real(dp) :: band_drop = 0.05_dp, band_onset_strain = 1.0e-3_dp
     logical :: progress = .true.
     logical :: plot = .true.
     !> A cut-back the UMAT cannot resolve (a particle softened to zero
@@ -98,7 +105,8 @@ contains
     real(dp) :: t_end, cfl
     type(material_defaults_t) :: mdef
     real(dp) :: top_velocity, ramp_time, a1, a2, tolerance, rel_tolerance, anderson_mixing, &
-                weight_cutoff, snapshot_dt, sample_dt, band_y, band_x, band_time
+                weight_cutoff, snapshot_dt, sample_dt, band_y, band_x, band_time, &
+                band_drop, band_onset_strain
     logical :: progress, plot, stop_on_cutback
     namelist /scene/ name, title, kind
     namelist /plate/ width, height, weak_x, weak_y, weak_k0
@@ -110,7 +118,7 @@ contains
       max_rounds, anderson_depth, anderson_mixing, weight_cutoff
     namelist /study/ dx, scale, label
     namelist /output/ snapshot_dt, sample_dt, band_y, band_x, band_axis, band_time, &
-      progress, plot
+      band_drop, band_onset_strain, progress, plot
     integer :: unit, ios, i, nc
     character(len=512) :: msg
     character(len=:), allocatable :: line, group
@@ -143,6 +151,7 @@ contains
     weight_cutoff = cfg%nonlocal%weight_cutoff
     snapshot_dt = 0.0_dp; sample_dt = 0.0_dp; band_y = 2.5_dp; band_x = 0.0_dp; band_time = 0.0_dp
     band_axis = 'x'
+    band_drop = 0.05_dp; band_onset_strain = 1.0e-3_dp
     progress = .true.; plot = .true.
 
     call open_deck(path, text, unit, err)
@@ -244,6 +253,15 @@ contains
     cases%snapshot_dt = snapshot_dt; cases%sample_dt = sample_dt; cases%band_y = band_y
     cases%band_x = band_x
     cases%band_time = band_time
+    call check_finite(path, 'output', 'band_drop', band_drop, err)
+    if (allocated(err)) return
+    call check_finite(path, 'output', 'band_onset_strain', band_onset_strain, err)
+    if (allocated(err)) return
+    if (.not. (band_drop > 0.0_dp .and. band_drop < 1.0_dp .and. band_onset_strain > 0.0_dp)) then
+      call new_error(err, status_invalid, 'band_drop', path//': &output: band_drop must lie '// &
+        'in (0, 1) and band_onset_strain be > 0'); return
+    end if
+    cases%band_drop = band_drop; cases%band_onset_strain = band_onset_strain
     select case (lower(trim(band_axis)))
     case ('x', 'y')
       cases%band_axis = lower(trim(band_axis))

@@ -3,8 +3,11 @@
 usage: mpm_plate.py RUN_DIR TAG [TAG ...]
 
 Reads RUN_DIR/run.h5 and writes, beside it:
-  plastic_strain.png  contours of ||eps^p|| at the last snapshot, one panel
-                      per case (as fig. 4.2 and 4.4), the band line dashed;
+  plastic_strain.png  contours of ||eps^p||, one panel per case (as fig. 4.2
+                      and 4.4) on one colour scale, each at the snapshot
+                      nearest its band stage (summary.txt band_stage_time;
+                      the last snapshot when there is none), the fitted centre
+                      line and its +- FWHM/2 lines marked;
   stress_strain.png   applied stress against apparent axial strain, all
                       cases (as fig. 4.3, 4.5, 4.6);
   iterations.png      nonlocal iterations per plastic step (when iterated).
@@ -25,20 +28,64 @@ def last_snapshot(group):
     return group[names[-1]]
 
 
+def read_summary(run_dir):
+    values = {}
+    path = os.path.join(run_dir, "summary.txt")
+    if os.path.exists(path):
+        with open(path) as f:
+            for line in f:
+                line = line.split("#", 1)[0]
+                if "=" in line:
+                    k, v = line.split("=", 1)
+                    values[k.strip()] = v.strip()
+    return values
+
+
+def number(values, key):
+    try:
+        return float(values[key])
+    except (KeyError, ValueError):
+        return None
+
+
+def stage_snapshot(group, t_stage):
+    """The snapshot nearest t_stage (the last one when t_stage is None)."""
+    if t_stage is None:
+        return last_snapshot(group)
+    names = [k for k in group.keys() if k.startswith("snap_")]
+    return group[min(names, key=lambda s: abs(float(group[s]["time"][0]) - t_stage))]
+
+
+def mark_band(ax, sm, tag, height):
+    """The fitted centre line x = x0 + slope y and the lines FWHM/2 either side."""
+    x0, slope = number(sm, tag + ".band_line_x0"), number(sm, tag + ".band_line_slope")
+    w = number(sm, tag + ".band_fwhm_normal")
+    if x0 is None or slope is None or w is None:
+        return ""
+    y = np.linspace(0.2 * height, 0.8 * height, 2)
+    off = 0.5 * w * np.sqrt(1.0 + slope ** 2)   # horizontal offset of a normal distance w/2
+    ax.plot(x0 + slope * y, y, "w-", lw=0.9)
+    for sgn in (-1.0, 1.0):
+        ax.plot(x0 + slope * y + sgn * off, y, "w--", lw=0.7)
+    return ", FWHM %.2f m at %.0f deg" % (w, number(sm, tag + ".band_angle_deg"))
+
+
 def main(argv):
     run_dir, tags = argv[1], argv[2:]
     h5 = h5py.File(os.path.join(run_dir, "run.h5"), "r")
     cases = h5["cases"]
 
+    sm = read_summary(run_dir)
     n = len(tags)
+    snaps = {tag: stage_snapshot(cases[tag], number(sm, tag + ".band_stage_time")) for tag in tags}
     fig, axes = plt.subplots(1, n, figsize=(3.2 * n + 1.2, 4.6), squeeze=False)
     vmax = 0.0
     for tag in tags:
-        vmax = max(vmax, float(np.max(last_snapshot(cases[tag])["plastic_strain"][()])))
+        vmax = max(vmax, float(np.max(snaps[tag]["plastic_strain"][()])))
     vmax = vmax if vmax > 0 else 1.0
     levels = np.linspace(0.0, vmax, 21)
     for ax, tag in zip(axes[0], tags):
-        snap = last_snapshot(cases[tag])
+        snap = snaps[tag]
         xy = snap["xy"][()]
         ep = snap["plastic_strain"][()]
         tri = mtri.Triangulation(xy[:, 0], xy[:, 1])
@@ -48,7 +95,14 @@ def main(argv):
         tri.set_mask(edge > 3.0 * np.median(edge))
         cs = ax.tricontourf(tri, ep, levels=levels, cmap="viridis", extend="max")
         ax.set_aspect("equal")
-        ax.set_title("%s, t = %.2f ms" % (tag, 1e3 * float(snap["time"][0])), fontsize=9)
+        # the fit window is 0.2-0.8 of the plate's height (its top: the highest particle)
+        label = mark_band(ax, sm, tag, float(np.max(xy[:, 1])))
+        ax.set_xlim(float(np.min(xy[:, 0])) - 0.1, float(np.max(xy[:, 0])) + 0.1)
+        stage = number(sm, tag + ".band_stage_time")
+        ax.set_title("%s, t = %.2f ms%s\n%s" % (
+            tag, 1e3 * float(snap["time"][0]),
+            "" if stage is None else " (stage %.2f ms)" % (1e3 * stage), label.lstrip(", ")),
+            fontsize=7)
         ax.set_xlabel("x (m)")
     axes[0][0].set_ylabel("y (m)")
     fig.colorbar(cs, ax=axes[0].tolist(), label="||eps^p||", shrink=0.85)

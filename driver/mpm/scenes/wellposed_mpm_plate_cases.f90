@@ -10,6 +10,7 @@ module wellposed_mpm_plate_cases
   use wellposed_mpm_plane_strain, only: ps_config_t
   use wellposed_mpm_ps_deck, only: ps_study_t
   use wellposed_mpm_materials, only: scale_regions
+  use wellposed_mpm_band, only: half_crossings
   implicit none
   private
   public :: case_out_t, case_tag, case_config, put_case_out, get_case_out, band_width, &
@@ -136,19 +137,8 @@ contains
     if (vpk <= 0.0_dp) return
     half = 0.5_dp*vpk
     xl = xs(1)
-    do j = ipk, 2, -1
-      if (vs(j - 1) < half) then
-        xl = xs(j - 1) + (half - vs(j - 1))*(xs(j) - xs(j - 1))/(vs(j) - vs(j - 1))
-        exit
-      end if
-    end do
     xr = xs(m)
-    do j = ipk, m - 1
-      if (vs(j + 1) < half) then
-        xr = xs(j) + (vs(j) - half)*(xs(j + 1) - xs(j))/(vs(j) - vs(j + 1))
-        exit
-      end if
-    end do
+    call half_crossings(xs, vs, ipk, half, xl, xr)
     w = xr - xl
   end subroutine band_width
 

@@ -40,6 +40,7 @@ module wellposed_mpm_plate_run
                                        get_case_out, band_width, curve_difference, &
                                        write_csv_curve, write_csv_iterations
   use wellposed_mpm_cli, only: mpm_cli_t
+  use wellposed_mpm_band_watch, only: band_watch_t, new_band_watch
   use wellposed_mpm_stop, only: stop_alone
   use wellposed_mpm_decomposition, only: gather_by_gid
   use wellposed_mpm_snapshots, only: snapshot_store_t, new_snapshot_store
@@ -68,6 +69,7 @@ contains
     type(ps_study_t) :: study
     type(ps_scene_t) :: sc, prev
     type(case_out_t), allocatable :: outs(:)
+    type(band_watch_t) :: bw
     !> particle snapshots of every case: each rank keeps its particles' rows
     type(snapshot_store_t) :: store
     logical :: ended_early, measured, root, resuming
@@ -188,6 +190,7 @@ contains
       next_sample = 0.0_dp
       wall_before = 0.0_dp
       measured = .false.
+      bw = new_band_watch(sc, study%band_drop, study%band_onset_strain)
       resuming = cli%restart .and. ic == ic0
       call system_clock(c0, crate)
       clast = c0
@@ -223,6 +226,7 @@ contains
           curve(:, ncurve) = [sc%t, -sc%top_disp/cfg%height, ps_applied_stress(sc)]
           next_sample = next_sample + study%sample_dt
         end if
+        call bw%step(sc, comm, curve(:, 1:ncurve))
         if (study%snapshot_dt > 0.0_dp .and. sc%t >= next_snap - 1.0e-12_dp) call snapshot()
         if (ck_every > 0) then
           if (mod(sc%nstep, ck_every) == 0 .and. sc%t < cfg%t_end - 0.5_dp*sc%dt) &
@@ -339,6 +343,7 @@ contains
         call sm%add(tag//'.band_peak_at', peak_x, 'm, along the band line')
         call sm%add(tag//'.band_time', band_t, 's, when the band width was measured')
         call sm%add(tag//'.band_peak_plastic_strain', peak_v)
+        call bw%summarise(sm, tag)
         call sm%add(tag//'.max_substeps', nsub)
         call sm%add(tag//'.ended_early', ended_early, 'true: the UMAT could not go on '// &
                     '(stop_on_cutback); the curve ends at final_strain')
@@ -452,6 +457,7 @@ contains
       call ckw%put('main/its', [0, its(1:nit)])
       call ckw%put('main/nplast', [0, nplast_all])
       call ckw%put('main/bounds', [0.0_dp, reshape(bounds(:, 1:nit), [3*nit])])
+      call bw%put(ckw, 'main/band_watch/')
       do k = 1, ic - 1
         pre = 'main/done_'//int_text(k)//'/'
         call put_case_out(ckw, pre, outs(k))
@@ -545,6 +551,7 @@ contains
       its(1:nit) = iv(2:)
       call ck%get('main/nplast', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
       nplast(1:nit) = iv(2:)
+      call bw%get(ck, 'main/band_watch/', e); if (allocated(e)) call die(ck_file//': '//e%message)
       if (.not. root) nplast(1:nit) = 0      ! rank 0 holds the counts so far
       if (root) write (output_unit, '(a)') '    '//tag//': continuing at step '// &
         int_text(sc%nstep)//', t = '//real_text(sc%t)//' s'

@@ -1,0 +1,216 @@
+!> Where a plate's band starts and how wide it is at an equal stage of the
+!> post-peak response (docs/mpm.md, "Where bands start", "The band normal to
+!> itself"), watched step by step through a case:
+!> - onset: the first particle whose ||eps^p|| exceeds the threshold
+!>   (&output band_onset_strain; the largest when several cross in one step),
+!>   its time and position, and whether it lies in the weak zone (the deck's
+!>   one box-region material, grown by one cell on every side);
+!> - stage: the first curve sample after the onset at which the apparent
+!>   stress has dropped by the fraction &output band_drop below its peak so
+!>   far; there the band is fitted and measured normal to itself
+!>   (wellposed_mpm_band) in the middle 60 % of the plate's height.
+!> Collective: every rank calls `step` each step with the same curve.
+module wellposed_mpm_band_watch
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t
+  use wellposed_text, only: real_text
+  use wellposed_mpi, only: comm_t, allreduce_max
+  use wellposed_checkpoint, only: checkpoint_t
+  use wellposed_summary, only: summary_t
+  use wellposed_mpm_plane_strain, only: ps_scene_t, ps_plastic_strain
+  use wellposed_mpm_decomposition, only: gather_by_gid
+  use wellposed_mpm_band, only: band_fit_t, fit_band, in_grown_box
+  implicit none
+  private
+  public :: band_watch_t, new_band_watch
+
+  !> The fit window: this fraction of the height off the bottom and the top
+  !> (the weak corner and the platen's boundary layer lie outside it).
+  real(dp), parameter :: window_margin = 0.2_dp
+
+  type :: band_watch_t
+    real(dp) :: drop = 0.05_dp, threshold = 1.0e-3_dp
+    logical :: has_weak = .false.
+    real(dp) :: weak_lo(2) = 0.0_dp, weak_hi(2) = 0.0_dp, grow = 0.0_dp
+    logical :: onset = .false.
+    real(dp) :: onset_t = 0.0_dp, onset_x(2) = 0.0_dp, onset_ep = 0.0_dp
+    real(dp) :: peak = -huge(1.0_dp)
+    logical :: staged = .false.
+    real(dp) :: stage(3) = 0.0_dp     !< the stage's (time, apparent strain, stress)
+    type(band_fit_t) :: fit
+  contains
+    procedure :: step => watch_step
+    procedure :: summarise => watch_summarise
+    procedure :: put => watch_put
+    procedure :: get => watch_get
+  end type band_watch_t
+
+contains
+
+  !> A watch for the case of scene sc: drop and threshold from &output.
+  function new_band_watch(sc, drop, threshold) result(w)
+    type(ps_scene_t), intent(in) :: sc
+    real(dp), intent(in) :: drop, threshold
+    type(band_watch_t) :: w
+    integer :: k, nbox
+    w%drop = drop
+    w%threshold = threshold
+    w%grow = sc%cfg%dx
+    nbox = 0
+    do k = 1, sc%mats%n
+      if (sc%mats%rest(k)) cycle
+      nbox = nbox + 1
+      w%weak_lo = sc%mats%lo(:, k)
+      w%weak_hi = sc%mats%hi(:, k)
+    end do
+    w%has_weak = nbox == 1
+  end function new_band_watch
+
+  !> After each step: the onset, then the stage on the curve so far (time,
+  !> strain, stress per sample); at the stage the band is measured.
+  subroutine watch_step(self, sc, comm, curve)
+    class(band_watch_t), intent(inout) :: self
+    type(ps_scene_t), intent(in) :: sc
+    type(comm_t), intent(in) :: comm
+    real(dp), intent(in) :: curve(:, :)
+    real(dp), allocatable :: ep(:)
+    real(dp) :: emax, x, y
+    integer :: p, nc
+    if (self%staged) return
+    nc = size(curve, 2)
+    if (nc > 0) self%peak = max(self%peak, curve(3, nc))
+    if (.not. self%onset) then
+      ep = ps_plastic_strain(sc)
+      emax = -1.0_dp; x = -huge(1.0_dp); y = -huge(1.0_dp)
+      if (size(ep) > 0) then
+        p = maxloc(ep, dim=1)
+        emax = ep(p)
+      end if
+      if (comm%size > 1) call allreduce_max(comm, emax)
+      if (emax <= self%threshold) return
+      if (size(ep) > 0) then
+        p = maxloc(ep, dim=1)
+        if (ep(p) == emax) then
+          x = sc%parts%x(1, p); y = sc%parts%x(2, p)
+        end if
+      end if
+      if (comm%size > 1) call allreduce_max(comm, x)
+      if (comm%size > 1) call allreduce_max(comm, y)
+      self%onset = .true.
+      self%onset_t = sc%t
+      self%onset_x = [x, y]
+      self%onset_ep = emax
+    end if
+    if (nc < 1) return
+    if (curve(3, nc) > (1.0_dp - self%drop)*self%peak) return
+    self%staged = .true.
+    self%stage = curve(:, nc)
+    call measure(self, sc, comm)
+  end subroutine watch_step
+
+  !> The band now (rank 0 gathers the particles and fits).
+  subroutine measure(self, sc, comm)
+    type(band_watch_t), intent(inout) :: self
+    type(ps_scene_t), intent(in) :: sc
+    type(comm_t), intent(in) :: comm
+    real(dp), allocatable :: f(:, :), all(:, :)
+    integer :: n
+    n = sc%parts%n
+    allocate (f(3, n))
+    f(1:2, :) = sc%parts%x(:, 1:n)
+    f(3, :) = ps_plastic_strain(sc)
+    call gather_by_gid(comm, sc%parts%gid(1:n), f, 0, all)
+    if (comm%rank /= 0) return
+    call fit_band(all(1:2, :), all(3, :), sc%cfg%dx/sc%cfg%ppc, &
+                  window_margin*sc%cfg%height, (1.0_dp - window_margin)*sc%cfg%height, self%fit)
+  end subroutine measure
+
+  !> The case's summary lines under `tag.` (rank 0).
+  subroutine watch_summarise(self, sm, tag)
+    class(band_watch_t), intent(in) :: self
+    type(summary_t), intent(inout) :: sm
+    character(len=*), intent(in) :: tag
+    character(len=:), allocatable :: why
+    call sm%add(tag//'.band_onset_strain', self%threshold, &
+                '||eps^p|| whose first crossing (one particle) marks where the band starts')
+    if (self%onset) then
+      call sm%add(tag//'.band_onset_time', self%onset_t, 's')
+      call sm%add(tag//'.band_onset_x', self%onset_x(1), 'm, the first particle past the threshold')
+      call sm%add(tag//'.band_onset_y', self%onset_x(2), 'm')
+      if (self%has_weak) then
+        call sm%add(tag//'.band_starts_at_weak_zone', &
+                    in_grown_box(self%onset_x, self%weak_lo, self%weak_hi, self%grow), &
+                    'the onset within one cell of the weak zone ['// &
+                    real_text(self%weak_lo(1))//', '//real_text(self%weak_hi(1))//'] x ['// &
+                    real_text(self%weak_lo(2))//', '//real_text(self%weak_hi(2))//'] m')
+      else
+        call sm%not_applicable(tag//'.band_starts_at_weak_zone', &
+                               'the deck has no single box-region material (weak zone)')
+      end if
+    else
+      why = 'no particle exceeded the onset threshold'
+      call sm%not_applicable(tag//'.band_onset_time', why)
+      call sm%not_applicable(tag//'.band_starts_at_weak_zone', why)
+    end if
+    call sm%add(tag//'.band_drop', self%drop, 'the stage: apparent stress this fraction '// &
+                'below its peak, first sample after the onset')
+    if (.not. self%staged) then
+      why = 'the apparent stress never dropped by band_drop after the onset'
+      call sm%not_applicable(tag//'.band_stage_time', why)
+      call sm%not_applicable(tag//'.band_fwhm_normal', why)
+      call sm%not_applicable(tag//'.band_angle_deg', why)
+      return
+    end if
+    call sm%add(tag//'.band_stage_time', self%stage(1), 's')
+    call sm%add(tag//'.band_stage_strain', self%stage(2), 'apparent axial strain')
+    call sm%add(tag//'.band_stage_stress', self%stage(3)*1.0e-6_dp, 'MPa')
+    if (.not. self%fit%found) then
+      call sm%not_applicable(tag//'.band_fwhm_normal', trim(self%fit%why))
+      call sm%not_applicable(tag//'.band_angle_deg', trim(self%fit%why))
+      return
+    end if
+    call sm%add(tag//'.band_fwhm_normal', self%fit%fwhm, 'm, FWHM of ||eps^p|| normal to '// &
+                'the fitted centre line, at the stage')
+    call sm%add(tag//'.band_angle_deg', self%fit%angle_deg, 'the centre line from the +x axis')
+    call sm%add(tag//'.band_line_x0', self%fit%x0, 'm: the centre line x = x0 + slope y')
+    call sm%add(tag//'.band_line_slope', self%fit%slope)
+    call sm%add(tag//'.band_line_rms', self%fit%rms, 'm, slice centres off the line')
+    call sm%add(tag//'.band_fit_slices', self%fit%slices)
+    call sm%add(tag//'.band_normal_peak', self%fit%peak, 'peak of the profile across the band')
+  end subroutine watch_summarise
+
+  !> The watch into a checkpoint (under `pre`).
+  subroutine watch_put(self, ck, pre)
+    class(band_watch_t), intent(in) :: self
+    type(checkpoint_t), intent(inout) :: ck
+    character(len=*), intent(in) :: pre
+    call ck%put(pre//'reals', [self%onset_t, self%onset_x, self%onset_ep, self%peak, self%stage, &
+                               self%fit%fwhm, self%fit%angle_deg, self%fit%x0, self%fit%slope, &
+                               self%fit%peak, self%fit%rms])
+    call ck%put(pre//'ints', [merge(1, 0, self%onset), merge(1, 0, self%staged), &
+                              merge(1, 0, self%fit%found), self%fit%slices])
+    call ck%put_text(pre//'why', self%fit%why)
+  end subroutine watch_put
+
+  !> The watch that watch_put stored under `pre`.
+  subroutine watch_get(self, ck, pre, err)
+    class(band_watch_t), intent(inout) :: self
+    type(checkpoint_t), intent(in) :: ck
+    character(len=*), intent(in) :: pre
+    type(error_t), allocatable, intent(out) :: err
+    real(dp), allocatable :: a(:)
+    integer, allocatable :: iv(:)
+    character(len=:), allocatable :: why
+    call ck%get(pre//'reals', a, err); if (allocated(err)) return
+    call ck%get(pre//'ints', iv, err); if (allocated(err)) return
+    call ck%get_text(pre//'why', why, err); if (allocated(err)) return
+    self%onset_t = a(1); self%onset_x = a(2:3); self%onset_ep = a(4); self%peak = a(5)
+    self%stage = a(6:8)
+    self%fit%fwhm = a(9); self%fit%angle_deg = a(10); self%fit%x0 = a(11)
+    self%fit%slope = a(12); self%fit%peak = a(13); self%fit%rms = a(14)
+    self%onset = iv(1) == 1; self%staged = iv(2) == 1; self%fit%found = iv(3) == 1
+    self%fit%slices = iv(4)
+    self%fit%why = why
+  end subroutine watch_get
+
+end module wellposed_mpm_band_watch
