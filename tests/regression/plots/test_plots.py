@@ -11,7 +11,8 @@ test_plots.py --e2e EXE  wellposed-mpm on decks/plot_ref_run.nml, whose
 mpm_stations.py: the reference run drawn dashed station by station when
 present; a note on the figure and a printed line with the command that
 makes it when absent or unreadable; no guide line where the summary gives
-the ideal arrivals as not_applicable (C_P < C_E); the overlocal head guide
+the ideal arrivals as not_applicable (C_P < C_E), nor a viscoplastic head
+guide where the measured head runs more than 2 % off C_P; the overlocal head guide
 at the low-frequency speed C_P(h_eta + h_zeta), whose closed form is
 checked against C_P = 2045.09 m/s (h = 0, point_fig2_4) and the local
 speeds 2132.37 / 1989.18 m/s of docs/figures.md (fig. 2.10 left).
@@ -177,6 +178,22 @@ class Stations(unittest.TestCase):
         ax, info, _ = self.draw(run)
         self.assertEqual([g for g in info['guides'] if g[0] == 'head'], [])
         self.assertIn('no x/C_P guide', ax.get_title())
+
+    def test_viscoplastic_head_guide_only_where_the_head_runs_at_c_p(self):
+        props = list(PROPS)
+        props[10] = 0.01                                    # tau: Duvaut-Lions
+        near = 'station_1_t_head_ideal = 5.0E-002\nc_head_over_c_plastic = 0.993\n'
+        run = write_run(os.path.join(self.dir, 'a'), props=props, summary=near)
+        _, info, _ = self.draw(run)
+        head = [g for g in info['guides'] if g[0] == 'head']
+        self.assertEqual(len(head), 1)
+        self.assertIn('De -> 0', head[0][2])
+        slow = 'station_1_t_head_ideal = 5.0E-002\nc_head_over_c_plastic = 0.871\n'
+        run = write_run(os.path.join(self.dir, 'b'), props=props, summary=slow)
+        ax, info, _ = self.draw(run)
+        self.assertEqual([g for g in info['guides'] if g[0] == 'head'], [])
+        self.assertIn('0.87 C_P', ax.get_title())
+        self.assertEqual(len([g for g in info['guides'] if g[0] == 'end']), 1)
 
     def test_command_line(self):
         run = write_run(os.path.join(self.dir, 'a'))
