@@ -13,9 +13,8 @@
 module wellposed_mpm_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: namelist_error, check_range, check_finite, &
-                            unset, is_set, has_group, real_str, check_word
-  use wellposed_mpm_deck_file, only: override_line
+  use wellposed_deck, only: check_range, check_finite, unset, is_set, real_str, check_word
+  use wellposed_mpm_deck_file, only: read_deck_groups
   use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck
   use wellposed_mpm_scene_kind, only: scene_kind_bar
   use wellposed_mpm_materials, only: first_material
@@ -52,12 +51,9 @@ contains
     namelist /initial/ stress, velocity, out_of_equilibrium
     namelist /load/ base, peak, duration, start, pulse, rate, amplitude, frequency
     namelist /stations/ first, spacing, count
-    integer :: unit, ios, i
-    character(len=512) :: msg
-    character(len=:), allocatable :: line, group
 
     sh%title = 'Sandler-Rubin case study'
-    sh%length = cfg%length; sh%dx(1) = cfg%dx; sh%ppc = cfg%ppc; sh%pad_cells = cfg%pad_cells
+    sh%length = cfg%length; sh%dx = cfg%dx; sh%ppc = cfg%ppc; sh%pad_cells = cfg%pad_cells
     sh%shape = 'gimp'; sh%far_end = 'fixed'; sh%scheme = 'musl'
     sh%t_end = cfg%t_end; sh%cfl = cfg%cfl
     sh%sample_dt = cfg%sample_dt; sh%snapshot_dt = cfg%snapshot_dt
@@ -76,30 +72,8 @@ contains
     start = cfg%load_start; pulse = 'triangle'
     rate = unset; amplitude = unset; frequency = unset
     first = cfg%station_first; spacing = cfg%station_spacing; count = cfg%nstations
-    open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
-      return
-    end if
-    do i = 1, size(bar_groups)
-      if (.not. has_group(text, trim(bar_groups(i)))) cycle
-      rewind (unit)
-      call read_group(trim(bar_groups(i)), unit=unit)
-      if (ios /= 0) then
-        close (unit)
-        err = namelist_error(path, trim(bar_groups(i)), ios, msg, text); return
-      end if
-    end do
-    close (unit)
-    do i = 1, size(overrides)
-      call override_line(overrides(i), group, line, err)
-      if (allocated(err)) return
-      if (.not. any(bar_groups == group)) cycle   ! the shared reader's
-      call read_group(group, line=line)
-      if (ios /= 0) then
-        err = namelist_error('command line', group, ios, msg, line); return
-      end if
-    end do
+    call read_deck_groups(path, text, overrides, bar_groups, read_group, err)
+    if (allocated(err)) return
 
     cfg%pulse = word(pulse, pulse_names, 'load', 'pulse'); if (allocated(err)) return
     cfg%stress0 = stress; cfg%velocity0 = velocity; cfg%out_of_equilibrium = out_of_equilibrium
@@ -164,8 +138,10 @@ contains
 
     !> One READ of the bar's group `grp` from the deck (`unit`) or an
     !> override `line`.
-    subroutine read_group(grp, unit, line)
+    subroutine read_group(grp, ios, msg, unit, line)
       character(len=*), intent(in) :: grp
+      integer, intent(out) :: ios
+      character(len=*), intent(inout) :: msg
       integer, intent(in), optional :: unit
       character(len=*), intent(in), optional :: line
       ios = 0
@@ -186,7 +162,7 @@ contains
     subroutine shared_into_config()
       cfg%name = trim(sh%name)
       cfg%title = trim(sh%title)
-      cfg%length = sh%length; cfg%dx = sh%dx(1); cfg%ppc = sh%ppc
+      cfg%length = sh%length; cfg%dx = sh%dx; cfg%ppc = sh%ppc
       cfg%pad_cells = sh%pad_cells
       cfg%shape = sh%shape_id; cfg%bc_far = sh%far_end_id; cfg%scheme = sh%scheme_id
       cfg%t_end = sh%t_end; cfg%cfl = sh%cfl

@@ -2,8 +2,7 @@
 !> plate), with the wellposed_deck conventions (every message names file,
 !> group and key):
 !>   &scene    name, title, kind (wellposed_mpm_scene_kind)
-!>   &grid     dx (m), ppc, pad_cells, shape; bars: length (m), far_end;
-!>             plates: dx may list one cell size per case (&study)
+!>   &grid     dx (m), ppc, pad_cells, shape; bars: length (m), far_end
 !>   &time     t_end (s), cfl, scheme ('musl'|'usl'); plates: stop_on_cutback
 !>   &material one or more groups (wellposed_mpm_material_deck)
 !>   &nonlocal scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
@@ -20,9 +19,8 @@
 module wellposed_mpm_deck_shared
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: namelist_error, check_finite, check_word, has_group, unset, &
-                            is_set, lower
-  use wellposed_mpm_deck_file, only: open_deck, override_line
+  use wellposed_deck, only: check_finite, check_word, unset, is_set, lower
+  use wellposed_mpm_deck_file, only: open_deck, read_deck_groups
   use wellposed_mpm_scene_kind, only: check_scene_name, scene_kind_bar, scene_kind_names
   use wellposed_mpm_material_deck, only: read_materials, material_defaults_t, &
                                          is_material_group
@@ -35,7 +33,7 @@ module wellposed_mpm_deck_shared
   private
   public :: shared_deck_t, read_shared_deck, max_cases, shared_groups
 
-  !> Cases of a plate deck's &study (and of its &grid dx list).
+  !> Cases of a plate deck's &study.
   integer, parameter :: max_cases = 16
   character(len=8), parameter :: shared_groups(5) = [character(len=8) :: 'scene', 'grid', &
     'time', 'nonlocal', 'output']
@@ -46,7 +44,7 @@ module wellposed_mpm_deck_shared
     character(len=64) :: name = ''
     character(len=200) :: title = ''
     real(dp) :: length = 0.0_dp                 !< bar length (m)
-    real(dp) :: dx(max_cases) = unset           !< cell size (m); plates: one per case
+    real(dp) :: dx = 0.25_dp                    !< cell size (m)
     integer :: ppc = 2, pad_cells = 2
     character(len=16) :: shape = 'gimp', far_end = 'fixed', scheme = 'musl'
     integer :: shape_id = 0, far_end_id = 0, scheme_id = 0
@@ -84,9 +82,7 @@ contains
     type(foreign_t) :: foreign
     real(dp) :: nl_length, nl_h_zeta
     character(len=16) :: nl_word
-    integer :: unit, ios, i
-    character(len=512) :: msg
-    character(len=:), allocatable :: line, group
+    integer :: unit, i
 
     call blank(given)
     given%stop_on_cutback = sh%stop_on_cutback
@@ -96,30 +92,10 @@ contains
     nl_word = nl_scheme_names(sh%nonlocal%scheme)
     call open_deck(path, text, unit, err)
     if (allocated(err)) return
-    do i = 1, size(shared_groups)
-      if (.not. has_group(text, trim(shared_groups(i)))) cycle
-      rewind (unit)
-      call read_group(trim(shared_groups(i)), unit=unit)
-      if (ios /= 0) then
-        close (unit)
-        err = namelist_error(path, trim(shared_groups(i)), ios, msg, text)
-        return
-      end if
-    end do
     close (unit)
-    do i = 1, size(overrides)
-      call override_line(overrides(i), group, line, err)
-      if (allocated(err)) return
-      if (is_material_group(group) .or. any(own == group)) cycle
-      if (.not. any(shared_groups == group)) then
-        call new_error(err, status_invalid, group, 'override "'//trim(overrides(i))// &
-          '": no group &'//group); return
-      end if
-      call read_group(group, text=line)
-      if (ios /= 0) then
-        err = namelist_error('command line', group, ios, msg, line); return
-      end if
-    end do
+    call read_deck_groups(path, text, overrides, shared_groups, read_group, err, own, &
+                          is_material_group)
+    if (allocated(err)) return
     if (allocated(foreign%key)) then
       call new_error(err, status_invalid, foreign%key, path//': &'//foreign%group//': '// &
         foreign%key//' is a key of '//trim(scene_kind_names(3 - kind))//' scenes; this '// &
@@ -138,35 +114,37 @@ contains
 
     !> One READ of group `grp` from the deck (`unit`) or an override `text`
     !> into `given`, and the kind-foreign keys it gave.
-    subroutine read_group(grp, unit, text)
+    subroutine read_group(grp, ios, msg, unit, line)
       character(len=*), intent(in) :: grp
+      integer, intent(out) :: ios
+      character(len=*), intent(inout) :: msg
       integer, intent(in), optional :: unit
-      character(len=*), intent(in), optional :: text
+      character(len=*), intent(in), optional :: line
       logical :: soc
+      ios = 0
       select case (grp)
       case ('scene')
-        call read_scene(given, ios, msg, unit, text)
+        call read_scene(given, ios, msg, unit, line)
       case ('grid')
-        call read_grid(given, ios, msg, unit, text)
-        if (kind == scene_kind_bar .and. any(is_set(given%dx(2:)))) call note('grid', 'dx(2)')
+        call read_grid(given, ios, msg, unit, line)
         if (kind /= scene_kind_bar .and. is_set(given%length)) call note('grid', 'length')
         if (kind /= scene_kind_bar .and. len_trim(given%far_end) > 0) &
           call note('grid', 'far_end')
       case ('time')
-        call read_time(given, ios, msg, unit, text)
+        call read_time(given, ios, msg, unit, line)
         if (ios /= 0 .or. kind /= scene_kind_bar) return
         ! a logical has no unset value: read again from the opposite value;
         ! the key was given when both reads agree
         soc = given%stop_on_cutback
         given%stop_on_cutback = .not. soc
         if (present(unit)) rewind (unit)
-        call read_time(given, ios, msg, unit, text)
+        call read_time(given, ios, msg, unit, line)
         if (given%stop_on_cutback .eqv. soc) call note('time', 'stop_on_cutback')
         given%stop_on_cutback = soc
       case ('nonlocal')
-        call read_nonlocal(sh%nonlocal, nl_word, nl_length, nl_h_zeta, ios, msg, unit, text)
+        call read_nonlocal(sh%nonlocal, nl_word, nl_length, nl_h_zeta, ios, msg, unit, line)
       case ('output')
-        call read_output(given, ios, msg, unit, text)
+        call read_output(given, ios, msg, unit, line)
         if (kind /= scene_kind_bar) return
         if (is_set(given%band_y)) call note('output', 'band_y')
         if (is_set(given%band_x)) call note('output', 'band_x')
@@ -199,13 +177,10 @@ contains
   subroutine merge_given(g, sh)
     type(shared_deck_t), intent(in) :: g
     type(shared_deck_t), intent(inout) :: sh
-    integer :: i
     if (g%name /= achar(0)) sh%name = g%name
     if (g%title /= achar(0)) sh%title = g%title
     if (is_set(g%length)) sh%length = g%length
-    do i = 1, max_cases
-      if (is_set(g%dx(i))) sh%dx(i) = g%dx(i)
-    end do
+    if (is_set(g%dx)) sh%dx = g%dx
     if (g%ppc /= -huge(1)) sh%ppc = g%ppc
     if (g%pad_cells /= -huge(1)) sh%pad_cells = g%pad_cells
     if (len_trim(g%shape) > 0) sh%shape = g%shape
@@ -273,7 +248,7 @@ contains
     character(len=*), intent(inout) :: msg
     integer, intent(in), optional :: unit
     character(len=*), intent(in), optional :: line
-    real(dp) :: length, dx(max_cases)
+    real(dp) :: length, dx
     integer :: ppc, pad_cells
     character(len=16) :: shape, far_end
     namelist /grid/ length, dx, ppc, pad_cells, shape, far_end

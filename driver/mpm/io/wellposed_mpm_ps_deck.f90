@@ -24,13 +24,12 @@ module wellposed_mpm_ps_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
-  use wellposed_deck, only: namelist_error, check_finite, has_group, unset, &
-                            is_set, lower, check_word
+  use wellposed_deck, only: check_finite, unset, is_set, lower, check_word
   use, intrinsic :: iso_fortran_env, only: error_unit
   use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck, max_cases
   use wellposed_mpm_materials, only: add_material, check_regions, first_material
   use wellposed_umat_layout, only: prop_k0
-  use wellposed_mpm_deck_file, only: override_line
+  use wellposed_mpm_deck_file, only: read_deck_groups
   use wellposed_mpm_scene_kind, only: scene_kind_plate
   use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
                                         bc_velocity
@@ -84,12 +83,9 @@ contains
     namelist /boundary/ bottom, top, sides, top_velocity, ramp_time, top_lateral
     namelist /viscosity/ a1, a2
     namelist /study/ dx, scale, label
-    integer :: unit, ios, i
-    character(len=512) :: msg
-    character(len=:), allocatable :: line, group
 
     sh%title = 'plane-strain plate (fig. 4.1 of the dissertation)'
-    sh%dx(1) = cfg%dx; sh%ppc = cfg%ppc; sh%pad_cells = cfg%pad_cells; sh%shape = 'cpdi'
+    sh%dx = cfg%dx; sh%ppc = cfg%ppc; sh%pad_cells = cfg%pad_cells; sh%shape = 'cpdi'
     sh%t_end = cfg%t_end; sh%cfl = cfg%cfl; sh%scheme = 'musl'
     sh%mdef%density = cfg%density; sh%mdef%nstatv = cfg%nstatv
     sh%mdef%named = 0.0_dp
@@ -100,34 +96,12 @@ contains
     if (allocated(err)) return
     width = cfg%width; height = cfg%height
     weak_x = unset; weak_y = unset; weak_k0 = unset
-    dx = sh%dx; scale = unset; label = ''
+    dx = unset; dx(1) = sh%dx; scale = unset; label = ''
     bottom = 'roller'; top = 'velocity'; sides = 'free'; top_lateral = 'fixed'
     top_velocity = cfg%top_velocity; ramp_time = cfg%ramp_time
     a1 = cfg%visc_a1; a2 = cfg%visc_a2
-    open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
-      return
-    end if
-    do i = 1, size(plate_groups)
-      if (.not. has_group(text, trim(plate_groups(i)))) cycle
-      rewind (unit)
-      call read_group(trim(plate_groups(i)), unit=unit)
-      if (ios /= 0) then
-        close (unit)
-        err = namelist_error(path, trim(plate_groups(i)), ios, msg, text); return
-      end if
-    end do
-    close (unit)
-    do i = 1, size(overrides)
-      call override_line(overrides(i), group, line, err)
-      if (allocated(err)) return
-      if (.not. any(plate_groups == group)) cycle   ! the shared reader's
-      call read_group(group, text=line)
-      if (ios /= 0) then
-        err = namelist_error('command line', group, ios, msg, line); return
-      end if
-    end do
+    call read_deck_groups(path, text, overrides, plate_groups, read_group, err)
+    if (allocated(err)) return
 
     call shared_into_config(); if (allocated(err)) return
     call check_finite(path, 'plate', 'width', [width, height], err)
@@ -141,24 +115,26 @@ contains
 
   contains
 
-    subroutine read_group(grp, unit, text)
+    subroutine read_group(grp, ios, msg, unit, line)
       character(len=*), intent(in) :: grp
+      integer, intent(out) :: ios
+      character(len=*), intent(inout) :: msg
       integer, intent(in), optional :: unit
-      character(len=*), intent(in), optional :: text
+      character(len=*), intent(in), optional :: line
       ios = 0
       select case (grp)
       case ('plate')
         if (present(unit)) read (unit, nml=plate, iostat=ios, iomsg=msg)
-        if (present(text)) read (text, nml=plate, iostat=ios, iomsg=msg)
+        if (present(line)) read (line, nml=plate, iostat=ios, iomsg=msg)
       case ('boundary')
         if (present(unit)) read (unit, nml=boundary, iostat=ios, iomsg=msg)
-        if (present(text)) read (text, nml=boundary, iostat=ios, iomsg=msg)
+        if (present(line)) read (line, nml=boundary, iostat=ios, iomsg=msg)
       case ('viscosity')
         if (present(unit)) read (unit, nml=viscosity, iostat=ios, iomsg=msg)
-        if (present(text)) read (text, nml=viscosity, iostat=ios, iomsg=msg)
+        if (present(line)) read (line, nml=viscosity, iostat=ios, iomsg=msg)
       case ('study')
         if (present(unit)) read (unit, nml=study, iostat=ios, iomsg=msg)
-        if (present(text)) read (text, nml=study, iostat=ios, iomsg=msg)
+        if (present(line)) read (line, nml=study, iostat=ios, iomsg=msg)
       end select
     end subroutine read_group
 
