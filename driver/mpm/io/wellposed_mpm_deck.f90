@@ -8,6 +8,8 @@
 !>             frequency (Hz), required, with |amplitude| 2 pi frequency < |rate|
 !>             (the surface never unloads); peak and duration are not used
 !>   &stations first (m), spacing (m), count
+!> and the bar's keys of &output: reference, reference_label (the run drawn
+!> dashed in stations.png: wellposed_mpm_reference),
 !> into an mpm_config_t. Overrides from the command line, `group.key=value`,
 !> are read after the deck as one-line namelists, so they obey the same rules.
 module wellposed_mpm_deck
@@ -19,6 +21,7 @@ module wellposed_mpm_deck
   use wellposed_mpm_scene_kind, only: scene_kind_bar
   use wellposed_mpm_materials, only: first_material
   use wellposed_mpm_config
+  use wellposed_mpm_reference, only: check_reference
   implicit none
   private
   public :: read_mpm_deck, mpm_options_t
@@ -26,6 +29,7 @@ module wellposed_mpm_deck
   !> Driver options that are not part of the physics.
   type :: mpm_options_t
     logical :: plot = .true.           !< run the plot script at the end
+    character(len=:), allocatable :: reference, reference_label  !< &output
   end type mpm_options_t
 
   character(len=8), parameter :: bar_groups(3) = [character(len=8) :: 'initial', 'load', &
@@ -85,6 +89,8 @@ contains
     call check_range(path, 'stations', 'count', count, 0, 1000, err)
     if (allocated(err)) return
     opts%plot = sh%plot
+    opts%reference = trim(sh%reference); opts%reference_label = trim(sh%reference_label)
+    call check_reference(path, cfg%name, opts%reference, err); if (allocated(err)) return
 
   contains
 

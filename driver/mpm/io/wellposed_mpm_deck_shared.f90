@@ -11,7 +11,8 @@
 !>             (wellposed_mpm_nonlocal_deck: L and h_zeta default to our
 !>             &material's)
 !>   &output   sample_dt, snapshot_dt (s), progress, plot; plates: band_y,
-!>             band_x (m), band_axis ('x'|'y'), band_time (s)
+!>             band_x (m), band_axis ('x'|'y'), band_time (s); bars:
+!>             reference, reference_label (wellposed_mpm_reference)
 !> A key of another scene kind is refused, naming the kind it belongs to.
 !> The scene kind's own reader (wellposed_mpm_deck, wellposed_mpm_ps_deck)
 !> puts its defaults into a shared_deck_t, calls read_shared_deck, and reads
@@ -53,6 +54,7 @@ module wellposed_mpm_deck_shared
     real(dp) :: sample_dt = 0.0_dp, snapshot_dt = 0.0_dp
     real(dp) :: band_y = 2.5_dp, band_x = 0.0_dp, band_time = 0.0_dp
     character(len=16) :: band_axis = 'x'
+    character(len=200) :: reference = '', reference_label = ''
     logical :: progress = .true., plot = .true.
     type(nonlocal_settings_t) :: nonlocal
     type(material_defaults_t) :: mdef
@@ -145,7 +147,11 @@ contains
         call read_nonlocal(sh%nonlocal, nl_word, nl_length, nl_h_zeta, ios, msg, unit, line)
       case ('output')
         call read_output(given, ios, msg, unit, line)
-        if (kind /= scene_kind_bar) return
+        if (kind /= scene_kind_bar) then
+          if (len_trim(given%reference) > 0) call note('output', 'reference')
+          if (len_trim(given%reference_label) > 0) call note('output', 'reference_label')
+          return
+        end if
         if (is_set(given%band_y)) call note('output', 'band_y')
         if (is_set(given%band_x)) call note('output', 'band_x')
         if (is_set(given%band_time)) call note('output', 'band_time')
@@ -195,6 +201,8 @@ contains
     if (is_set(g%band_x)) sh%band_x = g%band_x
     if (is_set(g%band_time)) sh%band_time = g%band_time
     if (len_trim(g%band_axis) > 0) sh%band_axis = g%band_axis
+    sh%reference = g%reference
+    sh%reference_label = g%reference_label
     sh%progress = g%progress
     sh%plot = g%plot
   end subroutine merge_given
@@ -286,18 +294,21 @@ contains
     character(len=*), intent(in), optional :: line
     real(dp) :: sample_dt, snapshot_dt, band_y, band_x, band_time
     character(len=16) :: band_axis
+    character(len=200) :: reference, reference_label
     logical :: progress, plot
     namelist /output/ sample_dt, snapshot_dt, band_y, band_x, band_axis, band_time, &
-      progress, plot
+      progress, plot, reference, reference_label
     sample_dt = g%sample_dt; snapshot_dt = g%snapshot_dt; band_y = g%band_y
     band_x = g%band_x; band_axis = g%band_axis; band_time = g%band_time
     progress = g%progress; plot = g%plot
+    reference = g%reference; reference_label = g%reference_label
     ios = 0
     if (present(unit)) read (unit, nml=output, iostat=ios, iomsg=msg)
     if (present(line)) read (line, nml=output, iostat=ios, iomsg=msg)
     g%sample_dt = sample_dt; g%snapshot_dt = snapshot_dt; g%band_y = band_y
     g%band_x = band_x; g%band_axis = band_axis; g%band_time = band_time
     g%progress = progress; g%plot = plot
+    g%reference = reference; g%reference_label = reference_label
   end subroutine read_output
 
   !> &nonlocal into `s`, its scheme word and the given L and h_zeta.
