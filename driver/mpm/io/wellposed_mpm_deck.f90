@@ -1,16 +1,6 @@
-!> The MPM deck: Fortran namelist groups read into an mpm_config_t
-!> (wellposed_deck conventions: every message names file, group and key).
-!> Groups (all optional; a missing group or key keeps the default scene,
-!> the Sandler-Rubin case of shared reference A):
-!>   &scene    name, title
-!>   &grid     length (m), dx (m), ppc, pad_cells, shape ('gimp'|'linear'),
-!>             far_end ('fixed'|'symmetric'|'free')
-!>   &time     t_end (s), cfl (fraction of the CFL step), scheme ('musl'|'usl')
-!>   &material one or more groups (wellposed_mpm_material_deck): density
-!>             (kg/m^3), nstatv, the named wellposed parameters K, G, beta,
-!>             beta_p, k0, h, k_lim, z_ref, P_v, P_d, tau, h_zeta, L (PROPS
-!>             1-13) or props = <list> (any UMAT), and a region (x range or
-!>             'rest')
+!> The bar's MPM deck: the shared groups (&scene, &grid, &time, &material,
+!> &nonlocal, &output: wellposed_mpm_deck_shared, with the bar's defaults,
+!> the Sandler-Rubin case of shared reference A) and the bar's own:
 !>   &initial  stress (6 values, Pa, Abaqus order, tension +), velocity (m/s),
 !>             out_of_equilibrium (stress need not balance the load at t = 0)
 !>   &load     base, peak (Pa), duration, start (s), pulse ('triangle'|'cosine'|
@@ -18,26 +8,19 @@
 !>             frequency (Hz), required, with |amplitude| 2 pi frequency < |rate|
 !>             (the surface never unloads); peak and duration are not used
 !>   &stations first (m), spacing (m), count
-!>   &output   sample_dt (s), snapshot_dt (s), progress, plot, reference, reference_label
-!>             (the run drawn dashed in stations.png: wellposed_mpm_reference)
-!>   &nonlocal scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
-!>             max_iterations, stall_iterations, max_rounds, anderson_depth,
-!>             anderson_mixing, weight_cutoff (Algorithm 1 of the dissertation; iterates only
-!>             when &material h_zeta /= 0)
-!> Overrides from the command line, `group.key=value`, are read after the
-!> deck as one-line namelists, so they obey the same rules.
+!> and the bar's keys of &output: reference, reference_label (the run drawn
+!> dashed in stations.png: wellposed_mpm_reference),
+!> into an mpm_config_t. Overrides from the command line, `group.key=value`,
+!> are read after the deck as one-line namelists, so they obey the same rules.
 module wellposed_mpm_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: namelist_error, check_range, check_finite, &
-                            unset, is_set, has_group, real_str, lower, check_word
-  use wellposed_mpm_material_deck, only: read_materials, material_defaults_t, &
-                                         is_material_group
-  use wellposed_mpm_deck_file, only: open_deck, override_line
-  use wellposed_mpm_scene_kind, only: check_scene_name
+  use wellposed_deck, only: check_range, check_finite, unset, is_set, real_str, check_word
+  use wellposed_mpm_deck_file, only: read_deck_groups
+  use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck
+  use wellposed_mpm_scene_kind, only: scene_kind_bar
   use wellposed_mpm_materials, only: first_material
   use wellposed_mpm_config
-  use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nl_scheme_id
   use wellposed_mpm_reference, only: check_reference
   implicit none
   private
@@ -49,6 +32,9 @@ module wellposed_mpm_deck
     character(len=:), allocatable :: reference, reference_label  !< &output
   end type mpm_options_t
 
+  character(len=8), parameter :: bar_groups(3) = [character(len=8) :: 'initial', 'load', &
+    'stations']
+
 contains
 
   !> Read `path` (and then the overrides, each "group.key=value") into cfg.
@@ -59,129 +45,41 @@ contains
     type(mpm_options_t), intent(out) :: opts
     character(len=:), allocatable, intent(out) :: text
     type(error_t), allocatable, intent(out) :: err
-    ! namelist variables (defaults: the default scene)
-    character(len=64) :: name
-    character(len=200) :: title
-    character(len=16) :: kind   !< 'bar' (read by wellposed_mpm_scene_kind)
-    real(dp) :: length, dx
-    integer :: ppc, pad_cells
-    character(len=16) :: shape, far_end, scheme
-    real(dp) :: t_end, cfl
-    type(material_defaults_t) :: mdef
+    type(shared_deck_t) :: sh
     real(dp) :: stress(6), velocity
     logical :: out_of_equilibrium
     real(dp) :: base, peak, duration, start, rate, amplitude, frequency
     integer :: count
     real(dp) :: first, spacing
-    real(dp) :: sample_dt, snapshot_dt
-    logical :: progress, plot
-    character(len=200) :: reference, reference_label
-    namelist /scene/ name, title, kind
-    namelist /grid/ length, dx, ppc, pad_cells, shape, far_end
-    namelist /time/ t_end, cfl, scheme
+    character(len=16) :: pulse
     namelist /initial/ stress, velocity, out_of_equilibrium
     namelist /load/ base, peak, duration, start, pulse, rate, amplitude, frequency
     namelist /stations/ first, spacing, count
-    namelist /output/ sample_dt, snapshot_dt, progress, plot, reference, reference_label
-    character(len=16) :: pulse
-    integer :: unit, ios, i
-    character(len=512) :: msg
-    character(len=:), allocatable :: line, group
 
-    name = ''   ! a deck names its scene (wellposed_mpm_deck_file)
-    title = 'Sandler-Rubin case study'
-    kind = 'bar'
-    length = cfg%length; dx = cfg%dx; ppc = cfg%ppc; pad_cells = cfg%pad_cells
-    shape = 'gimp'; far_end = 'fixed'; scheme = 'musl'
-    t_end = cfg%t_end; cfl = cfg%cfl
-    mdef%density = cfg%density
-    mdef%nstatv = cfg%nstatv
-    mdef%named = 0.0_dp
-    mdef%named(1:5) = [4.0e9_dp, 1.5e9_dp, 0.315_dp, 0.0_dp, 5.066e6_dp]
+    sh%title = 'Sandler-Rubin case study'
+    sh%length = cfg%length; sh%dx = cfg%dx; sh%ppc = cfg%ppc; sh%pad_cells = cfg%pad_cells
+    sh%shape = 'gimp'; sh%far_end = 'fixed'; sh%scheme = 'musl'
+    sh%t_end = cfg%t_end; sh%cfl = cfg%cfl
+    sh%sample_dt = cfg%sample_dt; sh%snapshot_dt = cfg%snapshot_dt
+    sh%mdef%density = cfg%density
+    sh%mdef%nstatv = cfg%nstatv
+    sh%mdef%named = 0.0_dp
+    sh%mdef%named(1:5) = [4.0e9_dp, 1.5e9_dp, 0.315_dp, 0.0_dp, 5.066e6_dp]
+    sh%nonlocal = cfg%nonlocal
+    call read_shared_deck(path, overrides, scene_kind_bar, bar_groups, shape_names, bc_names, &
+                          sh, text, err)
+    if (allocated(err)) return
+    call shared_into_config()
+
     stress = cfg%stress0; velocity = cfg%velocity0; out_of_equilibrium = .false.
     base = cfg%load_base; peak = cfg%load_peak; duration = cfg%load_duration
-    start = cfg%load_start
+    start = cfg%load_start; pulse = 'triangle'
     rate = unset; amplitude = unset; frequency = unset
     first = cfg%station_first; spacing = cfg%station_spacing; count = cfg%nstations
-    sample_dt = cfg%sample_dt; snapshot_dt = cfg%snapshot_dt
-    progress = .true.; plot = .true.; reference = ''; reference_label = ''
-
-    call open_deck(path, text, unit, err)
+    call read_deck_groups(path, text, overrides, bar_groups, read_group, err)
     if (allocated(err)) return
-    pulse = 'triangle'
-    if (has_group(text, 'scene')) then
-      rewind (unit); read (unit, nml=scene, iostat=ios, iomsg=msg)
-      if (ios /= 0) then; call nml_fail('scene'); return; end if
-    end if
-    if (has_group(text, 'grid')) then
-      rewind (unit); read (unit, nml=grid, iostat=ios, iomsg=msg)
-      if (ios /= 0) then; call nml_fail('grid'); return; end if
-    end if
-    if (has_group(text, 'time')) then
-      rewind (unit); read (unit, nml=time, iostat=ios, iomsg=msg)
-      if (ios /= 0) then; call nml_fail('time'); return; end if
-    end if
-    if (has_group(text, 'initial')) then
-      rewind (unit); read (unit, nml=initial, iostat=ios, iomsg=msg)
-      if (ios /= 0) then; call nml_fail('initial'); return; end if
-    end if
-    if (has_group(text, 'load')) then
-      rewind (unit); read (unit, nml=load, iostat=ios, iomsg=msg)
-      if (ios /= 0) then; call nml_fail('load'); return; end if
-    end if
-    if (has_group(text, 'stations')) then
-      rewind (unit); read (unit, nml=stations, iostat=ios, iomsg=msg)
-      if (ios /= 0) then; call nml_fail('stations'); return; end if
-    end if
-    if (has_group(text, 'output')) then
-      rewind (unit); read (unit, nml=output, iostat=ios, iomsg=msg)
-      if (ios /= 0) then; call nml_fail('output'); return; end if
-    end if
-    if (has_group(text, 'nonlocal')) then
-      rewind (unit)
-      call nonlocal_group(cfg%nonlocal, ios, msg, unit=unit)
-      if (ios /= 0) then; call nml_fail('nonlocal'); return; end if
-    end if
-    close (unit)
 
-    ! command-line overrides: group.key=value
-    do i = 1, size(overrides)
-      call override_line(overrides(i), group, line, err)
-      if (allocated(err)) return
-      if (is_material_group(group)) cycle   ! read_materials reads them
-      select case (group)
-      case ('scene'); read (line, nml=scene, iostat=ios, iomsg=msg)
-      case ('grid'); read (line, nml=grid, iostat=ios, iomsg=msg)
-      case ('time'); read (line, nml=time, iostat=ios, iomsg=msg)
-      case ('initial'); read (line, nml=initial, iostat=ios, iomsg=msg)
-      case ('load'); read (line, nml=load, iostat=ios, iomsg=msg)
-      case ('stations'); read (line, nml=stations, iostat=ios, iomsg=msg)
-      case ('output'); read (line, nml=output, iostat=ios, iomsg=msg)
-      case ('nonlocal'); call nonlocal_group(cfg%nonlocal, ios, msg, line=line)
-      case default
-        call new_error(err, status_invalid, group, 'override "'//trim(overrides(i))// &
-          '": no group &'//group); return
-      end select
-      if (ios /= 0) then
-        err = namelist_error('command line', group, ios, msg, line); return
-      end if
-    end do
-
-    ! ---- into the config, validating the words and the numbers' kinds
-    cfg%name = trim(name)
-    cfg%title = trim(title)
-    call check_scene_name(path, cfg%name, err)
-    if (allocated(err)) return
-    cfg%length = length; cfg%dx = dx; cfg%ppc = ppc; cfg%pad_cells = pad_cells
-    cfg%shape = word(shape, shape_names, 'grid', 'shape'); if (allocated(err)) return
-    cfg%bc_far = word(far_end, bc_names, 'grid', 'far_end'); if (allocated(err)) return
-    cfg%scheme = word(scheme, scheme_names, 'time', 'scheme'); if (allocated(err)) return
     cfg%pulse = word(pulse, pulse_names, 'load', 'pulse'); if (allocated(err)) return
-    cfg%t_end = t_end; cfg%cfl = cfl
-    call check_finite(path, 'time', 'cfl', cfl, err); if (allocated(err)) return
-    call read_materials(path, text, overrides, 1, mdef, cfg%materials, cfg%density, err)
-    if (allocated(err)) return
-    call first_material(cfg%materials, cfg%props, cfg%nprops, cfg%nstatv)
     cfg%stress0 = stress; cfg%velocity0 = velocity; cfg%out_of_equilibrium = out_of_equilibrium
     call check_finite(path, 'initial', 'stress', stress, err); if (allocated(err)) return
     cfg%load_base = base; cfg%load_peak = peak; cfg%load_duration = duration
@@ -190,16 +88,9 @@ contains
     cfg%station_first = first; cfg%station_spacing = spacing; cfg%nstations = count
     call check_range(path, 'stations', 'count', count, 0, 1000, err)
     if (allocated(err)) return
-    cfg%sample_dt = sample_dt; cfg%snapshot_dt = snapshot_dt
-    cfg%progress = progress
-    opts%plot = plot
-    opts%reference = trim(reference); opts%reference_label = trim(reference_label)
+    opts%plot = sh%plot
+    opts%reference = trim(sh%reference); opts%reference_label = trim(sh%reference_label)
     call check_reference(path, cfg%name, opts%reference, err); if (allocated(err)) return
-    if (cfg%nonlocal%scheme == 0) then
-      call new_error(err, status_invalid, 'scheme', path//': &nonlocal: scheme is not one '// &
-        "of 'fixed_point', 'anderson'")
-      return
-    end if
 
   contains
 
@@ -251,11 +142,43 @@ contains
       cfg%load_rate = rate; cfg%load_amplitude = amplitude; cfg%load_frequency = frequency
     end subroutine ramp_sine_keys
 
-    subroutine nml_fail(grp)
+    !> One READ of the bar's group `grp` from the deck (`unit`) or an
+    !> override `line`.
+    subroutine read_group(grp, ios, msg, unit, line)
       character(len=*), intent(in) :: grp
-      close (unit)
-      err = namelist_error(path, grp, ios, msg, text)
-    end subroutine nml_fail
+      integer, intent(out) :: ios
+      character(len=*), intent(inout) :: msg
+      integer, intent(in), optional :: unit
+      character(len=*), intent(in), optional :: line
+      ios = 0
+      select case (grp)
+      case ('initial')
+        if (present(unit)) read (unit, nml=initial, iostat=ios, iomsg=msg)
+        if (present(line)) read (line, nml=initial, iostat=ios, iomsg=msg)
+      case ('load')
+        if (present(unit)) read (unit, nml=load, iostat=ios, iomsg=msg)
+        if (present(line)) read (line, nml=load, iostat=ios, iomsg=msg)
+      case ('stations')
+        if (present(unit)) read (unit, nml=stations, iostat=ios, iomsg=msg)
+        if (present(line)) read (line, nml=stations, iostat=ios, iomsg=msg)
+      end select
+    end subroutine read_group
+
+    !> The shared groups' values into cfg.
+    subroutine shared_into_config()
+      cfg%name = trim(sh%name)
+      cfg%title = trim(sh%title)
+      cfg%length = sh%length; cfg%dx = sh%dx; cfg%ppc = sh%ppc
+      cfg%pad_cells = sh%pad_cells
+      cfg%shape = sh%shape_id; cfg%bc_far = sh%far_end_id; cfg%scheme = sh%scheme_id
+      cfg%t_end = sh%t_end; cfg%cfl = sh%cfl
+      cfg%materials = sh%materials
+      cfg%density = sh%density
+      call first_material(cfg%materials, cfg%props, cfg%nprops, cfg%nstatv)
+      cfg%sample_dt = sh%sample_dt; cfg%snapshot_dt = sh%snapshot_dt
+      cfg%progress = sh%progress
+      cfg%nonlocal = sh%nonlocal
+    end subroutine shared_into_config
 
     integer function word(value, names, grp, key) result(id)
       character(len=*), intent(in) :: value, names(:), grp, key
@@ -263,35 +186,5 @@ contains
     end function word
 
   end subroutine read_mpm_deck
-
-  !> Read the &nonlocal group (from `unit` or the one-line `line`) into `s`.
-  !> A scheme word that is not known leaves s%scheme = 0.
-  subroutine nonlocal_group(s, ios, msg, unit, line)
-    type(nonlocal_settings_t), intent(inout) :: s
-    integer, intent(out) :: ios
-    character(len=*), intent(inout) :: msg
-    integer, intent(in), optional :: unit
-    character(len=*), intent(in), optional :: line
-    character(len=16) :: scheme
-    real(dp) :: tolerance, rel_tolerance, anderson_mixing, weight_cutoff
-    integer :: max_iterations, stall_iterations, max_rounds, anderson_depth
-    namelist /nonlocal/ scheme, tolerance, rel_tolerance, max_iterations, &
-      stall_iterations, max_rounds, anderson_depth, anderson_mixing, weight_cutoff
-    scheme = 'fixed_point'
-    if (s%scheme == 2) scheme = 'anderson'
-    tolerance = s%tolerance; rel_tolerance = s%rel_tolerance
-    max_iterations = s%max_iterations; stall_iterations = s%stall_iterations
-    max_rounds = s%max_rounds; anderson_depth = s%anderson_depth
-    anderson_mixing = s%anderson_mixing; weight_cutoff = s%weight_cutoff
-    ios = 0
-    if (present(unit)) read (unit, nml=nonlocal, iostat=ios, iomsg=msg)
-    if (present(line)) read (line, nml=nonlocal, iostat=ios, iomsg=msg)
-    if (ios /= 0) return
-    s%scheme = nl_scheme_id(lower(trim(scheme)))
-    s%tolerance = tolerance; s%rel_tolerance = rel_tolerance
-    s%max_iterations = max_iterations; s%stall_iterations = stall_iterations
-    s%max_rounds = max_rounds; s%anderson_depth = anderson_depth
-    s%anderson_mixing = anderson_mixing; s%weight_cutoff = weight_cutoff
-  end subroutine nonlocal_group
 
 end module wellposed_mpm_deck

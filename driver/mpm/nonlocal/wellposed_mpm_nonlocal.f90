@@ -5,7 +5,7 @@
 !> eq. 4.46-4.50; docs/mpm.md, docs/theory.md.
 module wellposed_mpm_nonlocal
   use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_fixed_point, nl_anderson, &
-                                             nl_scheme_names, nl_scheme_id
+                                             nl_scheme_names, nl_scheme_id, ours_bounds
   use wellposed_mpm_nonlocal_grid, only: nonlocal_t, nonlocal_step_stats_t, new_nonlocal, &
                                          nonlocal_ghost_nodes, nonlocal_project, &
                                          nonlocal_average
@@ -15,6 +15,6 @@ module wellposed_mpm_nonlocal
   private
   public :: nonlocal_settings_t, nonlocal_t, nonlocal_host_t, nonlocal_step_stats_t
   public :: new_nonlocal, nonlocal_solve, nonlocal_project, nonlocal_average
-  public :: nl_fixed_point, nl_anderson, nl_scheme_names, nl_scheme_id
+  public :: nl_fixed_point, nl_anderson, nl_scheme_names, nl_scheme_id, ours_bounds
   public :: nonlocal_ranks_t, nonlocal_ghost_nodes, sweep_key
 end module wellposed_mpm_nonlocal

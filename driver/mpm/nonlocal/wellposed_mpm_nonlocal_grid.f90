@@ -19,13 +19,7 @@ module wellposed_mpm_nonlocal_grid
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: real_text, int_text
-  use wellposed_nonlocal, only: nonlocal_weight, weight_support, &
-                                lipschitz_local_implicit, lipschitz_local_explicit
-  use wellposed_dp_params, only: dp_params_t, new_dp_params
-  use wellposed_umat_host, only: umat_is_ours
-  use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
-                                   prop_h, prop_k_lim, prop_z_ref, prop_p_v, prop_p_d, &
-                                   prop_tau, prop_h_zeta, prop_length, nprops_known
+  use wellposed_nonlocal, only: nonlocal_weight, weight_support
   use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_fixed_point, nl_anderson
   implicit none
   private
@@ -45,12 +39,12 @@ module wellposed_mpm_nonlocal_grid
     real(dp) :: bound_printed = 0.0_dp  !< eq. 4.43 (scheme 1) with that N_alpha
   end type nonlocal_step_stats_t
 
-  !> Nonlocal solver state: settings, material constants for the bounds,
-  !> grid geometry, the nodal field, and run totals.
+  !> Nonlocal solver state: settings (with the deck's L and bounds), grid
+  !> geometry, the nodal field, and run totals.
   type :: nonlocal_t
     type(nonlocal_settings_t) :: set
-    logical :: active = .false.       !< h_zeta /= 0
-    real(dp) :: h_zeta = 0.0_dp       !< Pa
+    logical :: active = .false.       !< Algorithm 1 iterates (settings%active)
+    real(dp) :: h_zeta = 0.0_dp       !< Pa (the deck's, for the bounds)
     real(dp) :: length = 0.0_dp       !< L (m)
     real(dp) :: radius = 0.0_dp       !< support radius of the cut Gaussian (m)
     real(dp) :: bound_43 = 0.0_dp     !< |h_zeta/(a + h_eta)|: eq. 4.43 with N_alpha = 1
@@ -98,19 +92,17 @@ contains
     if (self%active) layers = ceiling(self%radius/self%dx) + 1
   end function nonlocal_ghost_nodes
 
-  !> Validate the settings, read h_zeta and L from PROPS (wellposed's
-  !> layout, PROPS 12-13) and lay out the nodal field on the patch [glo, ghi]
-  !> of a grid with `nnode(1:ndim)` nodes per direction, node 0 at `origin`
-  !> (m), cell size `dx` (m). Errors name the deck key.
-  subroutine new_nonlocal(self, settings, props, ndim, origin, dx, nnode, glo, ghi, err)
+  !> Validate the settings (the deck's &nonlocal group with L, h_zeta and
+  !> the bounds resolved against the materials: wellposed_mpm_nonlocal_deck)
+  !> and lay out the nodal field on the patch [glo, ghi] of a grid with
+  !> `nnode(1:ndim)` nodes per direction, node 0 at `origin` (m), cell size
+  !> `dx` (m). Errors name the deck key.
+  subroutine new_nonlocal(self, settings, ndim, origin, dx, nnode, glo, ghi, err)
     type(nonlocal_t), intent(out) :: self
     type(nonlocal_settings_t), intent(in) :: settings
-    real(dp), intent(in) :: props(:), origin(:), dx
+    real(dp), intent(in) :: origin(:), dx
     integer, intent(in) :: ndim, nnode(:), glo, ghi
     type(error_t), allocatable, intent(out) :: err
-    real(dp) :: pr(nprops_known)
-    type(dp_params_t) :: mat
-    type(error_t), allocatable :: perr
 
     associate (s => settings)
       if (s%scheme /= nl_fixed_point .and. s%scheme /= nl_anderson) then
@@ -165,18 +157,15 @@ contains
     self%node_mass = 0.0_dp
     self%field = 0.0_dp
 
-    pr = 0.0_dp
-    ! PROPS(12), PROPS(13) are wellposed's nonlocal slots: a user's own UMAT
-    ! has other PROPS and runs local
-    if (umat_is_ours()) pr(1:min(size(props), nprops_known)) = &
-      props(1:min(size(props), nprops_known))
-    self%h_zeta = pr(prop_h_zeta)
-    self%length = pr(prop_length)
-    self%active = self%h_zeta /= 0.0_dp
+    self%h_zeta = settings%h_zeta
+    self%length = settings%length
+    self%active = settings%active
+    self%bound_43 = settings%bound_43
+    self%bound_45 = settings%bound_45
     if (.not. self%active) return
     if (.not. (self%length > 0.0_dp .and. ieee_is_finite(self%length))) then
-      call new_error(err, status_invalid, 'L', 'h_zeta = '//real_text(self%h_zeta)// &
-        ' needs a nonlocal length L > 0 m (PROPS(13)); L = '//real_text(self%length))
+      call new_error(err, status_invalid, 'L', 'Algorithm 1 needs a nonlocal length L > 0 m '// &
+        '(&nonlocal L, or L of our &material); L = '//real_text(self%length))
       return
     end if
     self%radius = weight_support(self%length, settings%weight_cutoff)
@@ -187,17 +176,6 @@ contains
         ' m, less than half a cell (dx = '//real_text(dx)//' m), so no node would carry '// &
         'the average')
       return
-    end if
-    call new_dp_params(mat, pr(prop_bulk), pr(prop_shear), pr(prop_beta), pr(prop_beta_p), &
-                       pr(prop_k0), pr(prop_h), pr(prop_k_lim), pr(prop_z_ref), pr(prop_p_v), &
-                       pr(prop_p_d), pr(prop_tau), pr(prop_h_zeta), pr(prop_length), perr)
-    if (allocated(perr)) then
-      ! Not wellposed's parameter layout (a user's UMAT): no bound to report.
-      self%bound_43 = -1.0_dp
-      self%bound_45 = -1.0_dp
-    else
-      self%bound_43 = lipschitz_local_implicit(mat, 1.0_dp)
-      self%bound_45 = lipschitz_local_explicit(mat, 1.0_dp)
     end if
 
   contains

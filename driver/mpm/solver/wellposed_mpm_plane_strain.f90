@@ -133,7 +133,7 @@ contains
     self%nnodes = self%nx*self%ny
     self%origin = -cfg%pad_cells*cfg%dx
     ! ghost rows: the shape's reach, or the nonlocal Gaussian's support
-    call new_nonlocal(self%nl, cfg%nonlocal, cfg%props(1:cfg%nprops), 2, self%origin, cfg%dx, &
+    call new_nonlocal(self%nl, cfg%nonlocal, 2, self%origin, cfg%dx, &
                       [self%nx, self%ny], 0, -1, err)
     if (allocated(err)) return
     call new_decomposition(self%dec, self%comm, self%ny - 1, self%nx, &
@@ -242,7 +242,7 @@ contains
     self%c_max = sqrt(self%modulus/cfg%density)
     self%dt = cfg%cfl*cfg%dx/self%c_max
 
-    call new_nonlocal(self%nl, cfg%nonlocal, cfg%props(1:cfg%nprops), 2, self%origin, cfg%dx, &
+    call new_nonlocal(self%nl, cfg%nonlocal, 2, self%origin, cfg%dx, &
                       [self%nx, self%ny], self%glo, self%ghi, err)
     if (allocated(err)) return
     if (self%dec%nranks > 1) then

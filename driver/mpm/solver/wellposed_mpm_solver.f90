@@ -163,7 +163,7 @@ contains
     self%parts%statev = 0.0_dp
     ! particle masses never change: one floor for every step
     self%mass_floor = 1.0e-9_dp*minval(self%parts%mass(1:np))
-    call new_nonlocal(self%nl, cfg%nonlocal, cfg%props(1:cfg%nprops), 1, [self%grid%origin], &
+    call new_nonlocal(self%nl, cfg%nonlocal, 1, [self%grid%origin], &
                       cfg%dx, [self%grid%nnodes], self%grid%glo, self%grid%ghi, err)
     if (allocated(err)) then
       err%message = '&nonlocal / &material: '//err%message
@@ -181,7 +181,7 @@ contains
     call self%exchange%restrict(self%grid, self%parts, err)
     if (allocated(err)) return
     if (self%grid%glo /= 0 .or. self%grid%ghi /= ncells) then
-      call new_nonlocal(self%nl, cfg%nonlocal, cfg%props(1:cfg%nprops), 1, &
+      call new_nonlocal(self%nl, cfg%nonlocal, 1, &
                         [self%grid%origin], cfg%dx, [self%grid%nnodes], self%grid%glo, &
                         self%grid%ghi, err)
       if (allocated(err)) return

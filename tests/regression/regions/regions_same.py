@@ -2,7 +2,8 @@
 """Two MPM runs that must agree, or one that must fail cleanly.
 
   regions_same.py EXE DECK_A DECK_B NAME [--exe-b EXE_B] [--tolerance T]
-                  [--absolute NAME=TOL ...] [--stderr-b REGEX] [driver args]
+                  [--absolute NAME=TOL ...] [--skip NAME ...] [--stderr-b REGEX]
+                  [driver args]
       runs EXE on DECK_A and EXE_B (default EXE) on DECK_B (--no-plot
       --checkpoint-every 0, the same run folder name NAME under a/ and b/)
       and compares every summary.txt figure and run.h5 dataset of the two
@@ -11,7 +12,9 @@
       within T relative to each dataset's largest magnitude. Each
       --absolute NAME=TOL (a summary key or run.h5 dataset, e.g. a balance
       residual whose own size is round-off, where a relative comparison
-      means nothing) is compared as max |A - B| <= TOL instead. With
+      means nothing) is compared as max |A - B| <= TOL instead. Each
+      --skip NAME (a summary key or run.h5 dataset) is not compared (a
+      figure one of the two runs cannot know; the caller says why). With
       --stderr-b, run B's standard error must match REGEX (Python re).
   regions_same.py --fail REGEX EXE DECK NAME [driver args]
       the run must exit non-zero, print REGEX (searched in its standard
@@ -69,9 +72,12 @@ def main(argv):
         return fail(argv[1:])
     exe, deck_a, deck_b, name = argv[:4]
     rest = argv[4:]
-    regex, exe_b, tol, absolute = None, exe, None, {}
-    while rest[:1] and rest[0] in ('--stderr-b', '--exe-b', '--tolerance', '--absolute'):
-        if rest[0] == '--stderr-b':
+    regex, exe_b, tol, absolute, skip = None, exe, None, {}, []
+    while rest[:1] and rest[0] in ('--stderr-b', '--exe-b', '--tolerance', '--absolute',
+                                   '--skip'):
+        if rest[0] == '--skip':
+            skip.append(rest[1])
+        elif rest[0] == '--stderr-b':
             regex = rest[1]
         elif rest[0] == '--absolute':
             key, value = rest[1].split('=')
@@ -100,6 +106,9 @@ def main(argv):
             return 1
         folders.append(os.path.join(out, name))
     counted, bad = reference.compare(folders[0], folders[1], tol)
+    for key in skip:
+        bad = [b for b in bad if not re.search(r'[ /]' + re.escape(key) + r'( |:|$)', b)]
+        print(f'skip {key}: not compared')
     for key, limit in absolute.items():
         bad = [b for b in bad if not re.search(r'[ /]' + re.escape(key) + r'( |$)', b)]
         diff = absolute_difference(folders[0], folders[1], key)

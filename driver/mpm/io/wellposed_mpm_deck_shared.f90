@@ -1,0 +1,353 @@
+!> The groups every MPM deck shares, read once for every scene kind (bar,
+!> plate), with the wellposed_deck conventions (every message names file,
+!> group and key):
+!>   &scene    name, title, kind (wellposed_mpm_scene_kind)
+!>   &grid     dx (m), ppc, pad_cells, shape; bars: length (m), far_end
+!>   &time     t_end (s), cfl, scheme ('musl'|'usl'); plates: stop_on_cutback
+!>   &material one or more groups (wellposed_mpm_material_deck)
+!>   &nonlocal scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
+!>             max_iterations, stall_iterations, max_rounds, anderson_depth,
+!>             anderson_mixing, weight_cutoff, L (m), h_zeta (Pa)
+!>             (wellposed_mpm_nonlocal_deck: L and h_zeta default to our
+!>             &material's)
+!>   &output   sample_dt, snapshot_dt (s), progress, plot; plates: band_y,
+!>             band_x (m), band_axis ('x'|'y'), band_time (s), band_drop,
+!>             band_onset_strain (wellposed_mpm_ps_deck); bars:
+!>             reference, reference_label (wellposed_mpm_reference)
+!> A key of another scene kind is refused, naming the kind it belongs to.
+!> The scene kind's own reader (wellposed_mpm_deck, wellposed_mpm_ps_deck)
+!> puts its defaults into a shared_deck_t, calls read_shared_deck, and reads
+!> its own groups. Overrides `group.key=value` are read after the deck.
+module wellposed_mpm_deck_shared
+  use wellposed_kinds, only: dp
+  use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_deck, only: check_finite, check_word, unset, is_set, lower
+  use wellposed_mpm_deck_file, only: open_deck, read_deck_groups
+  use wellposed_mpm_scene_kind, only: check_scene_name, scene_kind_bar, scene_kind_names
+  use wellposed_mpm_material_deck, only: read_materials, material_defaults_t, &
+                                         is_material_group
+  use wellposed_mpm_materials, only: mpm_materials_t
+  use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_scheme_names, &
+                                             nl_scheme_id
+  use wellposed_mpm_nonlocal_deck, only: resolve_nonlocal
+  use wellposed_mpm_config, only: scheme_names
+  implicit none
+  private
+  public :: shared_deck_t, read_shared_deck, max_cases, shared_groups
+
+  !> Cases of a plate deck's &study.
+  integer, parameter :: max_cases = 16
+  character(len=8), parameter :: shared_groups(5) = [character(len=8) :: 'scene', 'grid', &
+    'time', 'nonlocal', 'output']
+
+  !> The shared groups' values: the kind's defaults before reading, the
+  !> deck's after (words also as ids into the kind's name lists).
+  type :: shared_deck_t
+    character(len=64) :: name = ''
+    character(len=200) :: title = ''
+    real(dp) :: length = 0.0_dp                 !< bar length (m)
+    real(dp) :: dx = 0.25_dp                    !< cell size (m)
+    integer :: ppc = 2, pad_cells = 2
+    character(len=16) :: shape = 'gimp', far_end = 'fixed', scheme = 'musl'
+    integer :: shape_id = 0, far_end_id = 0, scheme_id = 0
+    real(dp) :: t_end = 0.0_dp, cfl = 0.2_dp
+    logical :: stop_on_cutback = .false.
+    real(dp) :: sample_dt = 0.0_dp, snapshot_dt = 0.0_dp
+    real(dp) :: band_y = 2.5_dp, band_x = 0.0_dp, band_time = 0.0_dp
+    real(dp) :: band_drop = 0.05_dp, band_onset_strain = 1.0e-3_dp
+    character(len=16) :: band_axis = 'x'
+    character(len=200) :: reference = '', reference_label = ''
+    logical :: progress = .true., plot = .true.
+    type(nonlocal_settings_t) :: nonlocal
+    type(material_defaults_t) :: mdef
+    type(mpm_materials_t) :: materials
+    real(dp) :: density = 0.0_dp
+  end type shared_deck_t
+
+  !> A given key of the other scene kind (sentinel: unset, '' or a
+  !> logical read both ways).
+  type :: foreign_t
+    character(len=:), allocatable :: group, key
+  end type foreign_t
+
+contains
+
+  !> Read the shared groups of deck `path` and the overrides into `sh` (its
+  !> defaults set by the caller) for scene kind `kind`, whose own groups
+  !> `own(:)` are left to its reader; shapes(:) are the kind's shape words,
+  !> far_ends(:) a bar's far-end words. `text` is the deck's text.
+  subroutine read_shared_deck(path, overrides, kind, own, shapes, far_ends, sh, text, err)
+    character(len=*), intent(in) :: path, overrides(:), own(:), shapes(:), far_ends(:)
+    integer, intent(in) :: kind
+    type(shared_deck_t), intent(inout) :: sh
+    character(len=:), allocatable, intent(out) :: text
+    type(error_t), allocatable, intent(out) :: err
+    type(shared_deck_t) :: given
+    type(foreign_t) :: foreign
+    real(dp) :: nl_length, nl_h_zeta
+    character(len=16) :: nl_word
+    integer :: unit, i
+
+    call blank(given)
+    given%stop_on_cutback = sh%stop_on_cutback
+    given%progress = sh%progress
+    given%plot = sh%plot
+    nl_length = unset; nl_h_zeta = unset
+    nl_word = nl_scheme_names(sh%nonlocal%scheme)
+    call open_deck(path, text, unit, err)
+    if (allocated(err)) return
+    close (unit)
+    call read_deck_groups(path, text, overrides, shared_groups, read_group, err, own, &
+                          is_material_group)
+    if (allocated(err)) return
+    if (allocated(foreign%key)) then
+      call new_error(err, status_invalid, foreign%key, path//': &'//foreign%group//': '// &
+        foreign%key//' is a key of '//trim(scene_kind_names(3 - kind))//' scenes; this '// &
+        'deck''s scene is a '//trim(scene_kind_names(kind))//' (docs/decks.md)'); return
+    end if
+    call merge_given(given, sh)
+    call check_shared(path, kind, shapes, far_ends, sh, err); if (allocated(err)) return
+    call read_materials(path, text, overrides, kind, sh%mdef, sh%materials, sh%density, err)
+    if (allocated(err)) return
+    call check_word(path, 'nonlocal', 'scheme', nl_word, nl_scheme_names, i, err)
+    if (allocated(err)) return
+    sh%nonlocal%scheme = nl_scheme_id(lower(trim(nl_word)))
+    call resolve_nonlocal(path, sh%materials, nl_length, nl_h_zeta, sh%nonlocal, err)
+
+  contains
+
+    !> One READ of group `grp` from the deck (`unit`) or an override `text`
+    !> into `given`, and the kind-foreign keys it gave.
+    subroutine read_group(grp, ios, msg, unit, line)
+      character(len=*), intent(in) :: grp
+      integer, intent(out) :: ios
+      character(len=*), intent(inout) :: msg
+      integer, intent(in), optional :: unit
+      character(len=*), intent(in), optional :: line
+      logical :: soc
+      ios = 0
+      select case (grp)
+      case ('scene')
+        call read_scene(given, ios, msg, unit, line)
+      case ('grid')
+        call read_grid(given, ios, msg, unit, line)
+        if (kind /= scene_kind_bar .and. is_set(given%length)) call note('grid', 'length')
+        if (kind /= scene_kind_bar .and. len_trim(given%far_end) > 0) &
+          call note('grid', 'far_end')
+      case ('time')
+        call read_time(given, ios, msg, unit, line)
+        if (ios /= 0 .or. kind /= scene_kind_bar) return
+        ! a logical has no unset value: read again from the opposite value;
+        ! the key was given when both reads agree
+        soc = given%stop_on_cutback
+        given%stop_on_cutback = .not. soc
+        if (present(unit)) rewind (unit)
+        call read_time(given, ios, msg, unit, line)
+        if (given%stop_on_cutback .eqv. soc) call note('time', 'stop_on_cutback')
+        given%stop_on_cutback = soc
+      case ('nonlocal')
+        call read_nonlocal(sh%nonlocal, nl_word, nl_length, nl_h_zeta, ios, msg, unit, line)
+      case ('output')
+        call read_output(given, ios, msg, unit, line)
+        if (kind /= scene_kind_bar) then
+          if (len_trim(given%reference) > 0) call note('output', 'reference')
+          if (len_trim(given%reference_label) > 0) call note('output', 'reference_label')
+          return
+        end if
+        if (is_set(given%band_y)) call note('output', 'band_y')
+        if (is_set(given%band_x)) call note('output', 'band_x')
+        if (is_set(given%band_time)) call note('output', 'band_time')
+        if (is_set(given%band_drop)) call note('output', 'band_drop')
+        if (is_set(given%band_onset_strain)) call note('output', 'band_onset_strain')
+        if (len_trim(given%band_axis) > 0) call note('output', 'band_axis')
+      end select
+    end subroutine read_group
+
+    subroutine note(grp, key)
+      character(len=*), intent(in) :: grp, key
+      if (allocated(foreign%key)) return
+      foreign%group = grp
+      foreign%key = key
+    end subroutine note
+
+  end subroutine read_shared_deck
+
+  !> `sh` with every sentinel: nothing given yet.
+  subroutine blank(sh)
+    type(shared_deck_t), intent(out) :: sh
+    sh%name = achar(0); sh%title = achar(0)
+    sh%length = unset; sh%dx = unset; sh%ppc = -huge(1); sh%pad_cells = -huge(1)
+    sh%shape = ''; sh%far_end = ''; sh%scheme = ''
+    sh%t_end = unset; sh%cfl = unset; sh%stop_on_cutback = .false.
+    sh%sample_dt = unset; sh%snapshot_dt = unset
+    sh%band_y = unset; sh%band_x = unset; sh%band_time = unset; sh%band_axis = ''
+    sh%band_drop = unset; sh%band_onset_strain = unset
+  end subroutine blank
+
+  !> The values given (not sentinels) over the defaults in `sh`.
+  subroutine merge_given(g, sh)
+    type(shared_deck_t), intent(in) :: g
+    type(shared_deck_t), intent(inout) :: sh
+    if (g%name /= achar(0)) sh%name = g%name
+    if (g%title /= achar(0)) sh%title = g%title
+    if (is_set(g%length)) sh%length = g%length
+    if (is_set(g%dx)) sh%dx = g%dx
+    if (g%ppc /= -huge(1)) sh%ppc = g%ppc
+    if (g%pad_cells /= -huge(1)) sh%pad_cells = g%pad_cells
+    if (len_trim(g%shape) > 0) sh%shape = g%shape
+    if (len_trim(g%far_end) > 0) sh%far_end = g%far_end
+    if (len_trim(g%scheme) > 0) sh%scheme = g%scheme
+    if (is_set(g%t_end)) sh%t_end = g%t_end
+    if (is_set(g%cfl)) sh%cfl = g%cfl
+    sh%stop_on_cutback = g%stop_on_cutback
+    if (is_set(g%sample_dt)) sh%sample_dt = g%sample_dt
+    if (is_set(g%snapshot_dt)) sh%snapshot_dt = g%snapshot_dt
+    if (is_set(g%band_y)) sh%band_y = g%band_y
+    if (is_set(g%band_x)) sh%band_x = g%band_x
+    if (is_set(g%band_time)) sh%band_time = g%band_time
+    if (is_set(g%band_drop)) sh%band_drop = g%band_drop
+    if (is_set(g%band_onset_strain)) sh%band_onset_strain = g%band_onset_strain
+    if (len_trim(g%band_axis) > 0) sh%band_axis = g%band_axis
+    sh%reference = g%reference
+    sh%reference_label = g%reference_label
+    sh%progress = g%progress
+    sh%plot = g%plot
+  end subroutine merge_given
+
+  !> The words as ids of the kind's lists, the name, the finite numbers.
+  subroutine check_shared(path, kind, shapes, far_ends, sh, err)
+    character(len=*), intent(in) :: path, shapes(:), far_ends(:)
+    integer, intent(in) :: kind
+    type(shared_deck_t), intent(inout) :: sh
+    type(error_t), allocatable, intent(out) :: err
+    call check_scene_name(path, trim(sh%name), err); if (allocated(err)) return
+    call check_word(path, 'grid', 'shape', sh%shape, shapes, sh%shape_id, err)
+    if (allocated(err)) return
+    if (kind == scene_kind_bar) then
+      call check_word(path, 'grid', 'far_end', sh%far_end, far_ends, sh%far_end_id, err)
+      if (allocated(err)) return
+    end if
+    call check_word(path, 'time', 'scheme', sh%scheme, scheme_names, sh%scheme_id, err)
+    if (allocated(err)) return
+    call check_finite(path, 'time', 't_end', sh%t_end, err); if (allocated(err)) return
+    call check_finite(path, 'time', 'cfl', sh%cfl, err); if (allocated(err)) return
+    select case (lower(trim(sh%band_axis)))
+    case ('x', 'y')
+      sh%band_axis = lower(trim(sh%band_axis))
+    case default
+      call new_error(err, status_invalid, 'band_axis', path//": &output: band_axis = '"// &
+        trim(sh%band_axis)//"' is not one of 'x' (along y = band_y), 'y' (along x = band_x)")
+    end select
+  end subroutine check_shared
+
+  subroutine read_scene(g, ios, msg, unit, line)
+    type(shared_deck_t), intent(inout) :: g
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    integer, intent(in), optional :: unit
+    character(len=*), intent(in), optional :: line
+    character(len=64) :: name
+    character(len=200) :: title
+    character(len=16) :: kind   !< read by wellposed_mpm_scene_kind
+    namelist /scene/ name, title, kind
+    name = g%name; title = g%title; kind = ''
+    ios = 0
+    if (present(unit)) read (unit, nml=scene, iostat=ios, iomsg=msg)
+    if (present(line)) read (line, nml=scene, iostat=ios, iomsg=msg)
+    g%name = name; g%title = title
+  end subroutine read_scene
+
+  subroutine read_grid(g, ios, msg, unit, line)
+    type(shared_deck_t), intent(inout) :: g
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    integer, intent(in), optional :: unit
+    character(len=*), intent(in), optional :: line
+    real(dp) :: length, dx
+    integer :: ppc, pad_cells
+    character(len=16) :: shape, far_end
+    namelist /grid/ length, dx, ppc, pad_cells, shape, far_end
+    length = g%length; dx = g%dx; ppc = g%ppc; pad_cells = g%pad_cells
+    shape = g%shape; far_end = g%far_end
+    ios = 0
+    if (present(unit)) read (unit, nml=grid, iostat=ios, iomsg=msg)
+    if (present(line)) read (line, nml=grid, iostat=ios, iomsg=msg)
+    g%length = length; g%dx = dx; g%ppc = ppc; g%pad_cells = pad_cells
+    g%shape = shape; g%far_end = far_end
+  end subroutine read_grid
+
+  subroutine read_time(g, ios, msg, unit, line)
+    type(shared_deck_t), intent(inout) :: g
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    integer, intent(in), optional :: unit
+    character(len=*), intent(in), optional :: line
+    real(dp) :: t_end, cfl
+    character(len=16) :: scheme
+    logical :: stop_on_cutback
+    namelist /time/ t_end, cfl, scheme, stop_on_cutback
+    t_end = g%t_end; cfl = g%cfl; scheme = g%scheme; stop_on_cutback = g%stop_on_cutback
+    ios = 0
+    if (present(unit)) read (unit, nml=time, iostat=ios, iomsg=msg)
+    if (present(line)) read (line, nml=time, iostat=ios, iomsg=msg)
+    g%t_end = t_end; g%cfl = cfl; g%scheme = scheme; g%stop_on_cutback = stop_on_cutback
+  end subroutine read_time
+
+  subroutine read_output(g, ios, msg, unit, line)
+    type(shared_deck_t), intent(inout) :: g
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    integer, intent(in), optional :: unit
+    character(len=*), intent(in), optional :: line
+    real(dp) :: sample_dt, snapshot_dt, band_y, band_x, band_time, band_drop, band_onset_strain
+    character(len=16) :: band_axis
+    character(len=200) :: reference, reference_label
+    logical :: progress, plot
+    namelist /output/ sample_dt, snapshot_dt, band_y, band_x, band_axis, band_time, &
+      band_drop, band_onset_strain, progress, plot, reference, reference_label
+    sample_dt = g%sample_dt; snapshot_dt = g%snapshot_dt; band_y = g%band_y
+    band_x = g%band_x; band_axis = g%band_axis; band_time = g%band_time
+    band_drop = g%band_drop; band_onset_strain = g%band_onset_strain
+    progress = g%progress; plot = g%plot
+    reference = g%reference; reference_label = g%reference_label
+    ios = 0
+    if (present(unit)) read (unit, nml=output, iostat=ios, iomsg=msg)
+    if (present(line)) read (line, nml=output, iostat=ios, iomsg=msg)
+    g%sample_dt = sample_dt; g%snapshot_dt = snapshot_dt; g%band_y = band_y
+    g%band_x = band_x; g%band_axis = band_axis; g%band_time = band_time
+    g%band_drop = band_drop; g%band_onset_strain = band_onset_strain
+    g%progress = progress; g%plot = plot
+    g%reference = reference; g%reference_label = reference_label
+  end subroutine read_output
+
+  !> &nonlocal into `s`, its scheme word and the given L and h_zeta.
+  subroutine read_nonlocal(s, word, length, h_zeta, ios, msg, unit, line)
+    type(nonlocal_settings_t), intent(inout) :: s
+    character(len=*), intent(inout) :: word
+    real(dp), intent(inout) :: length, h_zeta
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    integer, intent(in), optional :: unit
+    character(len=*), intent(in), optional :: line
+    character(len=16) :: scheme
+    real(dp) :: tolerance, rel_tolerance, anderson_mixing, weight_cutoff, l
+    integer :: max_iterations, stall_iterations, max_rounds, anderson_depth
+    namelist /nonlocal/ scheme, tolerance, rel_tolerance, max_iterations, &
+      stall_iterations, max_rounds, anderson_depth, anderson_mixing, weight_cutoff, l, h_zeta
+    scheme = word; l = length
+    tolerance = s%tolerance; rel_tolerance = s%rel_tolerance
+    max_iterations = s%max_iterations; stall_iterations = s%stall_iterations
+    max_rounds = s%max_rounds; anderson_depth = s%anderson_depth
+    anderson_mixing = s%anderson_mixing; weight_cutoff = s%weight_cutoff
+    ios = 0
+    if (present(unit)) read (unit, nml=nonlocal, iostat=ios, iomsg=msg)
+    if (present(line)) read (line, nml=nonlocal, iostat=ios, iomsg=msg)
+    if (ios /= 0) return
+    word = scheme; length = l
+    s%tolerance = tolerance; s%rel_tolerance = rel_tolerance
+    s%max_iterations = max_iterations; s%stall_iterations = stall_iterations
+    s%max_rounds = max_rounds; s%anderson_depth = anderson_depth
+    s%anderson_mixing = anderson_mixing; s%weight_cutoff = weight_cutoff
+  end subroutine read_nonlocal
+
+end module wellposed_mpm_deck_shared
