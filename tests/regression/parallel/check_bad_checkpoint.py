@@ -62,10 +62,17 @@ truncated = os.path.join(a.out, 'truncated.h5')
 with open(truncated, 'wb') as f:
     f.write(data[:len(data) // 2])
 flipped = os.path.join(a.out, 'flipped.h5')
-# flip one bit two thirds into the file: in the particle data there, so the
-# file still opens as HDF5 and only the checkpoint's checksum can tell
+# flip one bit in the middle of the largest dataset's stored bytes, so the
+# file still opens as HDF5 and only the checkpoint's checksum can tell (a
+# fixed place in the file may fall in HDF5's free space as the layout grows)
+import h5py  # noqa: E402
+sets = []
+with h5py.File(good, 'r') as f:
+    f.visititems(lambda name, o: sets.append((o.id.get_storage_size(), o.id.get_offset(), name))
+                 if isinstance(o, h5py.Dataset) and o.id.get_offset() is not None else None)
+size, offset, _ = max(sets)
 raw = bytearray(data)
-k = len(raw) - len(raw) // 3
+k = offset + size // 2
 raw[k] ^= 0x10
 with open(flipped, 'wb') as f:
     f.write(raw)
