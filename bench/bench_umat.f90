@@ -115,15 +115,19 @@ program bench_umat
       t_vumat(icase, i)/merge(t_mixed, t_case(min(icase, 3), 2), icase == 4), i = 1, 4)
   end do
   write (output_unit, '(a)') '    (mixed: elastic and cone points in turn, every 16th an apex '// &
-    'point; the elastic and cone points of a block are one vectorised pass, the apex ones '// &
-    'a scalar pass)' 
+    'point.) Where a point goes: elastic and cone points are one vectorised pass, apex '// &
+    'points a scalar pass (point_update); a block of 1 point pays the per-block PROPS '// &
+    'and finiteness checks and the copies into the kernel''s chunk layout alone'
   write (output_unit, '(a)') '  extended flow rule (beta_p = beta), cone case:'// &
     ' DDSDDE ns  /regular  explicit ns  /regular'
   do i = 1, 3
     write (output_unit, '(4x,a34,2(f10.1,f9.2,3x))') efr_names(i), &
       (t_efr(i, itan), t_efr(i, itan)/t_efr(1, itan), itan = 1, 2)
   end do
-  write (output_unit, '(a)') '  target: an EFR call <= 3x the regular cone call'
+  write (output_unit, '(a)') '  target: an EFR call <= 3x the regular cone call. Where an EFR'// &
+    ' call goes: a scalar Newton on t = dlambda/||M|| (2 evaluations for P_v, 3 for P_d),'// &
+    ' the Jacobian factored once and the tangent as outer products (DDSDDE), the Mandel'// &
+    ' conversions of point_update'
   write (output_unit, '(a)') '  where a cone call with DDSDDE goes:'
   write (output_unit, '(a,f7.1,a,f5.1,a)') '    PROPS validation (fill_dp_params)  ', t_check, &
     ' ns ', 100*t_check/t_case(2, 1), ' %'

@@ -66,7 +66,7 @@ contains
     real(dp) :: c_sig0(chunk, ntens6), c_ep0(chunk, ntens6), c_de(chunk, ntens6)
     real(dp) :: c_sig(chunk, ntens6), c_ep(chunk, ntens6), c_z0(chunk), c_zeta0(chunk)
     real(dp) :: c_avg(chunk), c_z(chunk), c_zeta(chunk), c_dl(chunk), c_f(chunk)
-    real(dp) :: c_st(chunk)
+    real(dp) :: c_st(chunk), c_trial(chunk, ntens6)
     integer :: defer(chunk)
 
     point = 0
@@ -102,7 +102,7 @@ contains
         n = min(chunk, nblock - k0 + 1)
         call gather(k0, n)
         call closed_form_block(p, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
-                               c_ep, c_z, c_zeta, c_dl, c_f, c_st)
+                               c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
         ndefer = 0
         do i = 1, n
           if (c_st(i) < 0.0_dp) then

@@ -27,11 +27,11 @@ contains
   !> Advance points 1 to n <= block_chunk: inputs sig0, eps_p0, z0, zeta0
   !> (start of increment), avg_dlambda (the host's <dlambda>), de; outputs
   !> sig, eps_p, z, zeta, dlambda, f and status (0 elastic, 1 cone, or -1:
-  !> deferred, the outputs not to be used). Status is real, as the STATEV
+  !> deferred, the outputs not to be used), and the elastic trial stress. Status is real, as the STATEV
   !> slot it goes to, so that every quantity of the loop is a double. `p`
   !> must serve the closed form (has_closed_form).
   pure subroutine closed_form_block(p, n, sig0, eps_p0, z0, zeta0, avg_dlambda, de, dtime, &
-                                    sig, eps_p, z, zeta, dlambda, f, status)
+                                    sig, eps_p, z, zeta, dlambda, f, status, trial)
     type(dp_params_t), intent(in) :: p
     integer, intent(in) :: n
     real(dp), intent(in) :: sig0(block_chunk, 6), eps_p0(block_chunk, 6), z0(block_chunk)
@@ -39,7 +39,7 @@ contains
     real(dp), intent(in) :: dtime
     real(dp), intent(inout) :: sig(block_chunk, 6), eps_p(block_chunk, 6), z(block_chunk)
     real(dp), intent(inout) :: zeta(block_chunk), dlambda(block_chunk), f(block_chunk)
-    real(dp), intent(inout) :: status(block_chunk)
+    real(dp), intent(inout) :: status(block_chunk), trial(block_chunk, 6)
     real(dp) :: bulk, shear, rn, rate, w, zeta_new, tr_de, st(6), s(6), i1_tr, q, k_n, f_tr
     real(dp) :: qs, x_max, x, xc, shrink, i1, sn(6), dep(6), r, fc, bad, pl
     integer :: i, j
@@ -90,6 +90,7 @@ contains
       fc = rsqrt2*shrink*q + p%beta*i1 - (p%hard%k0 + p%hard%h*(z0(i) + xc)) - zeta_new
 
       do j = 1, 6
+        trial(i, j) = st(j)
         sig(i, j) = merge(sn(j), st(j), f_tr > 0.0_dp)
         r = eps_p0(i, j) + dep(j)
         eps_p(i, j) = merge(r, eps_p0(i, j), f_tr > 0.0_dp)
@@ -106,19 +107,13 @@ contains
     if (p%tau > 0.0_dp) then
       ! Duvaut-Lions (eq. 2.10, backward Euler): relax the cone points toward
       ! the trial, in a second, scalar pass so that the rate-independent pass
-      ! stays one branch-free loop. The trial and the plastic strain
-      ! increment are formed again by the same operations (bitwise the first
-      ! pass's).
+      ! stays one branch-free loop. The trial's deviator and the plastic
+      ! strain increment are formed again by the same operations (bitwise
+      ! the first pass's).
       w = p%tau/(p%tau + dtime)
       do i = 1, n
         if (status(i) /= 1.0_dp) cycle
-        tr_de = de(i, 1) + de(i, 2) + de(i, 3)
-        do j = 1, 3
-          st(j) = sig0(i, j) + 2.0_dp*shear*(de(i, j) - tr_de/3.0_dp) + bulk*tr_de
-        end do
-        do j = 4, 6
-          st(j) = sig0(i, j) + 2.0_dp*shear*de(i, j)
-        end do
+        st = trial(i, :)
         i1_tr = st(1) + st(2) + st(3)
         s(1:3) = st(1:3) - i1_tr/3.0_dp
         s(4:6) = st(4:6)
