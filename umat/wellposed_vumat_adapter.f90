@@ -17,7 +17,8 @@ module wellposed_vumat_adapter
   use wellposed_text, only: int_text, real_text
   use wellposed_tensor, only: ntens6
   use wellposed_dp_params, only: dp_params_t
-  use wellposed_dp_point, only: point_update, point_closed_form, has_closed_form
+  use wellposed_dp_point, only: point_update, has_closed_form
+  use wellposed_dp_block, only: closed_form_block, block_chunk
   use wellposed_hardening, only: hardening_t
   use wellposed_generalized_dl, only: gdl_update
   use wellposed_umat_adapter, only: check_props, explain, fault_non_finite
@@ -57,8 +58,16 @@ contains
     type(dp_params_t) :: p
     real(dp) :: sig(ntens6), de(ntens6), eps_p(ntens6), z, zeta, dlambda, f, sig_sum(ntens6)
     real(dp) :: dep(ntens6), over(ntens6), z_over
-    integer :: fault, ntens, k, i, status
+    integer :: fault, ntens, k, i, j, status, k0, n, ndefer
     logical :: want_tangent, closed, packaging
+    ! One chunk of points in the block kernel's layout (its arrays stay in
+    ! L1 cache).
+    integer, parameter :: chunk = block_chunk
+    real(dp) :: c_sig0(chunk, ntens6), c_ep0(chunk, ntens6), c_de(chunk, ntens6)
+    real(dp) :: c_sig(chunk, ntens6), c_ep(chunk, ntens6), c_z0(chunk), c_zeta0(chunk)
+    real(dp) :: c_avg(chunk), c_z(chunk), c_zeta(chunk), c_dl(chunk), c_f(chunk)
+    real(dp) :: c_st(chunk), c_trial(chunk, ntens6)
+    integer :: defer(chunk)
 
     point = 0
     ntens = ndir + nshr
@@ -86,21 +95,47 @@ contains
       p%gdl = .false.
     end if
     closed = has_closed_form(p) .and. .not. p%gdl
-    ! One pass over the block, free of calls once point_closed_form is
-    ! inlined; points it cannot serve (status_cutback) and models without a
-    ! closed form go through point_update below.
     if (closed) then
-      do k = 1, nblock
-        call load(k)
-        call point_closed_form(p, sig, eps_p, z, zeta, state_old(k, sv_avg_dlambda), de, dt, &
-                               dlambda, f, status, ntens)
-        call store(k)
+      ! Chunks of up to `chunk` points: one vectorised pass (closed_form_block),
+      ! then the rare deferred points one by one.
+      do k0 = 1, nblock, chunk
+        n = min(chunk, nblock - k0 + 1)
+        call gather(k0, n)
+        call closed_form_block(p, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
+                               c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
+        ndefer = 0
+        do i = 1, n
+          if (c_st(i) < 0.0_dp) then
+            ndefer = ndefer + 1
+            defer(ndefer) = i
+          end if
+        end do
+        do j = 1, ndefer
+          i = defer(j)
+          sig = c_sig0(i, :)
+          eps_p = c_ep0(i, :)
+          z = c_z0(i)
+          zeta = c_zeta0(i)
+          call point_update(p, sig, eps_p, z, zeta, c_avg(i), c_de(i, :), dt, dlambda, f, &
+                            status, ntens, err=err)
+          if (allocated(err)) then
+            point = k0 - 1 + i
+            state_new(point, sv_status) = real(err%status, dp)
+            return
+          end if
+          c_sig(i, :) = sig
+          c_ep(i, :) = eps_p
+          c_z(i) = z
+          c_zeta(i) = zeta
+          c_dl(i) = dlambda
+          c_f(i) = f
+          c_st(i) = real(status, dp)
+        end do
+        call scatter(k0, n)
       end do
+      return
     end if
     do k = 1, nblock
-      if (closed) then
-        if (nint(state_new(k, sv_status)) /= status_cutback) cycle
-      end if
       call load(k)
       if (p%gdl) then
         call gdl_update(p, sig, eps_p, z, zeta, over, z_over, state_old(k, sv_avg_dlambda), de, &
@@ -118,6 +153,54 @@ contains
     end do
 
   contains
+
+    !> Points k0 .. k0 + n - 1 into the chunk arrays, in the model's order
+    !> (tensor shears already; the missing shears of plane strain are 0).
+    subroutine gather(k0, n)
+      integer, intent(in) :: k0, n
+      integer :: ii
+      do ii = 1, ntens6
+        if (comp(ii) <= ntens) then
+          c_sig0(1:n, ii) = stress_old(k0:k0 + n - 1, comp(ii))
+          c_de(1:n, ii) = strain_inc(k0:k0 + n - 1, comp(ii))
+        else
+          c_sig0(1:n, ii) = 0.0_dp
+          c_de(1:n, ii) = 0.0_dp
+        end if
+        c_ep0(1:n, ii) = state_old(k0:k0 + n - 1, sv_eps_p - 1 + comp(ii))
+      end do
+      c_z0(1:n) = state_old(k0:k0 + n - 1, sv_z)
+      c_zeta0(1:n) = state_old(k0:k0 + n - 1, sv_zeta)
+      c_avg(1:n) = state_old(k0:k0 + n - 1, sv_avg_dlambda)
+    end subroutine gather
+
+    !> The chunk's results into the New arrays, with the energies (as store).
+    subroutine scatter(k0, n)
+      integer, intent(in) :: k0, n
+      integer :: ii, kk
+      real(dp) :: ss(ntens6)
+      if (packaging) c_f(1:n) = state_old(k0:k0 + n - 1, sv_f)
+      do ii = 1, ntens6
+        if (comp(ii) <= ntens) stress_new(k0:k0 + n - 1, comp(ii)) = c_sig(1:n, ii)
+        state_new(k0:k0 + n - 1, sv_eps_p - 1 + comp(ii)) = c_ep(1:n, ii)
+      end do
+      state_new(k0:k0 + n - 1, sv_z) = c_z(1:n)
+      state_new(k0:k0 + n - 1, sv_dlambda) = c_dl(1:n)
+      state_new(k0:k0 + n - 1, sv_avg_dlambda) = c_avg(1:n)
+      state_new(k0:k0 + n - 1, sv_zeta) = c_zeta(1:n)
+      state_new(k0:k0 + n - 1, sv_f) = c_f(1:n)
+      state_new(k0:k0 + n - 1, sv_status) = c_st(1:n)
+      do ii = nstatv_min + 1, nstatev
+        state_new(k0:k0 + n - 1, ii) = state_old(k0:k0 + n - 1, ii)
+      end do
+      do ii = 1, n
+        kk = k0 - 1 + ii
+        ss = c_sig0(ii, :) + c_sig(ii, :)
+        ener_intern_new(kk) = ener_intern_old(kk) + 0.5_dp*contract(ss, c_de(ii, :))/density(kk)
+        ener_inelas_new(kk) = ener_inelas_old(kk) + &
+                              0.5_dp*contract(ss, c_ep(ii, :) - c_ep0(ii, :))/density(kk)
+      end do
+    end subroutine scatter
 
     !> Point k's inputs in the model's order (tensor shears already).
     subroutine load(k)
@@ -143,10 +226,6 @@ contains
     !> Point k's results, STATEV slots past the contract's copied.
     subroutine store(k)
       integer, intent(in) :: k
-      if (status == status_cutback) then
-        state_new(k, sv_status) = real(status, dp)
-        return
-      end if
       if (packaging) f = state_old(k, sv_f)
       sig_sum = sig_sum + sig
       dep = eps_p - dep

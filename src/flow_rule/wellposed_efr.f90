@@ -1,17 +1,17 @@
 !> Hashiguchi's extended flow rule (EFR, eq. 2.7): the plastic strain
 !> direction M = N_hat ||de*|| + P_v de_v I + P_d de* turns with this
 !> increment's total strain de. Backward Euler with N_hat at the end of the
-!> increment gives seven equations in (sigma, dlambda), solved by Newton; the
-!> tangent is their implicit-function derivative d sigma/d de (it includes how
-!> M_hat turns with de). No direction, or a direction that cannot lower f:
+!> increment gives seven equations in (sigma, dlambda), which reduce to one
+!> scalar equation solved by Newton (efr_return); the tangent is their
+!> implicit-function derivative d sigma/d de (it includes how M_hat turns
+!> with de). No direction, or a direction that cannot lower f:
 !> the regular flow rule. Derivation and edge cases: docs/theory.md.
 module wellposed_efr
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_cutback
   use wellposed_tensor, only: ntens6, sqrt2, identity2, trace, deviator, norm
-  use wellposed_elasticity, only: stiffness, apply_stiffness
   use wellposed_hardening, only: strength, strength_slope
-  use wellposed_drucker_prager, only: yield_normal, potential_direction
+  use wellposed_drucker_prager, only: potential_direction
   use wellposed_dp_params, only: dp_params_t
   use wellposed_text, only: real_text
   use wellposed_return_mapping, only: return_t, regular_return, elastic_return, apex_return, &
@@ -20,12 +20,11 @@ module wellposed_efr
   private
   public :: efr_direction, efr_return, efr_has_direction
 
-  ! Multiplications replace the divisions by 3 and sqrt(2) on the Newton
-  ! path: a division costs several multiplications, and each iteration has
-  ! dozens.
+  ! Multiplications replace the divisions by 3 and sqrt(2): a division
+  ! costs several multiplications.
   real(dp), parameter :: third = 1.0_dp/3.0_dp, rsqrt2 = 1.0_dp/sqrt2
 
-  !> The factored Newton Jacobian of the return (factor_jacobian).
+  !> The factored Jacobian of the seven return equations (factor_jacobian).
   type :: efr_jacobian_t
     real(dp) :: s_hat(ntens6) = 0.0_dp  !< unit stress deviator
     real(dp) :: u(ntens6) = 0.0_dp      !< P : M_hat
@@ -63,29 +62,39 @@ contains
 
   !> Return `sig_tr` onto the cone with the EFR direction of the strain
   !> increment `deps` (Mandel). Arguments as regular_return.
+  !>
+  !> The seven backward-Euler equations sigma = sigma_tr - t C:M(sigma),
+  !> f(sigma, z_n + t ||M||) = 0 (t = dlambda/||M||) reduce to one scalar
+  !> equation in t: with dev M = a0 S_hat + P_d de*, the deviator obeys
+  !> (||S|| + 2G a0 t) S_hat = S_tr - 2G P_d t de* =: W(t), so S_hat =
+  !> W/||W||, ||S|| = ||W|| - 2G a0 t, tr(sigma) = tr(sigma_tr) - 9K b0 t,
+  !> and ||W||, S_hat : de* and ||M|| are scalar functions of t (a0 =
+  !> ||de*||/(sqrt(2) n_m), b0 = beta_p ||de*||/n_m + P_v tr(de)). Newton on
+  !> t; with P_d = 0 and linear hardening the equation is linear and the
+  !> first step is exact. Derivation: docs/theory.md, docs/performance.md.
   pure subroutine efr_return(p, sig_tr, deps, z_n, zeta, ret, tangent, err)
     type(dp_params_t), intent(in) :: p
     real(dp), intent(in) :: sig_tr(ntens6), deps(ntens6), z_n, zeta
     type(return_t), intent(out) :: ret
     real(dp), intent(out), optional :: tangent(ntens6, ntens6)
     type(error_t), allocatable, intent(out) :: err
-    real(dp) :: s_tr(ntens6), q, f_tr, k_n, sig(ntens6), x, s(ntens6), qs, s_hat(ntens6)
-    real(dp) :: m(ntens6), mn, m_hat(ntens6), cm(ntens6), res(7), rnorm, rprev, scale, d_s
-    real(dp) :: e_dev(ntens6), dsig(ntens6), dx, m_fixed(ntens6), rn
+    real(dp) :: s_tr(ntens6), q, f_tr, k_n, i1_tr, e_dev(ntens6), d_s, rn, a0, b0, c, se
+    real(dp) :: mfix2, scale, t, f, df, fprev, wn, mn, x, qs, dt
+    real(dp) :: w(ntens6), s_hat(ntens6), m(ntens6), m_hat(ntens6), cm(ntens6), sig(ntens6)
     type(efr_jacobian_t) :: jac
     integer :: it
     logical :: ok, flipped, converged
 
-    e_dev = deviator(deps)
-    d_s = norm(e_dev)
+    e_dev = dev(deps)
     if (.not. efr_has_direction(p, deps)) then
       call regular_return(p, sig_tr, z_n, zeta, ret, tangent, err)
       return
     end if
-    s_tr = deviator(sig_tr)
+    i1_tr = sig_tr(1) + sig_tr(2) + sig_tr(3)
+    s_tr = dev(sig_tr)
     q = norm(s_tr)
     k_n = strength(p%hard, z_n) + zeta
-    f_tr = q/sqrt2 + p%beta*trace(sig_tr) - k_n
+    f_tr = q/sqrt2 + p%beta*i1_tr - k_n
     if (.not. f_tr > 0.0_dp) then
       call elastic_return(p, sig_tr, f_tr, ret, tangent)
       return
@@ -95,46 +104,36 @@ contains
       call apex_return(p, sig_tr, z_n, zeta, ret, tangent, err)
       return
     end if
-    m = efr_direction(p, s_tr/q, deps)
-    if (.not. dot_product(yield_normal(s_tr/q, p%beta), apply_stiffness(p%el, m))/norm(m) &
-        + strength_slope(p%hard, z_n) > 0.0_dp) then
+
+    d_s = norm(e_dev)
+    rn = 1.0_dp/p%n_m
+    a0 = d_s*rn*rsqrt2
+    b0 = p%beta_p*d_s*rn + p%p_v*(deps(1) + deps(2) + deps(3))
+    c = 2.0_dp*p%el%shear*p%p_d
+    se = dot_product(s_tr, e_dev)
+    mfix2 = a0**2 + (p%p_d*d_s)**2 + 3.0_dp*b0**2
+    ! At t = 0, -f' = N : C : M + k' ||M||: a direction that cannot lower f
+    ! takes the regular flow rule.
+    t = 0.0_dp
+    call efr_residual(t, f, df, wn, mn, qs, flipped)
+    if (.not. -df > 0.0_dp) then
       call regular_return(p, sig_tr, z_n, zeta, ret, tangent, err)
       return
     end if
 
-    ! The part of M that does not turn with the stress (eq. 2.7).
-    m_fixed = p%p_v*trace(deps)*identity2 + p%p_d*e_dev
-    rn = 1.0_dp/p%n_m
     scale = norm(sig_tr) + abs(k_n)
-    sig = sig_tr
-    x = 0.0_dp
-    cm = 0.0_dp
-    rprev = huge(1.0_dp)
+    fprev = huge(1.0_dp)
     flipped = .false.
     converged = .false.
     do it = 1, max_newton
-      s = dev(sig)
-      qs = norm(s)
-      if (.not. dot_product(s, s_tr) > 0.0_dp) then
-        flipped = .true.  ! the deviator went through zero: the cone is out of reach
-        exit
-      end if
-      s_hat = s*(1.0_dp/qs)
-      m = unit_normal(s_hat, p%beta_p)*(d_s*rn) + m_fixed
-      mn = norm(m)
-      m_hat = m*(1.0_dp/mn)
-      cm = elastic(p, m_hat)
-      res(1:6) = sig - sig_tr + x*cm
-      res(7) = qs*rsqrt2 + p%beta*trace(sig) - strength(p%hard, z_n + x) - zeta
-      call factor_jacobian(p, s_hat, qs, m_hat, mn, cm, x, d_s, z_n, jac, ok)
-      rnorm = maxval(abs(res))
-      converged = rnorm <= 16.0_dp*epsilon(1.0_dp)*scale .or. &
-                  (it > 2 .and. rnorm <= 1.0e-10_dp*scale .and. rnorm > 0.5_dp*rprev)
-      if (converged .or. .not. ok) exit
-      rprev = rnorm
-      call solve_jacobian(jac, -res(1:6), -res(7), dsig, dx)
-      sig = sig + dsig
-      x = x + dx
+      dt = -f/df
+      t = t + dt
+      call efr_residual(t, f, df, wn, mn, qs, flipped)
+      if (flipped) exit  ! the deviator went through zero: the cone is out of reach
+      converged = abs(f) <= 16.0_dp*epsilon(1.0_dp)*scale .or. &
+                  (it > 2 .and. abs(f) <= 1.0e-10_dp*scale .and. abs(f) > 0.5_dp*fprev)
+      if (converged) exit
+      fprev = abs(f)
     end do
     if (flipped) then
       if (p%beta > 0.0_dp) then
@@ -145,18 +144,28 @@ contains
       end if
       return
     end if
-    if (.not. converged .or. .not. x >= 0.0_dp) then
+    if (.not. converged .or. .not. t >= 0.0_dp) then
       call new_error(err, status_cutback, '', 'extended flow rule: the return mapping '// &
         'did not converge (f_trial = '//real_text(f_tr)//')')
       return
     end if
 
+    w = s_tr - (c*t)*e_dev
+    s_hat = w*(1.0_dp/wn)
+    ! ||M|| is the last residual's (the same quantity to rounding).
+    m = a0*s_hat + p%p_d*e_dev
+    m(1:3) = m(1:3) + b0
+    m_hat = m*(1.0_dp/mn)
+    x = t*mn
+    cm = elastic(p, m_hat)
+    sig = sig_tr - x*cm
     ret%sig = sig
     ret%deps_p = x*m_hat
     ret%dz = x
-    ret%f = res(7)
+    ret%f = f
     ret%state = state_plastic
     if (present(tangent)) then
+      call factor_jacobian(p, s_hat, qs, m_hat, mn, cm, x, d_s, z_n, jac, ok)
       if (.not. ok) then
         call new_error(err, status_cutback, '', 'extended flow rule: singular '// &
           'tangent system')
@@ -165,9 +174,34 @@ contains
       call efr_tangent(p, jac, s_hat, m_hat, mn, cm, x, e_dev, d_s, tangent)
     end if
 
+  contains
+
+    !> f and df/dt after a return of t along C : M (the scalar equation
+    !> above), with wn = ||W||, mn = ||M||, qs = ||S||, and `flip` when S
+    !> no longer points along S_tr.
+    pure subroutine efr_residual(tt, ff, dff, wn, mn, qs, flip)
+      real(dp), intent(in) :: tt
+      real(dp), intent(out) :: ff, dff, wn, mn, qs
+      logical, intent(out) :: flip
+      real(dp) :: we, phi, x, dphi, dmn
+      wn = sqrt(q**2 - 2.0_dp*c*tt*se + (c*tt*d_s)**2)
+      we = se - c*tt*d_s**2
+      phi = we/wn
+      mn = sqrt(mfix2 + 2.0_dp*a0*p%p_d*phi)
+      x = tt*mn
+      qs = wn - 2.0_dp*p%el%shear*a0*tt
+      flip = .not. (qs > 0.0_dp .and. q**2 - c*tt*se > 0.0_dp)
+      ff = qs*rsqrt2 + p%beta*(i1_tr - 9.0_dp*p%el%bulk*b0*tt) - strength(p%hard, z_n + x) &
+           - zeta
+      dphi = -c*(d_s**2 - phi**2)/wn
+      dmn = a0*p%p_d*dphi/mn
+      dff = -(c*phi + 2.0_dp*p%el%shear*a0)*rsqrt2 - 9.0_dp*p%el%bulk*p%beta*b0 &
+            - strength_slope(p%hard, z_n + x)*(mn + tt*dmn)
+    end subroutine efr_residual
+
   end subroutine efr_return
 
-  !> The Newton Jacobian of (R_sigma, R_f) with respect to (sigma, dlambda),
+  !> The Jacobian of (R_sigma, R_f) with respect to (sigma, dlambda),
   !>   J = [A, C:M_hat; N, -k'],  A = I + x C : dM_hat/dM : dM/dsigma,
   !> held in factored form. With C isotropic and dM/dsigma = c1 (Pdev -
   !> S_hat (x) S_hat) = c1 P (P a projector on deviators), A = I + gamma P -
@@ -241,47 +275,55 @@ contains
     y = v - jac%shrink*project(jac%s_hat, v) + (jac%rank1*dot_product(jac%u, v))*jac%w
   end function apply_a_inverse
 
-  !> Solve J [y; t] = [r; r7] by the Schur complement of the bordered system.
-  pure subroutine solve_jacobian(jac, r, r7, y, t)
-    type(efr_jacobian_t), intent(in) :: jac
-    real(dp), intent(in) :: r(ntens6), r7
-    real(dp), intent(out) :: y(ntens6), t
-    y = apply_a_inverse(jac, r)
-    t = (dot_product(jac%n, y) - r7)*jac%rschur
-    y = y - t*jac%g
-  end subroutine solve_jacobian
-
-  !> The consistent tangent d sigma/d de: J [T; dx/de] = [C - x C : dM_hat/dM
-  !> : dM/d de; 0], dM/d de = M_s (x) E_hat + P_v I (x) I + P_d Pdev
-  !> (M_s the regular potential direction, E_hat the unit deviator of de),
-  !> solved column by column with the factored J.
+  !> The consistent tangent d sigma/d de: J [T; dx/de] = [B; 0],
+  !>   B = C - x C : dM_hat/dM : dM/d de
+  !>     = a0 Id + b0 I (x) I - b C:M_s (x) E_hat + b C:M_hat (x) v,
+  !> dM/d de = M_s (x) E_hat + P_v I (x) I + P_d Pdev (M_s the regular
+  !> potential direction, E_hat the unit deviator of de, b = x/||M||,
+  !> v = (dM/d de)^T : M_hat, a0 = 2G (1 - b P_d), b0 = K - 2G/3 - b (3K P_v
+  !> - 2G P_d/3)). With the factored J, T = A^-1 B - g (x) (B^T A^-T N)/schur
+  !> and A^-1 B = B - shrink P B + rank1 W (x) (B^T u), where P B = a0 P -
+  !> b (P C:M_s) (x) E_hat + b (P C:M_hat) (x) v (P I = 0): a sum of outer
+  !> products and multiples of Id, I (x) I and S_hat (x) S_hat, formed entry
+  !> by entry without a division.
   pure subroutine efr_tangent(p, jac, s_hat, m_hat, mn, cm, x, e_dev, d_s, tangent)
     type(dp_params_t), intent(in) :: p
     type(efr_jacobian_t), intent(in) :: jac
     real(dp), intent(in) :: s_hat(ntens6), m_hat(ntens6), mn, cm(ntens6), x, e_dev(ntens6)
     real(dp), intent(in) :: d_s
     real(dp), intent(out) :: tangent(ntens6, ntens6)
-    real(dp) :: e_hat(ntens6), m_s(ntens6), cms(ntens6), v(ntens6), c(ntens6, ntens6)
-    real(dp) :: col(ntens6), b, lam, t
+    real(dp) :: e_hat(ntens6), m_s(ntens6), cms(ntens6), v(ntens6), a1(ntens6), a2(ntens6)
+    real(dp) :: an(ntens6), bu(ntens6), ban(ntens6), gs(ntens6), b, lam, a0, b0, c_id, c_ii
+    real(dp) :: c_ss
     integer :: i, j
     e_hat = 0.0_dp
     if (d_s > 0.0_dp) e_hat = e_dev*(1.0_dp/d_s)
     m_s = unit_normal(s_hat, p%beta_p)*(1.0_dp/p%n_m)
     cms = elastic(p, m_s)
-    ! (dM/d de)^T : M_hat, and C : dM/d de = cms (x) e_hat + the isotropic
-    ! P_v 3K I (x) I + P_d 2G Pdev.
     v = dot_product(m_s, m_hat)*e_hat + p%p_v*trace(m_hat)*identity2 + p%p_d*dev(m_hat)
     b = x/mn
-    c = stiffness(p%el)
     lam = 3.0_dp*p%el%bulk*p%p_v - 2.0_dp*p%el%shear*p%p_d/3.0_dp
+    a0 = 2.0_dp*p%el%shear*(1.0_dp - b*p%p_d)
+    b0 = p%el%bulk - 2.0_dp*p%el%shear/3.0_dp - b*lam
+    ! A^-T N (P is symmetric), then B^T u (u is a deviator: I . u = 0) and
+    ! B^T A^-T N.
+    an = jac%n - jac%shrink*project(s_hat, jac%n) + (jac%rank1*dot_product(jac%w, jac%n))*jac%u
+    bu = a0*jac%u - (b*dot_product(cms, jac%u))*e_hat + (b*dot_product(cm, jac%u))*v
+    ban = a0*an + (b0*trace(an))*identity2 - (b*dot_product(cms, an))*e_hat + &
+          (b*dot_product(cm, an))*v
+    a1 = -b*(cms - jac%shrink*project(s_hat, cms))
+    a2 = b*(cm - jac%shrink*project(s_hat, cm))
+    bu = jac%rank1*bu
+    gs = -jac%rschur*jac%g
+    c_id = a0*(1.0_dp - jac%shrink)
+    c_ii = b0 + jac%shrink*a0/3.0_dp
+    c_ss = jac%shrink*a0
     do j = 1, ntens6
       do i = 1, ntens6
-        col(i) = c(i, j) - b*(cms(i)*e_hat(j) - cm(i)*v(j) + lam*identity2(i)*identity2(j))
+        tangent(i, j) = c_ii*identity2(i)*identity2(j) + c_ss*s_hat(i)*s_hat(j) + &
+                        a1(i)*e_hat(j) + a2(i)*v(j) + jac%w(i)*bu(j) + gs(i)*ban(j)
       end do
-      col(j) = col(j) - b*2.0_dp*p%el%shear*p%p_d
-      col = apply_a_inverse(jac, col)
-      t = dot_product(jac%n, col)*jac%rschur
-      tangent(:, j) = col - t*jac%g
+      tangent(j, j) = tangent(j, j) + c_id
     end do
   end subroutine efr_tangent
 

@@ -30,6 +30,7 @@ module wellposed_dp_point
   real(dp), parameter :: third = 1.0_dp/3.0_dp, rsqrt2 = 1.0_dp/sqrt2
   !> Shear scale between tensor and Mandel components.
   real(dp), parameter :: mandel(ntens6) = [1.0_dp, 1.0_dp, 1.0_dp, sqrt2, sqrt2, sqrt2]
+  real(dp), parameter :: rmandel(ntens6) = [1.0_dp, 1.0_dp, 1.0_dp, rsqrt2, rsqrt2, rsqrt2]
 
 contains
 
@@ -85,9 +86,10 @@ contains
     status = out%status
     if (present(tangent)) then
       ! Mandel T to Voigt: D^-1 T D^-1, D = diag(mandel); engineering shears.
+      ! Multiplications by 1, 1/sqrt(2) and 1/2: no division.
       do j = 1, n
         do i = 1, n
-          tangent(i, j) = t(i, j)/(mandel(i)*mandel(j))
+          tangent(i, j) = t(i, j)*(rmandel(i)*rmandel(j))
         end do
       end do
     end if

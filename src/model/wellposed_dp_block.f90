@@ -1,0 +1,141 @@
+!> The closed-form increment of wellposed_dp_point (regular flow rule,
+!> linear hardening, Duvaut-Lions; eq. 4.36-4.39, 2.10) for a block of
+!> points at once, the form an explicit host (a VUMAT, an MPM particle
+!> loop) calls: arrays (n, 6) of tensor components [11, 22, 33, 12, 13, 23].
+!> The elastic and cone regimes are computed for every point and selected
+!> by masks, so the loop over points has no call and no branch and the
+!> compiler vectorises it. Points whose answer is neither (the apex, a zero
+!> deviator, no admissible stress) are marked deferred and left to
+!> point_update, one by one; they are rare. Same arithmetic, in the same
+!> order, as point_closed_form: the results are bitwise its results.
+module wellposed_dp_block
+  use wellposed_kinds, only: dp
+  use wellposed_tensor, only: sqrt2
+  use wellposed_dp_params, only: dp_params_t
+  implicit none
+  private
+  public :: closed_form_block, block_chunk
+
+  !> Points per call of closed_form_block (the leading dimension of its
+  !> arrays, a constant so that the compiler sees the columns apart).
+  integer, parameter :: block_chunk = 64
+
+  real(dp), parameter :: third = 1.0_dp/3.0_dp, rsqrt2 = 1.0_dp/sqrt2
+
+contains
+
+  !> Advance points 1 to n <= block_chunk: inputs sig0, eps_p0, z0, zeta0
+  !> (start of increment), avg_dlambda (the host's <dlambda>), de; outputs
+  !> sig, eps_p, z, zeta, dlambda, f and status (0 elastic, 1 cone, or -1:
+  !> deferred, the outputs not to be used), and the elastic trial stress. Status is real, as the STATEV
+  !> slot it goes to, so that every quantity of the loop is a double. `p`
+  !> must serve the closed form (has_closed_form).
+  pure subroutine closed_form_block(p, n, sig0, eps_p0, z0, zeta0, avg_dlambda, de, dtime, &
+                                    sig, eps_p, z, zeta, dlambda, f, status, trial)
+    type(dp_params_t), intent(in) :: p
+    integer, intent(in) :: n
+    real(dp), intent(in) :: sig0(block_chunk, 6), eps_p0(block_chunk, 6), z0(block_chunk)
+    real(dp), intent(in) :: zeta0(block_chunk), avg_dlambda(block_chunk), de(block_chunk, 6)
+    real(dp), intent(in) :: dtime
+    real(dp), intent(inout) :: sig(block_chunk, 6), eps_p(block_chunk, 6), z(block_chunk)
+    real(dp), intent(inout) :: zeta(block_chunk), dlambda(block_chunk), f(block_chunk)
+    real(dp), intent(inout) :: status(block_chunk), trial(block_chunk, 6)
+    real(dp) :: bulk, shear, rn, rate, w, zeta_new, tr_de, st(6), s(6), i1_tr, q, k_n, f_tr
+    real(dp) :: qs, x_max, x, xc, shrink, i1, sn(6), dep(6), r, fc, bad, pl
+    integer :: i, j
+    real(dp) :: apex_on
+
+    bulk = p%el%bulk
+    shear = p%el%shear
+    rn = 1.0_dp/p%n_m
+    rate = p%a_m + p%hard%h
+    ! 1 when the cone has an apex (beta > 0), else 0: a factor, not a branch.
+    apex_on = merge(1.0_dp, 0.0_dp, p%beta > 0.0_dp)
+    do i = 1, n
+      zeta_new = zeta0(i) + p%h_zeta*avg_dlambda(i)
+      ! Elastic trial C : de (eq. 1.5).
+      tr_de = de(i, 1) + de(i, 2) + de(i, 3)
+      do j = 1, 3
+        st(j) = sig0(i, j) + 2.0_dp*shear*(de(i, j) - tr_de/3.0_dp) + bulk*tr_de
+      end do
+      do j = 4, 6
+        st(j) = sig0(i, j) + 2.0_dp*shear*de(i, j)
+      end do
+      i1_tr = st(1) + st(2) + st(3)
+      s(1:3) = st(1:3) - i1_tr/3.0_dp
+      s(4:6) = st(4:6)
+      q = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp*(s(4)**2 + s(5)**2 + s(6)**2))
+      k_n = p%hard%k0 + p%hard%h*z0(i) + zeta_new
+      f_tr = q/sqrt2 + p%beta*i1_tr - k_n
+
+      ! Cone (eq. 4.36), evaluated on every point with divisors kept >=
+      ! tiny and x clipped to [0, x_max], so that no lane divides by zero or
+      ! overflows. A plastic point is deferred when q or x_max < tiny (the
+      ! guards would change them), x > x_max (no admissible cone stress) or
+      ! the apex is reached (f_tr - (a + h) x_max > 0, beta > 0): each
+      ! condition is the sign of a difference, so no logical is stored.
+      qs = max(q, tiny(1.0_dp))
+      x_max = qs*p%n_m/(sqrt2*shear)
+      x = f_tr/rate
+      bad = max(tiny(1.0_dp) - q, tiny(1.0_dp) - x_max, x - x_max, &
+                apex_on*(f_tr - rate*x_max) + apex_on - 1.0_dp)
+      xc = min(max(x, 0.0_dp), x_max)
+      shrink = 1.0_dp - xc/max(x_max, tiny(1.0_dp))
+      i1 = i1_tr - 9.0_dp*bulk*p%beta_p*xc*rn
+      sn = shrink*s
+      sn(1:3) = sn(1:3) + i1/3.0_dp
+      ! d eps^p = x M_hat, M_hat = (S_hat/sqrt(2) + beta_p I)/n_m (eq. 4.35).
+      dep = (rsqrt2*xc*rn/qs)*s
+      dep(1:3) = dep(1:3) + xc*p%beta_p*rn
+      fc = rsqrt2*shrink*q + p%beta*i1 - (p%hard%k0 + p%hard%h*(z0(i) + xc)) - zeta_new
+
+      do j = 1, 6
+        trial(i, j) = st(j)
+        sig(i, j) = merge(sn(j), st(j), f_tr > 0.0_dp)
+        r = eps_p0(i, j) + dep(j)
+        eps_p(i, j) = merge(r, eps_p0(i, j), f_tr > 0.0_dp)
+      end do
+      r = z0(i) + xc
+      z(i) = merge(r, z0(i), f_tr > 0.0_dp)
+      zeta(i) = zeta_new
+      dlambda(i) = merge(xc, 0.0_dp, f_tr > 0.0_dp)
+      f(i) = merge(fc, f_tr, f_tr > 0.0_dp)
+      ! 0 elastic, 1 cone, -1 deferred, as arithmetic on two 0/1 masks.
+      pl = merge(1.0_dp, 0.0_dp, f_tr > 0.0_dp)
+      status(i) = pl - 2.0_dp*pl*merge(1.0_dp, 0.0_dp, bad > 0.0_dp)
+    end do
+    if (p%tau > 0.0_dp) then
+      ! Duvaut-Lions (eq. 2.10, backward Euler): relax the cone points toward
+      ! the trial, in a second, scalar pass so that the rate-independent pass
+      ! stays one branch-free loop. The trial's deviator and the plastic
+      ! strain increment are formed again by the same operations (bitwise
+      ! the first pass's).
+      w = p%tau/(p%tau + dtime)
+      do i = 1, n
+        if (status(i) /= 1.0_dp) cycle
+        st = trial(i, :)
+        i1_tr = st(1) + st(2) + st(3)
+        s(1:3) = st(1:3) - i1_tr/3.0_dp
+        s(4:6) = st(4:6)
+        q = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp*(s(4)**2 + s(5)**2 + s(6)**2))
+        xc = dlambda(i)
+        dep = (rsqrt2*xc*rn/q)*s
+        dep(1:3) = dep(1:3) + xc*p%beta_p*rn
+        sn = sig(i, :)
+        sn = sn + w*(st - sn)
+        dep = (1.0_dp - w)*dep
+        xc = (1.0_dp - w)*xc
+        i1 = sn(1) + sn(2) + sn(3)
+        s(1:3) = sn(1:3) - i1/3.0_dp
+        s(4:6) = sn(4:6)
+        q = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp*(s(4)**2 + s(5)**2 + s(6)**2))
+        sig(i, :) = sn
+        eps_p(i, :) = eps_p0(i, :) + dep
+        z(i) = z0(i) + xc
+        dlambda(i) = xc
+        f(i) = q/sqrt2 + p%beta*i1 - (p%hard%k0 + p%hard%h*(z0(i) + xc)) - zeta(i)
+      end do
+    end if
+  end subroutine closed_form_block
+
+end module wellposed_dp_block
