@@ -18,7 +18,8 @@
 !>             frequency (Hz), required, with |amplitude| 2 pi frequency < |rate|
 !>             (the surface never unloads); peak and duration are not used
 !>   &stations first (m), spacing (m), count
-!>   &output   sample_dt (s), snapshot_dt (s), progress, plot
+!>   &output   sample_dt (s), snapshot_dt (s), progress, plot, reference, reference_label
+!>             (the run drawn dashed in stations.png: wellposed_mpm_reference)
 !>   &nonlocal scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
 !>             max_iterations, stall_iterations, max_rounds, anderson_depth,
 !>             anderson_mixing, weight_cutoff (Algorithm 1 of the dissertation; iterates only
@@ -37,6 +38,7 @@ module wellposed_mpm_deck
   use wellposed_mpm_materials, only: first_material
   use wellposed_mpm_config
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t, nl_scheme_id
+  use wellposed_mpm_reference, only: check_reference
   implicit none
   private
   public :: read_mpm_deck, mpm_options_t
@@ -44,6 +46,7 @@ module wellposed_mpm_deck
   !> Driver options that are not part of the physics.
   type :: mpm_options_t
     logical :: plot = .true.           !< run the plot script at the end
+    character(len=:), allocatable :: reference, reference_label  !< &output
   end type mpm_options_t
 
 contains
@@ -72,13 +75,14 @@ contains
     real(dp) :: first, spacing
     real(dp) :: sample_dt, snapshot_dt
     logical :: progress, plot
+    character(len=200) :: reference, reference_label
     namelist /scene/ name, title, kind
     namelist /grid/ length, dx, ppc, pad_cells, shape, far_end
     namelist /time/ t_end, cfl, scheme
     namelist /initial/ stress, velocity, out_of_equilibrium
     namelist /load/ base, peak, duration, start, pulse, rate, amplitude, frequency
     namelist /stations/ first, spacing, count
-    namelist /output/ sample_dt, snapshot_dt, progress, plot
+    namelist /output/ sample_dt, snapshot_dt, progress, plot, reference, reference_label
     character(len=16) :: pulse
     integer :: unit, ios, i
     character(len=512) :: msg
@@ -100,7 +104,7 @@ contains
     rate = unset; amplitude = unset; frequency = unset
     first = cfg%station_first; spacing = cfg%station_spacing; count = cfg%nstations
     sample_dt = cfg%sample_dt; snapshot_dt = cfg%snapshot_dt
-    progress = .true.; plot = .true.
+    progress = .true.; plot = .true.; reference = ''; reference_label = ''
 
     call open_deck(path, text, unit, err)
     if (allocated(err)) return
@@ -189,6 +193,8 @@ contains
     cfg%sample_dt = sample_dt; cfg%snapshot_dt = snapshot_dt
     cfg%progress = progress
     opts%plot = plot
+    opts%reference = trim(reference); opts%reference_label = trim(reference_label)
+    call check_reference(path, cfg%name, opts%reference, err); if (allocated(err)) return
     if (cfg%nonlocal%scheme == 0) then
       call new_error(err, status_invalid, 'scheme', path//': &nonlocal: scheme is not one '// &
         "of 'fixed_point', 'anderson'")

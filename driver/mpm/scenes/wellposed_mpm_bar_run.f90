@@ -34,6 +34,7 @@ module wellposed_mpm_bar_run
                                     station_measures_t, measure_stations, field_sxx, &
                                     field_syy, field_v, field_z, field_apex, nfields
   use wellposed_mpm_paths, only: find_data, stations_plot_name
+  use wellposed_mpm_reference, only: reference_plot_args
   use wellposed_mpm_particles, only: particle_bytes, particles_t
   use wellposed_mpm_nonlocal, only: nl_scheme_names
   use wellposed_mpi, only: comm_t, allreduce_sum, &
@@ -259,7 +260,8 @@ contains
     if (opts%plot .and. .not. cli%no_plot) then
       script = find_data(stations_plot_name)
       call run_plot(script, shell_quote(rd%path('run.h5'))//' '// &
-                    shell_quote(rd%path('stations.png')), err)
+                    shell_quote(rd%path('stations.png'))//reference_plot_args(cli%out_root, &
+                    cli%deck_path, opts%reference, opts%reference_label), err)
       if (allocated(err)) call die_alone(err)
     end if
     call rd%commit(err)

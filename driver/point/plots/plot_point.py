@@ -21,6 +21,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import h5py  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "common"))
+from summary_text import read_summary  # noqa: E402
 
 plt.rcParams.update({"font.size": 11, "axes.grid": True, "grid.alpha": 0.3,
                      "figure.dpi": 110, "savefig.bbox": "tight"})
@@ -196,12 +198,54 @@ def plot_gudehus(f, labels):
     plt.close(fig)
 
 
+# Fit residual ||R - L S||/||R|| above which chapter3.png warns that the
+# fitted M and N are not the response's directions. The best bilinear fit
+# then misses the strain increments by more than a tenth of their size, so
+# each fitted direction can be off by up to about asin(0.1) = 5.7 deg and
+# their difference by 11.5 deg, half the smallest M-N difference of the
+# dissertation's table 3.2 (20 deg) on which its conclusion rests. A
+# classical (incrementally bilinear) model fits to round-off (1e-13).
+RESIDUAL_WARN = 0.1
+LABEL_OFFSETS = [(4, 4), (4, 4), (4, 4), (-12, -12)]  # D away from A (near them in fig. 3.4)
+PRIMED_OFFSETS = [(5, 5), (5, -12), (-16, 5), (-16, -12)]  # A'-D' gather near the origin
+
+
+def fit_note(summary, label):
+    """(text, warn) for the panel of `label`: angles' fit residual and rank
+    ratio from summary.txt, and whether the residual exceeds RESIDUAL_WARN."""
+    res = summary.get(f"{label}.chapter3.residual")
+    rank = summary.get(f"{label}.chapter3.rank_ratio")
+    if res is None:
+        return "fit residual: not in summary.txt", False
+    r = float(res)
+    text = f"fit residual ||R - L S||/||R|| = {r:.2g}"
+    if rank is not None:
+        text += f", rank ratio {float(rank):.2g}"
+    if r > RESIDUAL_WARN:
+        text += (f"\nWARNING: residual > {RESIDUAL_WARN:g}: the response is not incrementally "
+                 "bilinear;\nM and N are a best fit (eq. 3.19-3.23), each uncertain by up to "
+                 f"~{np.degrees(np.arcsin(min(r, 1.0))):.0f} deg")
+    return text, r > RESIDUAL_WARN
+
+
+def arrow_label(a, tip, text, color, side):
+    """`text` at the arrow tip, pushed sideways (side = +1 or -1, across the
+    arrow) so that two arrows a few degrees apart keep their labels apart."""
+    u = tip / max(np.linalg.norm(tip), 1e-300)
+    off = 14 * side * np.array([-u[1], u[0]]) + 6 * u
+    a.annotate(text, tip, textcoords="offset points", xytext=off, color=color, fontsize=10,
+               ha="left" if off[0] >= 0 else "right", va="bottom" if off[1] >= 0 else "top",
+               bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.8))
+
+
 def plot_chapter3(f, labels):
     rows = [l for l in labels if "chapter3" in f[l]]
     if not rows:
-        return
-    fig, ax = plt.subplots(1, len(rows), figsize=(6.5 * len(rows), 6), squeeze=False)
+        return None
+    summary = read_summary(RUN)
+    fig, ax = plt.subplots(1, len(rows), figsize=(6.5 * len(rows), 6.6), squeeze=False)
     names = ["A", "B", "C", "D", "A'", "B'", "C'", "D'"]
+    warned = []
     for a, l in zip(ax[0], rows):
         g = f[l]["chapter3"]
         s, r, rp = g["s"][:], g["r"][:], g["rp"][:]
@@ -218,7 +262,8 @@ def plot_chapter3(f, labels):
         a.plot(rp[0], rp[1], "x", color="tab:red", ms=8, label="plastic strain increments")
         for k in range(8):
             a.annotate(names[k], (r[0, k], r[1, k]), textcoords="offset points",
-                       xytext=(4, 4), fontsize=9)
+                       xytext=LABEL_OFFSETS[k] if k < 4 else PRIMED_OFFSETS[k - 4],
+                       fontsize=9 if k < 4 else 7.5, color="k" if k < 4 else "0.35")
         scale = 0.6 * np.abs(np.hstack([r, e_pl])).max()
         th_m = np.degrees(np.arctan2(m[1], m[0])) % 360
         th_n = np.degrees(np.arctan2(n[1], n[0])) % 360
@@ -226,8 +271,12 @@ def plot_chapter3(f, labels):
                    arrowprops=dict(arrowstyle="->", color="tab:purple", lw=2))
         a.annotate("", xy=scale * n, xytext=(0, 0),
                    arrowprops=dict(arrowstyle="->", color="tab:blue", lw=2))
-        a.text(*(scale * m), rf" $\hat M$: {th_m:.1f}$^\circ$", color="tab:purple")
-        a.text(*(scale * n), rf" $\hat N$: {th_n:.1f}$^\circ$", color="tab:blue")
+        # the arrow turned further counter-clockwise gets its label on that side
+        ccw = ((th_m - th_n + 180.0) % 360.0 - 180.0) >= 0.0
+        arrow_label(a, scale * m, rf"$\hat M$: {th_m:.1f}$^\circ$", "tab:purple",
+                    1 if ccw else -1)
+        arrow_label(a, scale * n, rf"$\hat N$: {th_n:.1f}$^\circ$", "tab:blue",
+                    -1 if ccw else 1)
         a.plot([0], [0], "k+", ms=12)
         a.set_aspect("equal", adjustable="datalim")
         a.set_xlabel(r"$d\varepsilon_z$ (hydrostatic compression)")
@@ -235,9 +284,17 @@ def plot_chapter3(f, labels):
         a.ticklabel_format(style="sci", scilimits=(-3, 3))
         a.set_title(f"{l}: response envelope (fig. 3.4)")
         a.legend(fontsize=8, loc="lower left")
+        text, warn = fit_note(summary, l)
+        a.text(0.02, 0.98, text, transform=a.transAxes, ha="left", va="top", fontsize=8,
+               color="darkred" if warn else "k",
+               bbox=dict(boxstyle="round", fc="mistyrose" if warn else "white",
+                         ec="darkred" if warn else "0.6", alpha=0.9))
+        if warn:
+            warned.append(l)
     fig.suptitle(title(f) + "  - angles from the hydrostatic compression axis (table 3.2)", y=1.02)
     fig.savefig(os.path.join(RUN, "chapter3.png"))
     plt.close(fig)
+    return warned
 
 
 if __name__ == "__main__":

@@ -25,8 +25,8 @@ key that any deck of inputs/ and tests/ gives in a group the good deck's
 program reads, one deck with that key's value replaced by a value of
 another type ('text' for a number or a logical, 1.5 for an integer or a
 word; a key is taken for an integer when every deck gives it a whole
-number). Free-text keys (title, name, label, out_dir: a number read into
-them is the text of that number) have no wrong type.
+number). Free-text keys (title, name, label, out_dir, reference_label: a
+number read into them is the text of that number) have no wrong type.
 Exit status 0 when every refusal is as described.
 """
 import glob
@@ -55,7 +55,7 @@ GOOD = {
     'point': [('inputs/fig2_4_directional_stiffness.nml',
                'run material initial leg probe chapter3')],
 }
-FREE_TEXT = {'title', 'name', 'label', 'out_dir'}
+FREE_TEXT = {'title', 'name', 'label', 'out_dir', 'reference_label'}
 FORBIDDEN = re.compile(r'^\s*(ERROR )?STOP\b|Backtrace for this error|^#\d+ +0x|'
                        r'Program received signal|Error termination', re.M)
 STEPPED = re.compile(r'^\s*t = .* ms \(|\bstep \d+|particles, .* nodes, dt =', re.M)
