@@ -12,14 +12,15 @@ program bench_mpm2d
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
-  use wellposed_mpm_plane_strain, only: ps_config_t, ps_scene_t, new_ps_scene, ps_advance
+  use wellposed_mpm_plane_strain, only: ps_config_t
+  use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, timer_umat
   use wellposed_mpm_shape_2d, only: shape2d_linear, shape2d_cpdi, shape2d_names
   use wellposed_mpm_materials, only: add_material
   implicit none
   integer, parameter :: nwarm = 150, nsteps = 400
   real(dp), parameter :: targets(3) = [150.0_dp, 250.0_dp, 450.0_dp]
   type(ps_config_t) :: cfg
-  type(ps_scene_t) :: sc
+  type(mpm_scene_t) :: sc
   type(error_t), allocatable :: err
   integer :: kind, k, nplastic
   integer(int64) :: t0, t1, rate
@@ -30,17 +31,16 @@ program bench_mpm2d
   write (output_unit, '(a)') '  shape     ns/particle/step   target   ratio   plastic share   UMAT share'
   do kind = shape2d_linear, shape2d_cpdi
     cfg = plate(kind, 0.0_dp)
-    call new_ps_scene(sc, cfg, err)
+    call new_scene(sc, cfg, err)
     if (allocated(err)) error stop 'bench_mpm2d: scene'
     do k = 1, nwarm
-      call ps_advance(sc, err)
+      call advance(sc, err)
       if (allocated(err)) error stop 'bench_mpm2d: warm-up'
     end do
-    sc%ticks_umat = 0
-    sc%ticks_total = 0
+    sc%ticks = 0
     call system_clock(t0, rate)
     do k = 1, nsteps
-      call ps_advance(sc, err)
+      call advance(sc, err)
       if (allocated(err)) error stop 'bench_mpm2d: step'
     end do
     call system_clock(t1)
@@ -48,15 +48,15 @@ program bench_mpm2d
     ns = real(t1 - t0, dp)/rate*1.0e9_dp/(real(sc%parts%n, dp)*nsteps)
     write (output_unit, '(2x,a8,f14.1,f12.0,f9.2,f11.2,f15.2)') shape2d_names(kind), ns, &
       targets(kind), ns/targets(kind), real(nplastic, dp)/sc%parts%n, &
-      real(sc%ticks_umat, dp)/max(sc%ticks_total, 1_int64)
+      real(sc%ticks(timer_umat), dp)/max(sum(sc%ticks), 1_int64)
   end do
 
   ! one nonlocal sweep against one local update (CPDI, overlocal, L = 0.5 m)
   cfg = plate(shape2d_cpdi, 0.5_dp)
-  call new_ps_scene(sc, cfg, err)
+  call new_scene(sc, cfg, err)
   if (allocated(err)) error stop 'bench_mpm2d: nonlocal scene'
   do k = 1, nwarm + nsteps/4
-    call ps_advance(sc, err)
+    call advance(sc, err)
     if (allocated(err)) error stop 'bench_mpm2d: nonlocal step'
   end do
   ratio = (real(sc%nl%ticks_sweeps, dp)/max(sc%nl%calls_sweeps, 1_int64))/ &

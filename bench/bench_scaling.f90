@@ -11,9 +11,10 @@ program bench_scaling
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop, comm_self, barrier, allreduce_max, &
                            allreduce_sum
-  use wellposed_mpm_plane_strain, only: ps_config_t, ps_scene_t, new_ps_scene, ps_advance, &
-                                        bc_free2, ps_plastic_count
-  use wellposed_mpm_plate_restart, only: ps_save
+  use wellposed_mpm_plane_strain, only: ps_config_t, bc_free2
+  use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, plastic_count
+  use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
+  use wellposed_mpm_restart, only: save_scene
   use wellposed_mpm_shape_2d, only: shape2d_cpdi
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint
   use wellposed_fs, only: remove_tree
@@ -21,7 +22,7 @@ program bench_scaling
   implicit none
   integer, parameter :: nwarm = 25, nrounds = 6, nsteps = 4, nwrites = 2
   type(comm_t) :: world
-  type(ps_scene_t) :: s1, w1, p
+  type(mpm_scene_t) :: s1, w1, p
   type(error_t), allocatable :: err
   character(len=:), allocatable :: ckdir
   character(len=512) :: arg
@@ -49,11 +50,11 @@ program bench_scaling
   tp = 0.0_dp
   do r = 1, nrounds
     call barrier(world)
-    if (world%rank == 0) ts1(r) = timed(s1, nsteps)
+    if (world%rank == 0) ts1(r) = timed(s1, comm_self(), nsteps)
     call barrier(world)
-    if (world%rank == 0) tw1(r) = timed(w1, nsteps)
+    if (world%rank == 0) tw1(r) = timed(w1, comm_self(), nsteps)
     call barrier(world)
-    if (world%size > 1) tp(r) = timed(p, nsteps)
+    if (world%size > 1) tp(r) = timed(p, world, nsteps)
   end do
   t_s1 = minval(ts1)
   t_w1 = minval(tw1)
@@ -69,7 +70,7 @@ program bench_scaling
   end if
   if (world%size > 1) then
     call checkpoints(p, world, ck_p, mb_p)
-    nplastic = ps_plastic_count(p)
+    nplastic = plastic_count(p)
     call allreduce_sum(world, nplastic)
     if (world%rank == 0) then
       write (output_unit, '(a,i0,a,i0,a,2f9.4,a,i0,a)') '  P   ', world%size, ' ranks: ', &
@@ -100,41 +101,44 @@ contains
 
   !> The plate of height `height` on `comm`, after nwarm steps.
   subroutine build(sc, comm, height)
-    type(ps_scene_t), intent(out) :: sc
+    type(mpm_scene_t), intent(out) :: sc
     type(comm_t), intent(in) :: comm
     real(dp), intent(in) :: height
     type(error_t), allocatable :: e
+    type(mpm_ranks_t) :: ranks
     integer :: k
-    call new_ps_scene(sc, plate(height), e, comm)
+    call new_mpm_ranks(ranks, comm)
+    call new_scene(sc, plate(height), e, ranks)
     if (allocated(e)) error stop 'bench_scaling: the scene was refused'
     do k = 1, nwarm
-      call ps_advance(sc, e)
+      call advance(sc, e)
       if (allocated(e)) error stop 'bench_scaling: a warm-up step failed'
     end do
   end subroutine build
 
   !> Seconds per step over `steps` steps of `sc` (the slowest rank's).
-  real(dp) function timed(sc, steps) result(t)
-    type(ps_scene_t), intent(inout) :: sc
+  real(dp) function timed(sc, comm, steps) result(t)
+    type(mpm_scene_t), intent(inout) :: sc
+    type(comm_t), intent(in) :: comm
     integer, intent(in) :: steps
     type(error_t), allocatable :: e
     integer(int64) :: c0, c1, rate
     integer :: k
-    call barrier(sc%comm)
+    call barrier(comm)
     call system_clock(c0, rate)
     do k = 1, steps
-      call ps_advance(sc, e)
+      call advance(sc, e)
       if (allocated(e)) error stop 'bench_scaling: a step failed'
     end do
     call system_clock(c1)
     t = real(c1 - c0, dp)/rate/steps
-    call allreduce_max(sc%comm, t)
+    call allreduce_max(comm, t)
   end function timed
 
   !> Seconds per checkpoint of `sc` (nwrites of them, rank 0 writes) and
   !> the size of the file in MB.
   subroutine checkpoints(sc, comm, t_ckpt, mbytes)
-    type(ps_scene_t), intent(in) :: sc
+    type(mpm_scene_t), intent(inout) :: sc
     type(comm_t), intent(in) :: comm
     real(dp), intent(out) :: t_ckpt, mbytes
     type(checkpoint_t) :: ck
@@ -146,7 +150,7 @@ contains
     call system_clock(c0, rate)
     do k = 1, nwrites
       ck = checkpoint_t()
-      call ps_save(sc, ck)
+      call save_scene(sc, ck)
       if (comm%rank == 0) then
         call write_checkpoint(ck, ckdir, sc%nstep + k, 2, path, e)
         if (allocated(e)) error stop 'bench_scaling: the checkpoint was not written'

@@ -1,6 +1,6 @@
-!> The exchanges of a 1D MPM scene spread over the ranks of an MPI
-!> communicator: the mpm_exchange_t the solver calls, filled with
-!> wellposed_mpm_decomposition (strips of cells, ghost sums, particle
+!> The exchanges of an MPM scene (1D bar or 2D plate) spread over the ranks
+!> of an MPI communicator: the mpm_exchange_t the solver calls, filled with
+!> wellposed_mpm_decomposition (strips of cell layers, ghost sums, particle
 !> hand-off) and wellposed_mpi. On one rank every call is a no-op or an
 !> identity, so `mpirun -np 1` and a plain run are the serial program bit
 !> for bit. Also the nonlocal_ranks_t of Algorithm 1: the pipeline that
@@ -14,13 +14,13 @@ module wellposed_mpm_ranks
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
   use wellposed_mpi, only: comm_t, allreduce_sum, allreduce_max, allreduce_any, gatherv_real, &
-                           broadcast, sendrecv_real
+                           broadcast, sendrecv_real, allreduce_min
   use wellposed_mpm_grid, only: grid_t
   use wellposed_mpm_particles, only: particles_t
   use wellposed_mpm_exchange, only: mpm_exchange_t, left_grid_error
   use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, restrict_grid, &
-                                         restrict_particles, hand_off_particles, &
-                                         sum_ghost_grid
+                                         hand_off_particles_with, sum_ghost_grid, &
+                                         owner_of_position, patch_nodes
   implicit none
   private
   public :: mpm_ranks_t, new_mpm_ranks
@@ -35,7 +35,10 @@ module wellposed_mpm_ranks
     integer :: glo = 0         !< first global node of this rank's patch
   contains
     procedure :: setup => ranks_setup
-    procedure :: restrict => ranks_restrict
+    procedure :: restrict_grid => ranks_restrict
+    procedure :: owner => ranks_owner
+    procedure :: sync_error => ranks_sync
+    procedure :: gather_root => ranks_gather_root
     procedure :: hand_off => ranks_hand_off
     procedure :: check_support => ranks_check
     procedure :: sum_grid => ranks_sum_grid
@@ -62,39 +65,98 @@ contains
     self%comm = comm
   end subroutine new_mpm_ranks
 
-  subroutine ranks_setup(self, ncells, ghost, origin, dx, err)
+  subroutine ranks_setup(self, ncells, layer_nodes, ghost, axis, origin, dx, err)
     class(mpm_ranks_t), intent(inout) :: self
-    integer, intent(in) :: ncells, ghost
+    integer, intent(in) :: ncells, layer_nodes, ghost, axis
     real(dp), intent(in) :: origin, dx
     type(error_t), allocatable, intent(out) :: err
-    call new_decomposition(self%dec, self%comm, ncells, 1, ghost, 1, origin, dx, err)
+    integer :: ghi
+    call new_decomposition(self%dec, self%comm, ncells, layer_nodes, ghost, axis, origin, dx, &
+                           err)
     if (allocated(err)) then
       err%message = 'cannot run on '//int_text(self%comm%size)//' ranks: '//err%message
       return
     end if
-    self%glo = max(0, self%dec%cell_lo(self%comm%rank) - ghost)
+    call patch_nodes(self%dec, self%glo, ghi)
   end subroutine ranks_setup
 
-  subroutine ranks_restrict(self, grid, parts, err)
+  subroutine ranks_restrict(self, grid)
     class(mpm_ranks_t), intent(inout) :: self
     type(grid_t), intent(inout) :: grid
-    type(particles_t), intent(inout) :: parts
-    type(error_t), allocatable, intent(out) :: err
     call restrict_grid(self%dec, grid)
-    call restrict_particles(self%dec, parts, err)
   end subroutine ranks_restrict
 
-  subroutine ranks_hand_off(self, parts, err)
+  integer function ranks_owner(self, x)
+    class(mpm_ranks_t), intent(in) :: self
+    real(dp), intent(in) :: x
+    ranks_owner = owner_of_position(self%dec, x)
+  end function ranks_owner
+
+  subroutine ranks_hand_off(self, parts, extra, err, moved)
     class(mpm_ranks_t), intent(inout) :: self
     type(particles_t), intent(inout) :: parts
+    real(dp), allocatable, intent(inout) :: extra(:, :)
     type(error_t), allocatable, intent(out) :: err
+    integer, intent(out) :: moved
+    moved = 0
     if (self%comm%size == 1) return
-    call hand_off_particles(self%dec, self%comm, parts, err)
+    call hand_off_particles_with(self%dec, self%comm, parts, extra, err, moved)
   end subroutine ranks_hand_off
+
+  !> Make an error on any rank an error on every rank (nothing on one
+  !> rank): the status and message of the lowest rank where it arose
+  !> (Algorithm 1 tells the other ranks with key 'ranks' that it stopped).
+  subroutine ranks_sync(self, err)
+    class(mpm_ranks_t), intent(inout) :: self
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: first, head(2), k
+    integer, allocatable :: codes(:)
+    if (self%comm%size == 1) return
+    if (.not. allreduce_any(self%comm, allocated(err))) return
+    first = self%comm%size
+    if (allocated(err)) then
+      if (err%key /= 'ranks') first = self%comm%rank
+    end if
+    call allreduce_min(self%comm, first)
+    if (first == self%comm%size) then
+      if (allocated(err)) first = self%comm%rank
+      call allreduce_min(self%comm, first)
+    end if
+    head = 0
+    if (self%comm%rank == first) head = [err%status, len(err%message)]
+    call broadcast(self%comm, head, first)
+    allocate (codes(head(2)))
+    if (self%comm%rank == first) codes = [(iachar(err%message(k:k)), k=1, head(2))]
+    call broadcast(self%comm, codes, first)
+    if (self%comm%rank /= first) then
+      if (allocated(err)) deallocate (err)
+      allocate (err)
+      err%status = head(1)
+      err%key = ''
+      allocate (character(len=head(2)) :: err%message)
+      do k = 1, head(2)
+        err%message(k:k) = achar(codes(k))
+      end do
+    end if
+  end subroutine ranks_sync
+
+  subroutine ranks_gather_root(self, mine, all, counts)
+    class(mpm_ranks_t), intent(inout) :: self
+    real(dp), intent(in) :: mine(:)
+    real(dp), allocatable, intent(out) :: all(:)
+    integer, allocatable, intent(out) :: counts(:)
+    if (self%comm%size == 1) then
+      all = mine
+      counts = [size(mine)]
+      return
+    end if
+    call gatherv_real(self%comm, mine, all, 0, counts)
+  end subroutine ranks_gather_root
 
   !> Support nodes outside the grid: the serial message (the particle left
   !> the grid); inside the grid but outside the patch: the ghost layers are
-  !> too narrow (a defect, named as such). Collective.
+  !> too narrow (a defect, named as such). This rank's particles only (the
+  !> solver makes the error every rank's with sync_error).
   subroutine ranks_check(self, parts, grid, err)
     class(mpm_ranks_t), intent(inout) :: self
     type(particles_t), intent(in) :: parts
@@ -106,7 +168,7 @@ contains
       hi = maxval(parts%node(:, p))
       if (lo >= grid%glo .and. hi <= grid%ghi) cycle
       if (lo < 0 .or. hi > grid%nnodes - 1) then
-        call left_grid_error(parts%gid(p), parts%x(1, p), grid%origin, &
+        call left_grid_error(parts%gid(p), parts%x(:, p), grid%origin, &
                              grid%origin + (grid%nnodes - 1)*grid%dx, err)
       else
         call new_error(err, status_invalid, 'ghost', 'particle '//int_text(parts%gid(p))// &
@@ -116,10 +178,6 @@ contains
       end if
       exit
     end do
-    if (self%comm%size == 1) return
-    if (allreduce_any(self%comm, allocated(err)) .and. .not. allocated(err)) &
-      call new_error(err, status_invalid, 'grid', 'a particle on another rank left its '// &
-        'patch (its message is above)')
   end subroutine ranks_check
 
   subroutine ranks_sum_grid(self, grid, momentum_only)

@@ -17,7 +17,7 @@ module wellposed_mpm_band_watch
   use wellposed_mpi, only: comm_t, allreduce_max
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_summary, only: summary_t
-  use wellposed_mpm_plane_strain, only: ps_scene_t, ps_plastic_strain
+  use wellposed_mpm_solver, only: mpm_scene_t, plastic_strain
   use wellposed_mpm_decomposition, only: gather_by_gid
   use wellposed_mpm_band, only: band_fit_t, fit_band, in_grown_box
   implicit none
@@ -49,13 +49,13 @@ contains
 
   !> A watch for the case of scene sc: drop and threshold from &output.
   function new_band_watch(sc, drop, threshold) result(w)
-    type(ps_scene_t), intent(in) :: sc
+    type(mpm_scene_t), intent(in) :: sc
     real(dp), intent(in) :: drop, threshold
     type(band_watch_t) :: w
     integer :: k, nbox
     w%drop = drop
     w%threshold = threshold
-    w%grow = sc%cfg%dx
+    w%grow = sc%dx
     nbox = 0
     do k = 1, sc%mats%n
       if (sc%mats%rest(k)) cycle
@@ -70,7 +70,7 @@ contains
   !> strain, stress per sample); at the stage the band is measured.
   subroutine watch_step(self, sc, comm, curve)
     class(band_watch_t), intent(inout) :: self
-    type(ps_scene_t), intent(in) :: sc
+    type(mpm_scene_t), intent(in) :: sc
     type(comm_t), intent(in) :: comm
     real(dp), intent(in) :: curve(:, :)
     real(dp), allocatable :: ep(:)
@@ -80,7 +80,7 @@ contains
     nc = size(curve, 2)
     if (nc > 0) self%peak = max(self%peak, curve(3, nc))
     if (.not. self%onset) then
-      ep = ps_plastic_strain(sc)
+      ep = plastic_strain(sc)
       emax = -1.0_dp; x = -huge(1.0_dp); y = -huge(1.0_dp)
       if (size(ep) > 0) then
         p = maxloc(ep, dim=1)
@@ -111,18 +111,18 @@ contains
   !> The band now (rank 0 gathers the particles and fits).
   subroutine measure(self, sc, comm)
     type(band_watch_t), intent(inout) :: self
-    type(ps_scene_t), intent(in) :: sc
+    type(mpm_scene_t), intent(in) :: sc
     type(comm_t), intent(in) :: comm
     real(dp), allocatable :: f(:, :), all(:, :)
     integer :: n
     n = sc%parts%n
     allocate (f(3, n))
     f(1:2, :) = sc%parts%x(:, 1:n)
-    f(3, :) = ps_plastic_strain(sc)
+    f(3, :) = plastic_strain(sc)
     call gather_by_gid(comm, sc%parts%gid(1:n), f, 0, all)
     if (comm%rank /= 0) return
-    call fit_band(all(1:2, :), all(3, :), sc%cfg%dx/sc%cfg%ppc, &
-                  window_margin*sc%cfg%height, (1.0_dp - window_margin)*sc%cfg%height, self%fit)
+    call fit_band(all(1:2, :), all(3, :), sc%dx/sc%plate%ppc, &
+                  window_margin*sc%plate%height, (1.0_dp - window_margin)*sc%plate%height, self%fit)
   end subroutine measure
 
   !> The case's summary lines under `tag.` (rank 0).

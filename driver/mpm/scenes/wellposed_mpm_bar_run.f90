@@ -37,15 +37,14 @@ module wellposed_mpm_bar_run
   use wellposed_mpm_reference, only: reference_plot_args
   use wellposed_mpm_particles, only: particle_bytes, particles_t
   use wellposed_mpm_nonlocal, only: nl_scheme_names
-  use wellposed_mpi, only: comm_t, comm_stop, comm_abort, allreduce_sum, &
+  use wellposed_mpi, only: comm_t, allreduce_sum, &
                            allreduce_max, broadcast
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
-  use wellposed_mpm_decomposition, only: decomposition_t
   use wellposed_mpm_parallel_io, only: station_proxy_t, gather_particles, make_station_proxy, &
                                        fill_station_proxy, put_stations, get_stations
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint
   use wellposed_mpm_resume, only: open_restart_checkpoint
-  use wellposed_mpm_restart, only: save_scene_ranks, restore_scene_ranks
+  use wellposed_mpm_restart, only: save_scene, restore_scene
   use wellposed_mpm_snapshots, only: snapshot_store_t, new_snapshot_store
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
@@ -54,7 +53,8 @@ module wellposed_mpm_bar_run
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
   use wellposed_fs, only: path_exists, shell_quote, remove_tree
   use wellposed_mpm_cli, only: mpm_cli_t
-  use wellposed_mpm_stop, only: stop_alone
+  use wellposed_mpm_stop, only: stop_alone, stop_all
+  use wellposed_mpm_run_loop, only: run_clock_t, checkpoint_every, checkpoint_due, snapshot_due
   implicit none
   private
   public :: run_bar
@@ -93,7 +93,7 @@ contains
     type(snapshot_store_t) :: snaps
     character(len=:), allocatable :: deck_text, script, h5_path
     integer :: i, nsnap, nenergy, s, nsteps_est
-    integer(int64) :: c0, c1, crate, clast
+    type(run_clock_t) :: clock
     real(dp) :: wall, next_snap, c_e, c_p, escale, ebal, t_target
     real(dp), allocatable :: energy(:, :)
     character(len=16) :: tag
@@ -168,14 +168,13 @@ contains
     nsnap = 0
     next_snap = 0.0_dp
     ck_dir = cli%out_root//'/'//cfg%name//'.checkpoints'
-    if (ck_every < 0) ck_every = max(1, nsteps_est/10)
+    ck_every = checkpoint_every(ck_every, nsteps_est)
     if (cli%restart) then
       call resume()
     else if (cfg%snapshot_dt > 0.0_dp) then
       call snapshot()
     end if
-    call system_clock(c0, crate)
-    clast = c0
+    call clock%start(2.0_dp)
     t_target = cfg%t_end - 0.5_dp*scene%dt
     do while (scene%t < t_target)
       call advance(scene, err)
@@ -191,11 +190,10 @@ contains
         nl_bound(nl_n) = scene%nl%last%bound_printed
       end if
       if (allocated(err)) then
-        ! (every rank has an error: the step's errors are collective) close
+        ! (every rank has the error: the step's errors are collective) close
         ! what was written (under its temporary name) and report the error
         call h5%close(err2)
-        if (err%key /= 'ranks') call die_text(cli%deck_path//': '//err%message, .true.)
-        call die_quietly()
+        call die_text(cli%deck_path//': '//err%message)
       end if
       call fill_station_proxy(proxy, comm, scene%parts)
       sampled = .false.
@@ -215,15 +213,11 @@ contains
           energy(:, nenergy) = [scene%t, ke_end, sums(1), sums(2), p_end - sums(3)]
         end if
       end if
-      if (cfg%snapshot_dt > 0.0_dp .and. scene%t >= next_snap - 0.5_dp*scene%dt) call snapshot()
-      if (ck_every > 0) then
-        if (mod(scene%nstep, ck_every) == 0 .and. scene%t < t_target) call checkpoint()
-      end if
+      if (snapshot_due(cfg%snapshot_dt, scene%t, next_snap, 0.5_dp*scene%dt)) call snapshot()
+      if (checkpoint_due(ck_every, scene%nstep, scene%t, cfg%t_end, scene%dt)) call checkpoint()
       if (cfg%progress .and. root) then
-        call system_clock(c1)
-        if (real(c1 - clast, dp)/crate > 2.0_dp) then
-          clast = c1
-          wall = real(c1 - c0, dp)/crate
+        if (clock%progress_due()) then
+          wall = clock%elapsed()
           write (output_unit, '(a,f9.2,a,f5.1,a,i0,a,f7.1,a,f7.1,a)') '  t = ', &
             scene%t*1e3_dp, ' ms (', 100*scene%t/cfg%t_end, ' %), step ', scene%nstep, ', ', &
             wall, ' s elapsed, ~', wall*(cfg%t_end - scene%t)/scene%t, ' s left'
@@ -231,8 +225,7 @@ contains
         end if
       end if
     end do
-    call system_clock(c1)
-    wall = real(c1 - c0, dp)/crate
+    wall = clock%elapsed()
     ! totals over the ranks, for the summary (collective)
     ke_end = kinetic_energy(scene)
     p_end = total_momentum(scene)
@@ -322,7 +315,7 @@ contains
       type(checkpoint_t) :: ck
       type(error_t), allocatable :: e
       character(len=:), allocatable :: path
-      call save_scene_ranks(scene, comm, ck)
+      call save_scene(scene, ck)
       call snaps%put(ck, comm, 'snapshots/')
       if (.not. root) return
       call put_stations(ck, 'stations/', st)
@@ -349,7 +342,6 @@ contains
       type(error_t), allocatable :: e
       integer, allocatable :: counts(:), ia(:)
       real(dp), allocatable :: a(:)
-      type(decomposition_t) :: dec
       call open_restart_checkpoint(ck_dir, cli%deck_path, deck_text, ck_file, ck, e)
       if (allocated(e)) call die(e)
       call ck%get('main/counts', counts, e)
@@ -357,11 +349,7 @@ contains
       if (size(counts) /= 4) call die_text(ck_file//': the run counts are garbled')
       if (counts(3) /= ntotal) call die_text(ck_file//' holds '//int_text(counts(3))// &
         ' particles, this deck '//int_text(ntotal))
-      select type (ex => scene%exchange)
-      type is (mpm_ranks_t)
-        dec = ex%dec
-      end select
-      call restore_scene_ranks(scene, dec, comm, ck, e)
+      call restore_scene(scene, ck, e)
       if (allocated(e)) call die(e)
       call ck%get('main/next_snap', next_snap, e)
       if (allocated(e)) call die(e)
@@ -378,22 +366,22 @@ contains
       call ck%get('main/energy', a, e)
       if (allocated(e)) call die_alone(e)
       if (nenergy > size(energy, 2) .or. size(a) /= 5*nenergy) &
-        call die_text(ck_file//': the energy rows do not fit this deck', .true.)
+        call die_root(ck_file//': the energy rows do not fit this deck')
       energy(:, 1:nenergy) = reshape(a, [5, nenergy])
       nl_n = counts(4)
       if (nl_n > 0) then
         allocate (nl_its(nl_n + 1024), nl_plastic(nl_n + 1024), nl_bound(nl_n + 1024))
         call ck%get('main/nl_step', ia, e)
         if (allocated(e)) call die_alone(e)
-        if (size(ia) /= nl_n) call die_text(ck_file//': nonlocal records garbled', .true.)
+        if (size(ia) /= nl_n) call die_root(ck_file//': nonlocal records garbled')
         nl_plastic(1:nl_n) = ia
         call ck%get('main/nl_iterations', ia, e)
         if (allocated(e)) call die_alone(e)
-        if (size(ia) /= nl_n) call die_text(ck_file//': nonlocal records garbled', .true.)
+        if (size(ia) /= nl_n) call die_root(ck_file//': nonlocal records garbled')
         nl_its(1:nl_n) = ia
         call ck%get('main/nl_bound', a, e)
         if (allocated(e)) call die_alone(e)
-        if (size(a) /= nl_n) call die_text(ck_file//': nonlocal records garbled', .true.)
+        if (size(a) /= nl_n) call die_root(ck_file//': nonlocal records garbled')
         nl_bound(1:nl_n) = a
       end if
       write (output_unit, '(a)') '  restarted from '//ck_file//' (step '// &
@@ -507,37 +495,13 @@ contains
     !> An error every rank has found alike: rank 0 says it, all stop.
     subroutine die(e)
       type(error_t), intent(in) :: e
-      call die_text(e%message)
+      call stop_all(comm, rd, e%message)
     end subroutine die
 
-    !> Stop with `text`, said by rank 0, or by this rank when `mine`.
-    subroutine die_text(text, mine)
+    subroutine die_text(text)
       character(len=*), intent(in) :: text
-      logical, intent(in), optional :: mine
-      logical :: say
-      say = root
-      if (present(mine)) say = say .or. mine
-      if (say) then
-        write (error_unit, '(a)') 'wellposed-mpm: error: '//text
-        if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did '// &
-          'not finish; its partial output is in '//rd%partial
-      end if
-      if (present(mine) .and. comm%size > 1) then
-        ! maybe this rank alone: end the job (MPI_Abort)
-        call comm_abort(comm, 1)
-      else
-        ! every rank is here: end as a program does, without a STOP code or
-        ! the backtrace error stop prints
-        call comm_stop(comm)
-      end if
-      stop 1, quiet=.true.
+      call stop_all(comm, rd, text)
     end subroutine die_text
-
-    !> Stop without a word (another rank said why).
-    subroutine die_quietly()
-      if (comm%size > 1) call comm_abort(comm, 1)
-      stop 1, quiet=.true.
-    end subroutine die_quietly
 
     !> An error only this rank knows of (rank 0's files): say it and end
     !> every rank of the job, which would otherwise wait for this one.
@@ -545,6 +509,11 @@ contains
       type(error_t), intent(in) :: e
       call stop_alone(comm, rd, e%message)
     end subroutine die_alone
+
+    subroutine die_root(text)
+      character(len=*), intent(in) :: text
+      call stop_alone(comm, rd, text)
+    end subroutine die_root
 
   end subroutine run_bar
 

@@ -8,7 +8,7 @@
 !> leaves nothing that looks finished.
 !>
 !> Ranks: every rank reads the deck and advances its strip of the plate
-!> (wellposed_mpm_plane_strain). run.h5 is written by all ranks
+!> (wellposed_mpm_solver). run.h5 is written by all ranks
 !> collectively (wellposed_h5_parallel), particle snapshots by rows from the
 !> ranks that hold the particles (wellposed_mpm_snapshots); curves and
 !> counts are rank 0's, which gathers the particles for band widths and
@@ -26,10 +26,11 @@ module wellposed_mpm_plate_run
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, status_cutback
   use wellposed_text, only: int_text, real_text
-  use wellposed_mpm_plane_strain, only: ps_config_t, ps_scene_t, new_ps_scene, ps_advance, &
-                                        ps_applied_stress, ps_plastic_strain, &
-                                        ps_max_substeps, ps_plastic_count
-  use wellposed_mpm_plate_restart, only: ps_save, ps_restore
+  use wellposed_mpm_plane_strain, only: ps_config_t
+  use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, applied_stress, &
+                                  plastic_strain, max_substeps, plastic_count
+  use wellposed_mpm_restart, only: save_scene, restore_scene
+  use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpm_shape_2d, only: shape2d_names
   use wellposed_mpm_config, only: scheme_names
   use wellposed_mpm_nonlocal, only: nl_scheme_names
@@ -41,10 +42,11 @@ module wellposed_mpm_plate_run
                                        write_csv_curve, write_csv_iterations
   use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_mpm_band_watch, only: band_watch_t, new_band_watch
-  use wellposed_mpm_stop, only: stop_alone
+  use wellposed_mpm_stop, only: stop_alone, stop_all
+  use wellposed_mpm_run_loop, only: run_clock_t, checkpoint_every, checkpoint_due, snapshot_due
   use wellposed_mpm_decomposition, only: gather_by_gid
   use wellposed_mpm_snapshots, only: snapshot_store_t, new_snapshot_store
-  use wellposed_mpi, only: comm_t, comm_stop, allreduce_max, &
+  use wellposed_mpi, only: comm_t, allreduce_max, &
                            allreduce_sum, broadcast
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint
   use wellposed_mpm_resume, only: open_restart_checkpoint
@@ -67,7 +69,8 @@ contains
     type(comm_t), intent(inout) :: comm
     type(ps_config_t) :: cfg0, cfg
     type(ps_study_t) :: study
-    type(ps_scene_t) :: sc, prev
+    type(mpm_scene_t) :: sc, prev
+    type(mpm_ranks_t) :: ranks
     type(case_out_t), allocatable :: outs(:)
     type(band_watch_t) :: bw
     !> particle snapshots of every case: each rank keeps its particles' rows
@@ -84,12 +87,13 @@ contains
     character(len=:), allocatable :: ck_dir, ck_file, h5_path
     integer :: i, ic, ic0, nsteps_est, nsnap, ncurve, nit, ck_every, ck_every_deck
     integer :: steps_before, ntotal, moved_sum
-    integer(int64) :: c0, c1, crate, clast
+    type(run_clock_t) :: clock
     real(dp) :: wall, wall_before, next_snap, next_sample, s, fwhm, peak_x, peak_v, yline, epmax
     real(dp), allocatable :: curve(:, :), bounds(:, :)
     integer, allocatable :: its(:), nplast(:)
 
     root = comm%rank == 0
+    call new_mpm_ranks(ranks, comm)
     ck_every_deck = cli%ck_every
     ck_file = cli%ck_file
 
@@ -105,7 +109,7 @@ contains
           trim(case_tag(study, ic))//'"; give distinct dx/scale or labels')
       end do
       cfg = case_config(cfg0, study, ic)
-      call new_ps_scene(sc, cfg, err, comm)
+      call new_scene(sc, cfg, err, ranks)
       if (allocated(err)) call die(cli%deck_path//' (case '//int_text(ic)//'): '//err%message)
     end do
     ck_dir = cli%out_root//'/'//cfg0%name//'.checkpoints'
@@ -164,15 +168,15 @@ contains
       cfg = case_config(cfg0, study, ic)
       s = study%scale(ic)
       tag = case_tag(study, ic)
-      call new_ps_scene(sc, cfg, err, comm)
+      call new_scene(sc, cfg, err, ranks)
       if (allocated(err)) call die(err%message)
       ntotal = sc%ntotal
       nsteps_est = ceiling(cfg%t_end/sc%dt)
       ck_every = ck_every_deck
-      if (ck_every < 0) ck_every = max(1, nsteps_est/10)
+      ck_every = checkpoint_every(ck_every, nsteps_est)
       if (root) then
         write (output_unit, '(a)') '  case '//tag//': '//int_text(ntotal)//' particles, '// &
-          int_text(sc%nnodes)//' nodes, dt = '//real_text(sc%dt)//' s, ~'// &
+          int_text(sc%grid%nnodes)//' nodes, dt = '//real_text(sc%dt)//' s, ~'// &
           int_text(nsteps_est)//' steps, c = '//real_text(sc%c_max)//' m/s'
         if (sc%nl%active) write (output_unit, '(a)') '    nonlocal: L = '// &
           real_text(sc%nl%length)//' m, support radius '//real_text(sc%nl%radius)// &
@@ -192,8 +196,7 @@ contains
       measured = .false.
       bw = new_band_watch(sc, study%band_drop, study%band_onset_strain)
       resuming = cli%restart .and. ic == ic0
-      call system_clock(c0, crate)
-      clast = c0
+      call clock%start(10.0_dp)
       if (resuming) then
         call resume_case()
       else
@@ -203,7 +206,7 @@ contains
       end_message = ''
       do while (sc%t < cfg%t_end - 0.5_dp*sc%dt)
         if (study%stop_on_cutback) prev = sc
-        call ps_advance(sc, err, log_unit=output_unit)
+        call advance(sc, err)
         if (allocated(err)) then
           if (.not. (study%stop_on_cutback .and. err%status == status_cutback)) &
             call die('case '//tag//': '//err%message)
@@ -219,41 +222,37 @@ contains
         if (study%band_time > 0.0_dp .and. .not. measured .and. sc%t >= study%band_time) &
           call measure_band()
         its(nit) = sc%nl%last%iterations
-        nplast(nit) = ps_plastic_count(sc)     ! this rank's share, summed at the end
+        nplast(nit) = plastic_count(sc)     ! this rank's share, summed at the end
         bounds(:, nit) = [sc%nl%last%n_alpha, sc%nl%last%bound_printed, sc%nl%last%error]
         if (sc%t >= next_sample - 1.0e-12_dp) then
           ncurve = ncurve + 1
-          curve(:, ncurve) = [sc%t, -sc%top_disp/cfg%height, ps_applied_stress(sc)]
+          curve(:, ncurve) = [sc%t, -sc%top_disp/cfg%height, applied_stress(sc)]
           next_sample = next_sample + study%sample_dt
         end if
         call bw%step(sc, comm, curve(:, 1:ncurve))
-        if (study%snapshot_dt > 0.0_dp .and. sc%t >= next_snap - 1.0e-12_dp) call snapshot()
-        if (ck_every > 0) then
-          if (mod(sc%nstep, ck_every) == 0 .and. sc%t < cfg%t_end - 0.5_dp*sc%dt) &
-            call checkpoint()
-        end if
-        call system_clock(c1)
-        if (root .and. study%progress .and. real(c1 - clast, dp)/crate > 10.0_dp) then
-          clast = c1
-          write (output_unit, '(a)') '    '//tag//': step '//int_text(sc%nstep)//'/'// &
-            int_text(nsteps_est)//', t = '//real_text(sc%t)//' s, stress = '// &
-            real_text(curve(3, max(ncurve, 1))*1.0e-6_dp)//' MPa, plastic '// &
-            int_text(nplast(nit))//merge(' (rank 0)', '         ', comm%size > 1)// &
-            ', iterations '//int_text(sc%nl%last%iterations)// &
-            ', ~'//int_text(nint(real(c1 - c0, dp)/crate*(nsteps_est - sc%nstep)/ &
-            max(sc%nstep, 1)))//' s left'
-          flush (output_unit)
+        if (snapshot_due(study%snapshot_dt, sc%t, next_snap, 1.0e-12_dp)) call snapshot()
+        if (checkpoint_due(ck_every, sc%nstep, sc%t, cfg%t_end, sc%dt)) call checkpoint()
+        if (root .and. study%progress) then
+          if (clock%progress_due()) then
+            write (output_unit, '(a)') '    '//tag//': step '//int_text(sc%nstep)//'/'// &
+              int_text(nsteps_est)//', t = '//real_text(sc%t)//' s, stress = '// &
+              real_text(curve(3, max(ncurve, 1))*1.0e-6_dp)//' MPa, plastic '// &
+              int_text(nplast(nit))// &
+              ', iterations '//int_text(sc%nl%last%iterations)// &
+              ', ~'//int_text(nint(clock%elapsed()*(nsteps_est - sc%nstep)/ &
+              max(sc%nstep, 1)))//' s left'
+            flush (output_unit)
+          end if
         end if
       end do
       if (study%snapshot_dt <= 0.0_dp .or. next_snap - study%snapshot_dt < sc%t - 0.5_dp*sc%dt) &
         call snapshot()
-      call system_clock(c1)
-      wall = wall_before + real(c1 - c0, dp)/crate
+      wall = wall_before + clock%elapsed()
       ! ---- measures (collective: band width, largest plastic strain, substeps)
       if (.not. measured) call measure_band()
-      epmax = maxval(ps_plastic_strain(sc))
+      epmax = maxval(plastic_strain(sc))
       if (comm%size > 1) call allreduce_max(comm, epmax)
-      i = ps_max_substeps(sc)
+      i = max_substeps(sc)
       if (comm%size > 1) call allreduce_sum(comm, nplast(1:nit))
       moved_sum = sc%moved
       if (comm%size > 1) call allreduce_sum(comm, moved_sum)
@@ -395,7 +394,7 @@ contains
       n = sc%parts%n
       allocate (f(3, n))
       f(1:2, :) = sc%parts%x(:, 1:n)
-      f(3, :) = ps_plastic_strain(sc)
+      f(3, :) = plastic_strain(sc)
       call gather_by_gid(comm, sc%parts%gid(1:n), f, 0, all)
       if (study%band_axis == 'x') then
         yline = study%band_y*study%scale(ic)
@@ -423,7 +422,7 @@ contains
       n = sc%parts%n
       allocate (f(8, n))
       f(1:2, :) = sc%parts%x(:, 1:n)
-      f(3, :) = ps_plastic_strain(sc)
+      f(3, :) = plastic_strain(sc)
       f(4, :) = sc%parts%stress(1, 1:n)
       f(5, :) = sc%parts%stress(2, 1:n)
       f(6, :) = sc%parts%stress(4, 1:n)
@@ -443,16 +442,15 @@ contains
       character(len=:), allocatable :: path, pre, lines
       integer :: k
       integer, allocatable :: nplast_all(:)
-      call ps_save(sc, ckw)
+      call save_scene(sc, ckw)
       call store%put(ckw, comm, 'snapshots/')
       nplast_all = nplast(1:nit)
       if (comm%size > 1) call allreduce_sum(comm, nplast_all)
       if (.not. root) return
-      call system_clock(c1)
       call ckw%put_text('main/deck', deck_text)
       call ckw%put('main/case', [ic, ncurve, nit, nsnap, merge(1, 0, measured), steps_before])
       call ckw%put('main/reals', [next_snap, next_sample, fwhm, peak_x, peak_v, yline, band_t, &
-                                  wall_before + real(c1 - c0, dp)/crate])
+                                  wall_before + clock%elapsed()])
       call ckw%put('main/curve', [0.0_dp, reshape(curve(:, 1:ncurve), [3*ncurve])])
       call ckw%put('main/its', [0, its(1:nit)])
       call ckw%put('main/nplast', [0, nplast_all])
@@ -532,7 +530,7 @@ contains
       type(error_t), allocatable :: e
       integer, allocatable :: cs(:), iv(:)
       real(dp), allocatable :: a(:)
-      call ps_restore(sc, ck, e)
+      call restore_scene(sc, ck, e)
       if (allocated(e)) call die(ck_file//': '//e%message)
       call ck%get('main/case', cs, e)
       ncurve = cs(2)
@@ -561,14 +559,7 @@ contains
     !> prints).
     subroutine die(message)
       character(len=*), intent(in) :: message
-      if (root) then
-        write (error_unit, '(a)') 'wellposed-mpm: error: '//message
-        if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did '// &
-          'not finish; its partial output is in '//rd%partial
-      end if
-      call comm_stop(comm)
-      ! every rank has finalised: a plain stop, without error stop's backtrace
-      stop 1, quiet=.true.
+      call stop_all(comm, rd, message)
     end subroutine die
 
     !> Stop the run for an error rank 0 alone met (its files): the other

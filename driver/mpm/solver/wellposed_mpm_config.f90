@@ -76,6 +76,8 @@ module wellposed_mpm_config
     integer :: nstations = 5
     real(dp) :: sample_dt = 2.0e-5_dp
     real(dp) :: snapshot_dt = 0.05_dp
+    ! bulk artificial viscosity (wellposed_mpm_solver); 0: off, the default
+    real(dp) :: visc_a1 = 0.0_dp, visc_a2 = 0.0_dp
     ! bookkeeping
     logical :: progress = .true.
     !> Algorithm 1 of the dissertation (eq. 4.46-4.50): scheme, tolerances; it

@@ -1,13 +1,14 @@
-!> What a domain-decomposed run exchanges between ranks, as calls the 1D
+!> What a domain-decomposed run exchanges between ranks, as calls the MPM
 !> solver makes every step without knowing whether there are other ranks
-!>. The solver holds a class(mpm_exchange_t):
+!> (1D bars and 2D plates alike). The solver holds a class(mpm_exchange_t):
 !>  - mpm_serial_t (here): one process owning the whole grid. Nothing to
 !>    exchange; a particle whose support leaves the grid is an error naming
 !>    it. Used when the scene is built without an exchange (tests, benches);
 !>  - mpm_ranks_t (driver/mpm/parallel/wellposed_mpm_ranks): Open MPI
-!>    through wellposed_mpi, the grid cut into strips by
-!>    wellposed_mpm_decomposition. With one rank every call there is a
-!>    no-op or an identity, so one rank is the serial program bit for bit.
+!>    through wellposed_mpi, the grid cut into strips of cell layers (cells
+!>    in 1D, cell rows in 2D) by wellposed_mpm_decomposition. With one rank
+!>    every call is a no-op or an identity, so one rank is the serial
+!>    program bit for bit.
 !> The core library keeps no MPI: the parallel type extends this one in
 !> the parallel library. It also serves Algorithm 1 (nonlocal_ranks_t).
 module wellposed_mpm_exchange
@@ -20,25 +21,35 @@ module wellposed_mpm_exchange
   private
   public :: mpm_exchange_t, mpm_serial_t, left_grid_error
 
-  !> The exchanges of a decomposed 1D scene (collective where it says so).
+  !> The exchanges of a decomposed scene (collective where it says so).
   type, abstract, extends(nonlocal_ranks_t) :: mpm_exchange_t
   contains
-    !> share `ncells` cells (node 0 at `origin`, size `dx`, m) with `ghost`
-    !> node layers around every patch
+    !> share `ncells` cell layers along coordinate `axis` (node layer 0 at
+    !> `origin`, size `dx`, m; `layer_nodes` nodes per node layer) with
+    !> `ghost` node layers around every patch
     procedure(ex_setup), deferred :: setup
-    !> cut a whole grid and every particle (as built for one process) down
-    !> to this rank's patch and particles
-    procedure(ex_restrict), deferred :: restrict
-    !> particles to the rank of their cell (collective)
+    !> cut a whole grid (as built for one process) down to this rank's patch
+    procedure(ex_restrict), deferred :: restrict_grid
+    !> the rank owning the cell layer that holds coordinate x along the
+    !> split axis (-1 outside the grid)
+    procedure(ex_owner), deferred :: owner
+    !> particles to the rank of their cell layer, each with its column of
+    !> `extra` (collective); `moved`: the particles this rank sent
     procedure(ex_hand_off), deferred :: hand_off
     !> every particle's support nodes (parts%node) inside the patch, else an
-    !> error on every rank (collective)
+    !> error naming the first that is not (this rank's particles)
     procedure(ex_check), deferred :: check_support
     !> sum the patches' partial particle-to-grid sums at shared nodes:
     !> mass, momentum and forces, or the momentum only (collective)
     procedure(ex_sum_grid), deferred :: sum_grid
     !> sum over the ranks, in place (collective)
     procedure(ex_sum_reals), deferred :: sum_reals
+    !> an error on any rank becomes an error on every rank, with the
+    !> message of the lowest rank where it arose (collective)
+    procedure(ex_sync), deferred :: sync_error
+    !> every rank's `mine` concatenated in rank order on rank 0, with the
+    !> count of each rank (collective; the other ranks get nothing)
+    procedure(ex_gather), deferred :: gather_root
     !> 0-based rank of this process and the number of ranks
     procedure(ex_int), deferred :: rank
     procedure(ex_int), deferred :: nranks
@@ -47,26 +58,43 @@ module wellposed_mpm_exchange
   end type mpm_exchange_t
 
   abstract interface
-    subroutine ex_setup(self, ncells, ghost, origin, dx, err)
+    subroutine ex_setup(self, ncells, layer_nodes, ghost, axis, origin, dx, err)
       import :: mpm_exchange_t, dp, error_t
       class(mpm_exchange_t), intent(inout) :: self
-      integer, intent(in) :: ncells, ghost
+      integer, intent(in) :: ncells, layer_nodes, ghost, axis
       real(dp), intent(in) :: origin, dx
       type(error_t), allocatable, intent(out) :: err
     end subroutine ex_setup
-    subroutine ex_restrict(self, grid, parts, err)
-      import :: mpm_exchange_t, grid_t, particles_t, error_t
+    subroutine ex_restrict(self, grid)
+      import :: mpm_exchange_t, grid_t
       class(mpm_exchange_t), intent(inout) :: self
       type(grid_t), intent(inout) :: grid
-      type(particles_t), intent(inout) :: parts
-      type(error_t), allocatable, intent(out) :: err
     end subroutine ex_restrict
-    subroutine ex_hand_off(self, parts, err)
-      import :: mpm_exchange_t, particles_t, error_t
+    integer function ex_owner(self, x)
+      import :: mpm_exchange_t, dp
+      class(mpm_exchange_t), intent(in) :: self
+      real(dp), intent(in) :: x
+    end function ex_owner
+    subroutine ex_hand_off(self, parts, extra, err, moved)
+      import :: mpm_exchange_t, particles_t, error_t, dp
       class(mpm_exchange_t), intent(inout) :: self
       type(particles_t), intent(inout) :: parts
+      real(dp), allocatable, intent(inout) :: extra(:, :)
       type(error_t), allocatable, intent(out) :: err
+      integer, intent(out) :: moved
     end subroutine ex_hand_off
+    subroutine ex_sync(self, err)
+      import :: mpm_exchange_t, error_t
+      class(mpm_exchange_t), intent(inout) :: self
+      type(error_t), allocatable, intent(inout) :: err
+    end subroutine ex_sync
+    subroutine ex_gather(self, mine, all, counts)
+      import :: mpm_exchange_t, dp
+      class(mpm_exchange_t), intent(inout) :: self
+      real(dp), intent(in) :: mine(:)
+      real(dp), allocatable, intent(out) :: all(:)
+      integer, allocatable, intent(out) :: counts(:)
+    end subroutine ex_gather
     subroutine ex_check(self, parts, grid, err)
       import :: mpm_exchange_t, particles_t, grid_t, error_t
       class(mpm_exchange_t), intent(inout) :: self
@@ -95,7 +123,10 @@ module wellposed_mpm_exchange
   type, extends(mpm_exchange_t) :: mpm_serial_t
   contains
     procedure :: setup => serial_setup
-    procedure :: restrict => serial_restrict
+    procedure :: restrict_grid => serial_restrict
+    procedure :: owner => serial_owner
+    procedure :: sync_error => serial_sync
+    procedure :: gather_root => serial_gather_root
     procedure :: hand_off => serial_hand_off
     procedure :: check_support => serial_check
     procedure :: sum_grid => serial_sum_grid
@@ -115,14 +146,20 @@ module wellposed_mpm_exchange
 contains
 
   !> The error of particle p (global id gid, at x m) whose support left the
-  !> grid [x_lo, x_hi] (m): the same words on one rank and on many.
+  !> grid [x_lo, x_hi] (m, along x(1)): the same words on one rank and on
+  !> many. A plate names the point (x, y).
   subroutine left_grid_error(gid, x, x_lo, x_hi, err)
     integer, intent(in) :: gid
-    real(dp), intent(in) :: x, x_lo, x_hi
+    real(dp), intent(in) :: x(:), x_lo, x_hi
     type(error_t), allocatable, intent(out) :: err
     character(len=160) :: buf
-    write (buf, '(a,i0,a,es12.5,a,es12.5,a,es12.5,a)') 'particle ', gid, ' at x = ', x, &
-      ' m left the grid [', x_lo, ', ', x_hi, '] m'
+    if (size(x) == 1) then
+      write (buf, '(a,i0,a,es12.5,a,es12.5,a,es12.5,a)') 'particle ', gid, ' at x = ', x(1), &
+        ' m left the grid [', x_lo, ', ', x_hi, '] m'
+    else
+      write (buf, '(a,i0,a,es12.5,a,es12.5,a)') 'particle ', gid, ' at (x, y) = (', x(1), &
+        ', ', x(2), ') m left the grid'
+    end if
     call new_error(err, status_invalid, 'grid', trim(buf)//'; enlarge the grid '// &
       '(grid%pad_cells) or shorten the run')
   end subroutine left_grid_error
@@ -130,25 +167,46 @@ contains
   ! The serial stand-in: every argument it does not need is unused on
   ! purpose (this file is compiled with -Wno-unused-dummy-argument).
 
-  subroutine serial_setup(self, ncells, ghost, origin, dx, err)
+  subroutine serial_setup(self, ncells, layer_nodes, ghost, axis, origin, dx, err)
     class(mpm_serial_t), intent(inout) :: self
-    integer, intent(in) :: ncells, ghost
+    integer, intent(in) :: ncells, layer_nodes, ghost, axis
     real(dp), intent(in) :: origin, dx
     type(error_t), allocatable, intent(out) :: err
   end subroutine serial_setup
 
-  subroutine serial_restrict(self, grid, parts, err)
+  subroutine serial_restrict(self, grid)
     class(mpm_serial_t), intent(inout) :: self
     type(grid_t), intent(inout) :: grid
-    type(particles_t), intent(inout) :: parts
-    type(error_t), allocatable, intent(out) :: err
   end subroutine serial_restrict
 
-  subroutine serial_hand_off(self, parts, err)
+  integer function serial_owner(self, x)
+    class(mpm_serial_t), intent(in) :: self
+    real(dp), intent(in) :: x
+    serial_owner = 0
+  end function serial_owner
+
+  subroutine serial_hand_off(self, parts, extra, err, moved)
     class(mpm_serial_t), intent(inout) :: self
     type(particles_t), intent(inout) :: parts
+    real(dp), allocatable, intent(inout) :: extra(:, :)
     type(error_t), allocatable, intent(out) :: err
+    integer, intent(out) :: moved
+    moved = 0
   end subroutine serial_hand_off
+
+  subroutine serial_sync(self, err)
+    class(mpm_serial_t), intent(inout) :: self
+    type(error_t), allocatable, intent(inout) :: err
+  end subroutine serial_sync
+
+  subroutine serial_gather_root(self, mine, all, counts)
+    class(mpm_serial_t), intent(inout) :: self
+    real(dp), intent(in) :: mine(:)
+    real(dp), allocatable, intent(out) :: all(:)
+    integer, allocatable, intent(out) :: counts(:)
+    all = mine
+    counts = [size(mine)]
+  end subroutine serial_gather_root
 
   !> A particle whose support nodes lie outside [glo, ghi]: an error
   !> naming the first of them.
@@ -164,7 +222,7 @@ contains
     do p = 1, parts%n
       if (minval(parts%node(:, p)) < grid%glo .or. maxval(parts%node(:, p)) > grid%ghi) exit
     end do
-    call left_grid_error(parts%gid(p), parts%x(1, p), grid%origin + grid%glo*grid%dx, &
+    call left_grid_error(parts%gid(p), parts%x(:, p), grid%origin + grid%glo*grid%dx, &
                          grid%origin + grid%ghi*grid%dx, err)
   end subroutine serial_check
 

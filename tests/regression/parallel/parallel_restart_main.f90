@@ -1,5 +1,5 @@
 !> mpirun -np N parallel_restart_main write|read DIR: checkpoints of an MPM
-!> scene spread over ranks (save_scene_ranks, restore_scene_ranks) written
+!> scene spread over ranks (save_scene, restore_scene) written
 !> and read back on the same or another number of ranks; every rank must get
 !> exactly its particles back, bit for bit, in id order, with time, step and
 !> partial sums. Cases: docs/verification.md. Exits non-zero on any failure.
@@ -12,7 +12,8 @@ program parallel_restart_main
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance
   use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, &
                                          restrict_particles, owner_of_position
-  use wellposed_mpm_restart, only: save_scene_ranks, restore_scene_ranks
+  use wellposed_mpm_restart, only: save_scene, restore_scene
+  use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint, read_checkpoint, &
                                   latest_checkpoint
   implicit none
@@ -22,6 +23,7 @@ program parallel_restart_main
   type(mpm_config_t) :: cfg
   type(mpm_scene_t) :: ref, scene
   type(decomposition_t) :: dec
+  type(mpm_ranks_t) :: ranks
   type(checkpoint_t) :: ckpt
   type(error_t), allocatable :: err
   character(len=256) :: mode, dir
@@ -58,15 +60,24 @@ program parallel_restart_main
                          ref%grid%dx, err)
   call stop_on(err)
 
+  call new_mpm_ranks(ranks, comm)
   select case (trim(mode))
   case ('write')
-    scene = ref
+    ! the scene on the ranks, holding the serial run's particles of its cells
+    ! (their material and viscous pressure are uniform here: 1 and 0)
+    call new_scene(scene, cfg, err, ranks)
+    call stop_on(err)
+    scene%parts = ref%parts
     call restrict_particles(dec, scene%parts, err)
     call stop_on(err)
+    scene%q = ref%q
+    scene%mat = ref%mat
+    scene%t = ref%t
+    scene%nstep = ref%nstep
     scene%work_internal = 1000.0_dp*comm%rank + 0.1_dp
     scene%work_external = 2000.0_dp*comm%rank + 0.2_dp
     scene%impulse = 3000.0_dp*comm%rank + 0.3_dp
-    call save_scene_ranks(scene, comm, ckpt)
+    call save_scene(scene, ckpt)
     if (comm%rank == 0) then
       call write_checkpoint(ckpt, trim(dir), scene%nstep, 2, path, err)
       call stop_on(err)
@@ -81,9 +92,9 @@ program parallel_restart_main
     call ckpt%get('mpm/partials', partials, err)
     call stop_on(err)
     nsaved = size(partials)/3
-    call new_scene(scene, cfg, err)
+    call new_scene(scene, cfg, err, ranks)
     call stop_on(err)
-    call restore_scene_ranks(scene, dec, comm, ckpt, err)
+    call restore_scene(scene, ckpt, err)
     call stop_on(err)
     call check(scene%nstep == nsteps .and. scene%t == ref%t, 'time and step restored')
     mine = count([(owner_of_position(dec, ref%parts%x(1, p)) == comm%rank, &
