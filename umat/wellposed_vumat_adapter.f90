@@ -116,7 +116,8 @@ contains
           eps_p = c_ep0(i, :)
           z = c_z0(i)
           zeta = c_zeta0(i)
-          call point_update(p, sig, eps_p, z, zeta, c_avg(i), c_de(i, :), dt, dlambda, f, &
+          de = c_de(i, :)  ! a contiguous copy: no array temporary in the call
+          call point_update(p, sig, eps_p, z, zeta, c_avg(i), de, dt, dlambda, f, &
                             status, ntens, err=err)
           if (allocated(err)) then
             point = k0 - 1 + i
@@ -178,7 +179,7 @@ contains
     subroutine scatter(k0, n)
       integer, intent(in) :: k0, n
       integer :: ii, kk
-      real(dp) :: ss(ntens6)
+      real(dp) :: ss(ntens6), dd(ntens6)
       if (packaging) c_f(1:n) = state_old(k0:k0 + n - 1, sv_f)
       do ii = 1, ntens6
         if (comp(ii) <= ntens) stress_new(k0:k0 + n - 1, comp(ii)) = c_sig(1:n, ii)
@@ -195,10 +196,12 @@ contains
       end do
       do ii = 1, n
         kk = k0 - 1 + ii
+        ! Rows copied to contiguous vectors: no array temporaries (no heap).
         ss = c_sig0(ii, :) + c_sig(ii, :)
-        ener_intern_new(kk) = ener_intern_old(kk) + 0.5_dp*contract(ss, c_de(ii, :))/density(kk)
-        ener_inelas_new(kk) = ener_inelas_old(kk) + &
-                              0.5_dp*contract(ss, c_ep(ii, :) - c_ep0(ii, :))/density(kk)
+        dd = c_de(ii, :)
+        ener_intern_new(kk) = ener_intern_old(kk) + 0.5_dp*contract(ss, dd)/density(kk)
+        dd = c_ep(ii, :) - c_ep0(ii, :)
+        ener_inelas_new(kk) = ener_inelas_old(kk) + 0.5_dp*contract(ss, dd)/density(kk)
       end do
     end subroutine scatter
 
