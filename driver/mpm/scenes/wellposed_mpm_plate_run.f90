@@ -27,6 +27,7 @@ module wellposed_mpm_plate_run
   use wellposed_error, only: error_t, status_cutback
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_plane_strain, only: ps_config_t
+  use wellposed_mpm_plane_strain, only: apparent_strain
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, applied_stress, &
                                   plastic_strain, max_substeps, plastic_count
   use wellposed_mpm_restart, only: save_scene, restore_scene
@@ -226,7 +227,7 @@ contains
         bounds(:, nit) = [sc%nl%last%n_alpha, sc%nl%last%bound_printed, sc%nl%last%error]
         if (sc%t >= next_sample - 1.0e-12_dp) then
           ncurve = ncurve + 1
-          curve(:, ncurve) = [sc%t, -sc%top_disp/cfg%height, applied_stress(sc)]
+          curve(:, ncurve) = [sc%t, apparent_strain(sc), applied_stress(sc)]
           next_sample = next_sample + study%sample_dt
         end if
         call bw%step(sc, comm, curve(:, 1:ncurve))
@@ -281,8 +282,8 @@ contains
       call sm%add(outs(ic)%tag//'.curve_difference_to_'//outs(ic - 1)%tag, &
                   curve_difference(outs(ic - 1)%curve, outs(ic)%curve)*1.0e-6_dp, &
                   'MPa: max |stress difference| over the common strain range')
-      call sm%add(outs(ic)%tag//'.band_fwhm_ratio_to_'//outs(ic - 1)%tag, &
-                  outs(ic)%scal(7)/outs(ic - 1)%scal(7))
+      call width_ratio('.band_fwhm_ratio_to_', 7)
+      call width_ratio('.band_fwhm_normal_ratio_to_', 8)
     end do
     call sm%add('h5_writer', h5_writer_name(comm), 'how run.h5 was written: every rank its '// &
                 'rows through MPI-IO (mpio-collective), or rank 0 alone (rank0-gather)')
@@ -318,6 +319,19 @@ contains
 
   contains
 
+    !> A band width of case ic over case ic - 1's (scal slot k), when both
+    !> cases measured one.
+    subroutine width_ratio(key, k)
+      character(len=*), intent(in) :: key
+      integer, intent(in) :: k
+      if (outs(ic)%scal(k) > 0.0_dp .and. outs(ic - 1)%scal(k) > 0.0_dp) then
+        call sm%add(outs(ic)%tag//key//outs(ic - 1)%tag, outs(ic)%scal(k)/outs(ic - 1)%scal(k))
+      else
+        call sm%not_applicable(outs(ic)%tag//key//outs(ic - 1)%tag, &
+                               'a case of the two measured no band width')
+      end if
+    end subroutine width_ratio
+
     !> The summary lines of the case just finished (rank 0); `nsub` the
     !> largest UMAT cut-back split over the ranks.
     subroutine finish_case(nsub)
@@ -343,6 +357,7 @@ contains
         call sm%add(tag//'.band_time', band_t, 's, when the band width was measured')
         call sm%add(tag//'.band_peak_plastic_strain', peak_v)
         call bw%summarise(sm, tag)
+        if (bw%staged .and. bw%fit%found) o%scal(8) = bw%fit%fwhm
         call sm%add(tag//'.max_substeps', nsub)
         call sm%add(tag//'.ended_early', ended_early, 'true: the UMAT could not go on '// &
                     '(stop_on_cutback); the curve ends at final_strain')
