@@ -1,8 +1,8 @@
 !> The wake behind a 1D pulse at a station (docs/verification.md, "The wake
 !> oscillation"): once the pulse has passed, the continuum's stress at the
-!> station is back at its initial value (the surface load is back at its
-!> base, the material behind the unloading tail is elastic), so what remains
-!> is the scheme's. Measured over the window t >= t_from = x/C_E + 2 tau
+!> station is at or near its initial value (the surface load is back at its
+!> base; behind a plastic pulse a smooth signal remains), so what remains is
+!> mostly the scheme's. Measured over the window t >= t_from = x/C_E + 2 tau
 !> (the ideal elastic tail, x/C_E + tau, plus one more pulse duration) to
 !> the end of the record: the largest |sigma_xx(t) - sigma_xx(0)| and its
 !> root mean square, and the grid-scale part alone: the largest |sigma_xx(t)

@@ -458,9 +458,9 @@ contains
       if (cfg%pulse == pulse_ramp_sine) why = "pulse = 'ramp_sine' is a ramp, not a pulse"
       call sm%add('wake_definition', 'max and RMS of |sigma_xx(t) - sigma_xx(0)| at a '// &
                   'station over t >= x/C_E + 2 tau (the ideal elastic tail plus one pulse '// &
-                  'duration) to t_end, where the continuum is back at its initial stress; '// &
-                  '_grid: max |sigma_xx - its centred moving average over 4 dx/C_E|, the '// &
-                  'grid-scale part')
+                  'duration) to t_end, where the continuum is at or near its initial '// &
+                  'stress; _grid: max |sigma_xx - its centred moving average over 4 dx/C_E|, '// &
+                  'the grid-scale part, without the smooth signal a plastic pulse leaves')
       worst = 0.0_dp
       worst_grid = 0.0_dp
       any_window = .false.
