@@ -60,6 +60,8 @@ def mark_band(ax, sm, tag, height):
     """The fitted centre line x = x0 + slope y and the lines FWHM/2 either side."""
     x0, slope = number(sm, tag + ".band_line_x0"), number(sm, tag + ".band_line_slope")
     w = number(sm, tag + ".band_fwhm_normal")
+    if sm.get(tag + ".band_fwhm_normal") == "not_applicable":
+        return ", FWHM not_applicable (summary.txt says why)"
     if x0 is None or slope is None or w is None:
         return ""
     y = np.linspace(0.2 * height, 0.8 * height, 2)

@@ -109,6 +109,15 @@ class Panels(unittest.TestCase):
                 np.testing.assert_allclose(np.abs(d), 0.5 * fwhm, rtol=1e-12)
             self.assertIn("FWHM %.2f m" % fwhm, ax.get_title())
 
+    def test_no_width_said_not_marked(self):
+        sm = dict(self.sm)
+        sm["h0.5.band_fwhm_normal"] = "not_applicable"
+        fig, _ = mpm_plate.contour_figure(self.h5["cases"], sm, ["h0.5"])
+        ax = fig.axes[0]
+        self.assertIn("FWHM not_applicable", ax.get_title())
+        self.assertEqual([ln for ln in ax.get_lines() if len(ln.get_xdata()) == 2], [])
+        matplotlib.pyplot.close(fig)
+
     def test_main_writes_the_figures(self):
         self.assertEqual(mpm_plate.main(["mpm_plate.py", self.tmp.name] + [c[0] for c in CASES]), 0)
         for name in ("plastic_strain.png", "stress_strain.png"):
