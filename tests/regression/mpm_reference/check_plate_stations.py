@@ -16,20 +16,12 @@ import os, subprocess, sys
 import h5py, numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, '..', '..', '..', 'driver', 'common'))
+from summary_text import read_summary  # noqa: E402
 DECK = os.path.join(HERE, 'decks', 'plate_stations.nml')
 WIDTH, HEIGHT, PPC, SAMPLE_DT = 2.0, 3.0, 2, 1e-4
 POINTS = [(0.4, 1.4), (1.6, 1.4), (1.0, 3.0)]
 CASES = {'h0.5': 0.5, 'h0.25': 0.25}
-
-
-def summary(path):
-    out = {}
-    for line in open(path):
-        line = line.split('#', 1)[0]
-        if '=' in line:
-            k, v = line.split('=', 1)
-            out[k.strip()] = v.strip()
-    return out
 
 
 def main(exe, out):
@@ -40,7 +32,7 @@ def main(exe, out):
         print(p.stdout, p.stderr)
         return 1
     folder = os.path.join(out, 'plate_stations')
-    sm = summary(os.path.join(folder, 'summary.txt'))
+    sm = read_summary(folder)
     with h5py.File(os.path.join(folder, 'run.h5'), 'r') as f:
         for tag, dx in CASES.items():
             g = f[f'cases/{tag}/stations']
