@@ -170,11 +170,13 @@ contains
       call ex%sync_error(err)
       if (allocated(err)) return
       if (self%max_substeps_step > self%max_substeps) self%max_substeps = self%max_substeps_step
-      ! --- bookkeeping: the bar's internal work
+      ! --- bookkeeping: the bar's internal work, with the viscous pressure's
       if (d == 1) then
         do p = 1, n
           self%work_internal = self%work_internal + &
             self%vol_n(p)*0.5_dp*(self%s0(1, p) + pt%stress(1, p))*self%de(1, p)
+          if (self%q(p) /= 0.0_dp) self%work_internal = self%work_internal - &
+            self%vol_n(p)*self%q(p)*self%de(1, p)
         end do
       end if
       call tick(timer_umat)
