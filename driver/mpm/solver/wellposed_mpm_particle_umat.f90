@@ -5,13 +5,28 @@
 !> (docs/mpm.md, "Hosting a UMAT in the MPM"). The host's rules apply:
 !> PNEWDT < 0 or a non-finite result is an error naming the particle, a
 !> cut-back splits the increment.
+!>
+!> Our own material (the linked UMAT is wellposed's, a closed-form model)
+!> also goes a block of particles at a time through the VUMAT's kernel
+!> (umat_block: closed_form_block, the same arithmetic as the UMAT's
+!> point update, so bitwise its answer); every particle the kernel defers
+!> (apex, zero deviator), whose input or output is not finite, or whose
+!> PROPS the contract refuses is left to the per-particle UMAT call, which
+!> applies the host's rules (PNEWDT, cut-back, the error naming it).
 module wellposed_mpm_particle_umat
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
+  use wellposed_finite, only: all_finite
   use wellposed_umat_host, only: umat_host_t, host_update
+  use wellposed_umat_adapter, only: check_props
+  use wellposed_umat_layout, only: sv_z, sv_dlambda, sv_avg_dlambda, sv_zeta, sv_eps_p, sv_f, &
+                                   sv_status, nstatv_min
+  use wellposed_dp_params, only: dp_params_t
+  use wellposed_dp_point, only: has_closed_form
+  use wellposed_dp_block, only: closed_form_block, block_chunk
   implicit none
   private
-  public :: strain_increment, umat_particle
+  public :: strain_increment, umat_particle, umat_block
 
 contains
 
@@ -55,5 +70,71 @@ contains
     if (allocated(err)) return
     if (host%ours) dlambda = sv(2)
   end subroutine umat_particle
+
+  !> Particles idx(:) of one material of ours, the local update of
+  !> Algorithm 1 (STATEV(3) = <dlambda> = 0), through the block kernel:
+  !> from the start-of-step s0, sv0, e0 (NTENS x n, NSTATV x n) over the
+  !> increments de, into stress, statev, stran (the particle arrays) and
+  !> dlambda; done(p) is set for every particle so updated. The UMAT's
+  !> conversions: engineering shears halved in the strains and doubled in
+  !> the plastic strain (STATEV 8-10), exact in binary. Nothing is done
+  !> when PROPS are refused or the model has no closed form.
+  subroutine umat_block(props, ntens, nstatv, dt, idx, s0, sv0, e0, de, stress, statev, stran, &
+                        dlambda, done)
+    real(dp), intent(in) :: props(:), dt
+    integer, intent(in) :: ntens, nstatv, idx(:)
+    real(dp), intent(in) :: s0(:, :), sv0(:, :), e0(:, :), de(:, :)
+    real(dp), intent(inout) :: stress(:, :), statev(:, :), stran(:, :), dlambda(:)
+    logical, intent(inout) :: done(:)
+    integer, parameter :: chunk = block_chunk
+    real(dp) :: c_sig0(chunk, 6), c_ep0(chunk, 6), c_de(chunk, 6), c_sig(chunk, 6)
+    real(dp) :: c_ep(chunk, 6), c_z0(chunk), c_zeta0(chunk), c_avg(chunk), c_z(chunk)
+    real(dp) :: c_zeta(chunk), c_dl(chunk), c_f(chunk), c_st(chunk), c_trial(chunk, 6)
+    logical :: ok(chunk), want_tangent
+    type(dp_params_t) :: par
+    integer :: fault, k0, n, i, q, nt
+    nt = ntens
+    call check_props(3, nt - 3, nt, nstatv, size(props), props, dt, par, want_tangent, fault)
+    if (fault /= 0) return
+    if (.not. has_closed_form(par) .or. par%gdl) return
+    c_avg = 0.0_dp
+    do k0 = 1, size(idx), chunk
+      n = min(chunk, size(idx) - k0 + 1)
+      do i = 1, n
+        q = idx(k0 - 1 + i)
+        ok(i) = all_finite(s0(1:nt, q)) .and. all_finite(de(1:nt, q)) .and. &
+                all_finite(e0(1:nt, q)) .and. all_finite(sv0(1:nstatv_min, q))
+        c_sig0(i, 1:nt) = s0(1:nt, q)
+        c_sig0(i, nt + 1:6) = 0.0_dp
+        c_de(i, 1:3) = de(1:3, q)
+        c_de(i, 4:nt) = 0.5_dp*de(4:nt, q)
+        c_de(i, nt + 1:6) = 0.0_dp
+        c_ep0(i, 1:3) = sv0(sv_eps_p:sv_eps_p + 2, q)
+        c_ep0(i, 4:6) = 0.5_dp*sv0(sv_eps_p + 3:sv_eps_p + 5, q)
+        c_z0(i) = sv0(sv_z, q)
+        c_zeta0(i) = sv0(sv_zeta, q)
+      end do
+      call closed_form_block(par, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
+                             c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
+      do i = 1, n
+        if (.not. ok(i) .or. c_st(i) < 0.0_dp) cycle
+        q = idx(k0 - 1 + i)
+        stress(1:nt, q) = c_sig(i, 1:nt)
+        statev(1:nstatv, q) = sv0(1:nstatv, q)
+        statev(sv_z, q) = c_z(i)
+        statev(sv_dlambda, q) = c_dl(i)
+        statev(sv_avg_dlambda, q) = 0.0_dp
+        statev(sv_zeta, q) = c_zeta(i)
+        statev(sv_eps_p:sv_eps_p + 2, q) = c_ep(i, 1:3)
+        statev(sv_eps_p + 3:sv_eps_p + 5, q) = 2.0_dp*c_ep(i, 4:6)
+        statev(sv_f, q) = c_f(i)
+        statev(sv_status, q) = c_st(i)
+        if (.not. (all_finite(stress(1:nt, q)) .and. all_finite(statev(1:nstatv, q)))) cycle
+        stran(1:nt, q) = e0(1:nt, q) + de(1:nt, q)
+        dlambda(q) = c_dl(i)
+        done(q) = .true.
+      end do
+    end do
+  end subroutine umat_block
 
 end module wellposed_mpm_particle_umat
