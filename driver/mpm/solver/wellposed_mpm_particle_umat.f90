@@ -16,7 +16,6 @@
 module wellposed_mpm_particle_umat
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
-  use wellposed_finite, only: all_finite
   use wellposed_umat_host, only: umat_host_t, host_update
   use wellposed_umat_adapter, only: check_props
   use wellposed_umat_layout, only: sv_z, sv_dlambda, sv_avg_dlambda, sv_zeta, sv_eps_p, sv_f, &
@@ -37,10 +36,15 @@ contains
   pure subroutine strain_increment(lg, dt, de)
     real(dp), intent(in) :: lg(:, :), dt
     real(dp), intent(out) :: de(:)
+    ! element by element: no array constructor (a temporary) per particle
     if (size(lg, 1) == 1) then
-      de = [lg(1, 1)*dt, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp]
+      de(1) = lg(1, 1)*dt
+      de(2:6) = 0.0_dp
     else
-      de = dt*[lg(1, 1), lg(2, 2), 0.0_dp, lg(1, 2) + lg(2, 1)]
+      de(1) = dt*lg(1, 1)
+      de(2) = dt*lg(2, 2)
+      de(3) = dt*0.0_dp
+      de(4) = dt*(lg(1, 2) + lg(2, 1))
     end if
   end subroutine strain_increment
 
@@ -90,47 +94,77 @@ contains
     real(dp) :: c_sig0(chunk, 6), c_ep0(chunk, 6), c_de(chunk, 6), c_sig(chunk, 6)
     real(dp) :: c_ep(chunk, 6), c_z0(chunk), c_zeta0(chunk), c_avg(chunk), c_z(chunk)
     real(dp) :: c_zeta(chunk), c_dl(chunk), c_f(chunk), c_st(chunk), c_trial(chunk, 6)
-    logical :: ok(chunk), want_tangent
+    real(dp) :: nan_in(chunk), nan_out
+    logical :: want_tangent
     type(dp_params_t) :: par
-    integer :: fault, k0, n, i, q, nt
+    integer :: fault, k0, n, i, j, q, nt
     nt = ntens
+    if (nt /= 6 .and. nt /= 4) return
     call check_props(3, nt - 3, nt, nstatv, size(props), props, dt, par, want_tangent, fault)
     if (fault /= 0) return
     if (.not. has_closed_form(par) .or. par%gdl) return
     c_avg = 0.0_dp
     do k0 = 1, size(idx), chunk
       n = min(chunk, size(idx) - k0 + 1)
+      ! Gather in the model's order with tensor shears; nan_in(i) = 0 when
+      ! every input the UMAT and the host check is finite (x - x is NaN for
+      ! NaN and Inf).
       do i = 1, n
         q = idx(k0 - 1 + i)
-        ok(i) = all_finite(s0(1:nt, q)) .and. all_finite(de(1:nt, q)) .and. &
-                all_finite(e0(1:nt, q)) .and. all_finite(sv0(1:nstatv_min, q))
-        c_sig0(i, 1:nt) = s0(1:nt, q)
-        c_sig0(i, nt + 1:6) = 0.0_dp
-        c_de(i, 1:3) = de(1:3, q)
-        c_de(i, 4:nt) = 0.5_dp*de(4:nt, q)
-        c_de(i, nt + 1:6) = 0.0_dp
-        c_ep0(i, 1:3) = sv0(sv_eps_p:sv_eps_p + 2, q)
-        c_ep0(i, 4:6) = 0.5_dp*sv0(sv_eps_p + 3:sv_eps_p + 5, q)
+        nan_in(i) = 0.0_dp
+        do j = 1, 6
+          c_sig0(i, j) = 0.0_dp
+          c_de(i, j) = 0.0_dp
+        end do
+        do j = 1, nt
+          c_sig0(i, j) = s0(j, q)
+          c_de(i, j) = de(j, q)
+          nan_in(i) = nan_in(i) + (s0(j, q) - s0(j, q)) + (de(j, q) - de(j, q)) + &
+                      (e0(j, q) - e0(j, q))
+        end do
+        do j = 4, 6
+          c_de(i, j) = 0.5_dp*c_de(i, j)
+        end do
+        ! every STATEV slot: the UMAT reads 1-12, the host checks all after
+        do j = 1, nstatv
+          nan_in(i) = nan_in(i) + (sv0(j, q) - sv0(j, q))
+        end do
+        do j = 1, 3
+          c_ep0(i, j) = sv0(sv_eps_p - 1 + j, q)
+          c_ep0(i, j + 3) = 0.5_dp*sv0(sv_eps_p + 2 + j, q)
+        end do
         c_z0(i) = sv0(sv_z, q)
         c_zeta0(i) = sv0(sv_zeta, q)
       end do
       call closed_form_block(par, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
                              c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
       do i = 1, n
-        if (.not. ok(i) .or. c_st(i) < 0.0_dp) cycle
+        if (.not. (nan_in(i) == 0.0_dp .and. c_st(i) >= 0.0_dp)) cycle
         q = idx(k0 - 1 + i)
-        stress(1:nt, q) = c_sig(i, 1:nt)
-        statev(1:nstatv, q) = sv0(1:nstatv, q)
+        ! the outputs the host checks: STRESS and STATEV finite
+        nan_out = (c_z(i) - c_z(i)) + (c_dl(i) - c_dl(i)) + (c_zeta(i) - c_zeta(i)) + &
+                  (c_f(i) - c_f(i))
+        do j = 1, 6
+          nan_out = nan_out + (c_sig(i, j) - c_sig(i, j)) + (c_ep(i, j) - c_ep(i, j))
+        end do
+        if (.not. nan_out == 0.0_dp) cycle
+        do j = 1, nt
+          stress(j, q) = c_sig(i, j)
+          stran(j, q) = e0(j, q) + de(j, q)
+        end do
         statev(sv_z, q) = c_z(i)
         statev(sv_dlambda, q) = c_dl(i)
         statev(sv_avg_dlambda, q) = 0.0_dp
         statev(sv_zeta, q) = c_zeta(i)
-        statev(sv_eps_p:sv_eps_p + 2, q) = c_ep(i, 1:3)
-        statev(sv_eps_p + 3:sv_eps_p + 5, q) = 2.0_dp*c_ep(i, 4:6)
+        do j = 1, 3
+          statev(sv_eps_p - 1 + j, q) = c_ep(i, j)
+          statev(sv_eps_p + 2 + j, q) = 2.0_dp*c_ep(i, j + 3)
+        end do
         statev(sv_f, q) = c_f(i)
         statev(sv_status, q) = c_st(i)
-        if (.not. (all_finite(stress(1:nt, q)) .and. all_finite(statev(1:nstatv, q)))) cycle
-        stran(1:nt, q) = e0(1:nt, q) + de(1:nt, q)
+        do j = nstatv_min + 1, nstatv
+          statev(j, q) = sv0(j, q)
+        end do
         dlambda(q) = c_dl(i)
         done(q) = .true.
       end do

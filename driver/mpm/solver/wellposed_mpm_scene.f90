@@ -79,6 +79,7 @@ module wellposed_mpm_scene
     ! workspace: start-of-step copies, increments, volume at the step's start
     real(dp), allocatable :: s0(:, :), sv0(:, :), e0(:, :), de(:, :), vol_n(:)
     integer, allocatable :: block_idx(:)  !< particles of one material (block update)
+    integer, allocatable :: nnz(:)        !< support nodes in use of each particle, this step
     logical, allocatable :: done(:)       !< updated by the block kernel this step
     type(nonlocal_t) :: nl                !< Algorithm 1 (the dissertation's chapter 4)
     type(umat_host_t) :: host             !< the UMAT host, one per scene
@@ -220,14 +221,14 @@ contains
       mat = self%mat(1:n)
       q = self%q(1:n)
       deallocate (self%mat, self%q, self%s0, self%sv0, self%e0, self%de, self%vol_n, &
-                  self%block_idx, self%done)
+                  self%block_idx, self%done, self%nnz)
     else
       n = 0
       allocate (mat(0), q(0))
     end if
     allocate (self%mat(cap), self%q(cap), self%s0(self%ntens, cap), self%sv0(ns, cap), &
               self%e0(self%ntens, cap), self%de(self%ntens, cap), self%vol_n(cap), &
-              self%block_idx(cap), self%done(cap))
+              self%block_idx(cap), self%done(cap), self%nnz(cap))
     self%mat(1:n) = mat
     self%q(1:n) = q
   end subroutine size_workspace
@@ -283,8 +284,8 @@ contains
         if (m == 0) cycle
         associate (pt => self%parts)
           call umat_block(self%mats%props(1:self%mats%nprops(k), k), nt, self%host%nstatv, &
-                          self%dt, self%block_idx(1:m), self%s0, self%sv0, self%e0, self%de, pt%stress, &
-                          pt%statev, pt%stran, dl, self%done)
+                          self%dt, self%block_idx(1:m), self%s0, self%sv0, self%e0, self%de, &
+                          pt%stress, pt%statev, pt%stran, dl, self%done)
         end associate
       end do
     end if
