@@ -6,7 +6,9 @@
 !> run; the shares of the step in the stress update (Algorithm 1 and the
 !> UMAT or block calls), the transfers (shape weights, P2G, G2P, MUSL,
 !> velocity gradient, F) and the grid update; bytes per particle. Target:
-!> GIMP <= 6x the trial. Never a pass/fail on wall time.
+!> GIMP <= 6x the trial. Never a pass/fail on wall time. A third row runs
+!> the GIMP scene with every particle through its own UMAT call (the path
+!> a user's UMAT takes; ours goes a block of particles at a time).
 !>
 !> After `nwarm` warm-up steps (the pulse is then inside the body), `nrounds`
 !> rounds each time the trial and nsteps/nrounds steps; the fastest round of
@@ -21,6 +23,7 @@ program bench_mpm1d
                                   timer_transfer, timer_grid, plastic_count
   use wellposed_mpm_particles, only: particle_bytes
   use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_k0, prop_explicit
+  use wellposed_umat_interface, only: umat
   use bench_trial_clock, only: trial_ns
   implicit none
   integer, parameter :: nwarm = 200, nrounds = 10, trial_calls = 200000
@@ -30,7 +33,8 @@ program bench_mpm1d
   type(mpm_config_t) :: cfg
   type(mpm_scene_t) :: sc
   type(error_t), allocatable :: err
-  integer :: kind, k, round, per_round, nplastic
+  integer :: kind, k, round, per_round, nplastic, row
+  character(len=6) :: label
   real(dp) :: ns, trial, t0, t1, tot, sink
 
   if (command_argument_count() >= 1) then
@@ -45,7 +49,8 @@ program bench_mpm1d
     per_round, ' steps; the trial timed in every round'
   write (output_unit, '(a)') '  shape   ns/particle/step  trial ns  /trial  target  plastic'// &
     '  stress-update share  transfer share  grid share  bytes/particle'
-  do kind = shape_linear, shape_gimp
+  do row = 1, 3
+    kind = merge(shape_linear, shape_gimp, row == 1)
     cfg%name = 'bench'
     cfg%title = 'bench'
     cfg%shape = kind
@@ -59,6 +64,11 @@ program bench_mpm1d
     cfg%nprops = prop_explicit
     call new_scene(sc, cfg, err)
     if (allocated(err)) error stop 'bench_mpm1d: scene'
+    label = shape_names(kind)
+    if (row == 3) then
+      sc%host%fn => umat     ! the per-particle path of a user's UMAT
+      label = 'gimp*'
+    end if
     do k = 1, nwarm
       call advance(sc, err)
       if (allocated(err)) error stop 'bench_mpm1d: warm-up'
@@ -80,11 +90,12 @@ program bench_mpm1d
     end do
     tot = max(1.0_dp, real(sum(sc%ticks), dp))
     write (output_unit, '(2x,a6,f14.1,f12.1,f8.2,f8.1,i9,f15.3,f17.3,f13.3,i12)') &
-      shape_names(kind), ns, trial, ns/trial, merge(target_ratio, 0.0_dp, kind == shape_gimp), &
+      label, ns, trial, ns/trial, merge(target_ratio, 0.0_dp, kind == shape_gimp), &
       nplastic, real(sc%ticks(timer_umat), dp)/tot, real(sc%ticks(timer_transfer), dp)/tot, &
       real(sc%ticks(timer_grid), dp)/tot, particle_bytes(1, sc%parts%nsup, cfg%nstatv)
   end do
-  write (output_unit, '(a)') '  (target: GIMP <= 6x the trial; plastic: the most particles '// &
-    'plastic in one timed step; shares of the step''s wall ticks)'
+  write (output_unit, '(a)') '  (target: GIMP <= 6x the trial; gimp*: one UMAT call per '// &
+    'particle, as for a user''s UMAT; plastic: the most particles plastic in one timed step; '// &
+    'shares of the step''s wall ticks)'
   if (sink == 0.0_dp) write (output_unit, '(a)') ''
 end program bench_mpm1d

@@ -56,9 +56,11 @@ contains
   subroutine umat_particle(host, props, t, dt, kinc, gid, x, s, sv, e, de, avg, dlambda, &
                            nsub, err)
     type(umat_host_t), intent(inout) :: host
-    real(dp), intent(in) :: props(:), t, dt, x(:), de(:), avg
+    ! contiguous, as the host's: the particle's columns pass without a copy
+    real(dp), intent(in), contiguous :: props(:), x(:), de(:)
+    real(dp), intent(in) :: t, dt, avg
     integer, intent(in) :: kinc, gid
-    real(dp), intent(inout) :: s(:), sv(:), e(:)
+    real(dp), intent(inout), contiguous :: s(:), sv(:), e(:)
     real(dp), intent(out) :: dlambda
     integer, intent(out) :: nsub
     type(error_t), allocatable, intent(out) :: err
@@ -85,7 +87,8 @@ contains
   !> when PROPS are refused or the model has no closed form.
   subroutine umat_block(props, ntens, nstatv, dt, idx, s0, sv0, e0, de, stress, statev, stran, &
                         dlambda, done)
-    real(dp), intent(in) :: props(:), dt
+    real(dp), intent(in), contiguous :: props(:)
+    real(dp), intent(in) :: dt
     integer, intent(in) :: ntens, nstatv, idx(:)
     real(dp), intent(in) :: s0(:, :), sv0(:, :), e0(:, :), de(:, :)
     real(dp), intent(inout) :: stress(:, :), statev(:, :), stran(:, :), dlambda(:)
