@@ -14,6 +14,7 @@
 !> PROPS the contract refuses is left to the per-particle UMAT call, which
 !> applies the host's rules (PNEWDT, cut-back, the error naming it).
 module wellposed_mpm_particle_umat
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_umat_host, only: umat_host_t, host_update
@@ -97,7 +98,7 @@ contains
     real(dp) :: c_sig0(chunk, 6), c_ep0(chunk, 6), c_de(chunk, 6), c_sig(chunk, 6)
     real(dp) :: c_ep(chunk, 6), c_z0(chunk), c_zeta0(chunk), c_avg(chunk), c_z(chunk)
     real(dp) :: c_zeta(chunk), c_dl(chunk), c_f(chunk), c_st(chunk), c_trial(chunk, 6)
-    real(dp) :: nan_in(chunk), nan_out
+    integer(int64) :: bad(chunk), bad_out
     logical :: want_tangent
     type(dp_params_t) :: par
     integer :: fault, k0, n, i, j, q, nt
@@ -109,28 +110,35 @@ contains
     c_avg = 0.0_dp
     do k0 = 1, size(idx), chunk
       n = min(chunk, size(idx) - k0 + 1)
-      ! Gather in the model's order with tensor shears; nan_in(i) = 0 when
-      ! every input the UMAT and the host check is finite (x - x is NaN for
-      ! NaN and Inf).
+      ! Gather in the model's order with tensor shears. bad(i) < 0 when an
+      ! input the UMAT or the host checks is not finite (integer tests of
+      ! the exponent: nothing traps); such a point enters the kernel as
+      ! zeros and is left to the per-particle call.
       do i = 1, n
         q = idx(k0 - 1 + i)
-        nan_in(i) = 0.0_dp
-        do j = 1, 6
-          c_sig0(i, j) = 0.0_dp
-          c_de(i, j) = 0.0_dp
-        end do
+        bad(i) = 0_int64
         do j = 1, nt
-          c_sig0(i, j) = s0(j, q)
-          c_de(i, j) = de(j, q)
-          nan_in(i) = nan_in(i) + (s0(j, q) - s0(j, q)) + (de(j, q) - de(j, q)) + &
-                      (e0(j, q) - e0(j, q))
-        end do
-        do j = 4, 6
-          c_de(i, j) = 0.5_dp*c_de(i, j)
+          bad(i) = ior(bad(i), ior(nonfinite(s0(j, q)), ior(nonfinite(de(j, q)), &
+                                                             nonfinite(e0(j, q)))))
         end do
         ! every STATEV slot: the UMAT reads 1-12, the host checks all after
         do j = 1, nstatv
-          nan_in(i) = nan_in(i) + (sv0(j, q) - sv0(j, q))
+          bad(i) = ior(bad(i), nonfinite(sv0(j, q)))
+        end do
+        do j = 1, 6
+          c_sig0(i, j) = 0.0_dp
+          c_de(i, j) = 0.0_dp
+          c_ep0(i, j) = 0.0_dp
+        end do
+        c_z0(i) = 0.0_dp
+        c_zeta0(i) = 0.0_dp
+        if (bad(i) < 0) cycle
+        do j = 1, nt
+          c_sig0(i, j) = s0(j, q)
+          c_de(i, j) = de(j, q)
+        end do
+        do j = 4, 6
+          c_de(i, j) = 0.5_dp*c_de(i, j)
         end do
         do j = 1, 3
           c_ep0(i, j) = sv0(sv_eps_p - 1 + j, q)
@@ -142,15 +150,15 @@ contains
       call closed_form_block(par, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
                              c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
       do i = 1, n
-        if (.not. (nan_in(i) == 0.0_dp .and. c_st(i) >= 0.0_dp)) cycle
+        if (bad(i) < 0 .or. c_st(i) < 0.0_dp) cycle
         q = idx(k0 - 1 + i)
         ! the outputs the host checks: STRESS and STATEV finite
-        nan_out = (c_z(i) - c_z(i)) + (c_dl(i) - c_dl(i)) + (c_zeta(i) - c_zeta(i)) + &
-                  (c_f(i) - c_f(i))
+        bad_out = ior(ior(nonfinite(c_z(i)), nonfinite(c_dl(i))), &
+                      ior(nonfinite(c_zeta(i)), nonfinite(c_f(i))))
         do j = 1, 6
-          nan_out = nan_out + (c_sig(i, j) - c_sig(i, j)) + (c_ep(i, j) - c_ep(i, j))
+          bad_out = ior(bad_out, ior(nonfinite(c_sig(i, j)), nonfinite(c_ep(i, j))))
         end do
-        if (.not. nan_out == 0.0_dp) cycle
+        if (bad_out < 0) cycle
         do j = 1, nt
           stress(j, q) = c_sig(i, j)
           stran(j, q) = e0(j, q) + de(j, q)
@@ -173,5 +181,13 @@ contains
       end do
     end do
   end subroutine umat_block
+
+  !> Negative when x is NaN or Inf (its exponent bits all set), else >= 0:
+  !> integer arithmetic, so no floating-point exception is raised.
+  elemental integer(int64) function nonfinite(x)
+    real(dp), intent(in) :: x
+    integer(int64), parameter :: exponent_mask = int(z'7FF0000000000000', int64)
+    nonfinite = iand(not(transfer(x, 0_int64)), exponent_mask) - 1_int64
+  end function nonfinite
 
 end module wellposed_mpm_particle_umat
