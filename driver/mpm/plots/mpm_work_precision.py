@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Speed against accuracy of wellposed-mpm.
 
-usage: mpm_work_precision.py EXE OUTDIR [--quick]
+usage: mpm_work_precision.py EXE OUTDIR [--quick] [--resume]
 
 Runs the decks inputs/work_precision_elastic.nml, inputs/work_precision_efr.nml
 (the 1D bar) and inputs/work_precision_plate.nml (the plane-strain plate) over
@@ -19,6 +19,9 @@ time loop (summary.txt wall_time) and an error:
 Writes OUTDIR/work_precision.md (one table), .csv and .png (error against
 wall time, one panel per case, one line per CFL fraction, dx along each
 line). --quick: coarser meshes and references (a check of the script).
+--resume: a run whose folder in OUTDIR already holds a summary.txt is not
+run again (its figures and wall time are read from it), so an interrupted
+study goes on where it stopped.
 """
 import csv
 import math
@@ -27,16 +30,18 @@ import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+RESUME = False
 ROOT = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
 
 
 def run(exe, deck, outdir, name, over):
-    cmd = [exe, "--out", outdir, "--name", name, "--no-plot", deck] + over
-    p = subprocess.run(cmd, capture_output=True, text=True)
-    if p.returncode != 0:
-        sys.stderr.write(p.stderr)
-        raise SystemExit(1)
     folder = os.path.join(outdir, name)
+    if not (RESUME and os.path.exists(os.path.join(folder, "summary.txt"))):
+        cmd = [exe, "--out", outdir, "--name", name, "--no-plot", deck] + over
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        if p.returncode != 0:
+            sys.stderr.write(p.stderr)
+            raise SystemExit(1)
     vals = {}
     with open(os.path.join(folder, "summary.txt")) as f:
         for line in f:
@@ -105,7 +110,9 @@ def main(argv):
         sys.stderr.write(__doc__)
         return 2
     exe, outdir = argv[1], argv[2]
+    global RESUME
     quick = "--quick" in argv
+    RESUME = "--resume" in argv
     os.makedirs(outdir, exist_ok=True)
     cfls = [0.1, 0.2, 0.5, 0.9]
     rows = []
