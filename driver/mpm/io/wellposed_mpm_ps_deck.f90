@@ -7,7 +7,9 @@
 !>              first with k0 = weak_k0) in the box weak_x by weak_y
 !>   &boundary  bottom ('roller'|'fixed'|'free'), top ('velocity'|'free'),
 !>              sides ('free'|'roller'), top_velocity (m/s), ramp_time (s),
-!>              top_lateral ('fixed': v_x = 0 on the top as the dissertation; 'free')
+!>              top_lateral ('fixed': v_x = 0 on the top as the dissertation; 'free'),
+!>              platen ('surface': on the body's current top; 'grid': on the
+!>              fixed node row y = height; docs/mpm.md, "The platen")
 !>   &stations  x(:), y(:) (m, up to max_stations points of the unscaled plate,
 !>              scaled with it): stress and velocity histories of the particle
 !>              nearest each point, sampled every &output sample_dt (> 0)
@@ -37,7 +39,7 @@ module wellposed_mpm_ps_deck
   use wellposed_mpm_deck_file, only: read_deck_groups
   use wellposed_mpm_scene_kind, only: scene_kind_plate
   use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
-                                        bc_velocity
+                                        bc_velocity, platen_names
   use wellposed_mpm_shape_2d, only: shape2d_names
   implicit none
   private
@@ -90,10 +92,10 @@ contains
     real(dp) :: width, height, weak_x(2), weak_y(2), weak_k0
     real(dp) :: dx(max_cases), scale(max_cases)
     character(len=32) :: label(max_cases)
-    character(len=16) :: bottom, top, sides, top_lateral
+    character(len=16) :: bottom, top, sides, top_lateral, platen
     real(dp) :: top_velocity, ramp_time, x(max_stations), y(max_stations)
     namelist /plate/ width, height, weak_x, weak_y, weak_k0
-    namelist /boundary/ bottom, top, sides, top_velocity, ramp_time, top_lateral
+    namelist /boundary/ bottom, top, sides, top_velocity, ramp_time, top_lateral, platen
     namelist /study/ dx, scale, label
     namelist /stations/ x, y
 
@@ -111,7 +113,7 @@ contains
     width = cfg%width; height = cfg%height
     weak_x = unset; weak_y = unset; weak_k0 = unset
     dx = unset; dx(1) = sh%dx; scale = unset; label = ''
-    bottom = 'roller'; top = 'velocity'; sides = 'free'; top_lateral = 'fixed'
+    bottom = 'roller'; top = 'velocity'; sides = 'free'; top_lateral = 'fixed'; platen = 'surface'
     top_velocity = cfg%top_velocity; ramp_time = cfg%ramp_time
     x = unset; y = unset
     call read_deck_groups(path, text, overrides, plate_groups, read_group, err)
@@ -220,6 +222,7 @@ contains
           "dissertation's), 'free'")
         return
       end select
+      cfg%platen = word(platen, platen_names, 'boundary', 'platen'); if (allocated(err)) return
       call check_finite(path, 'boundary', 'top_velocity', [top_velocity, ramp_time], err)
     end subroutine boundaries
 

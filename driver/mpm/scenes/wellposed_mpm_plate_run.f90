@@ -7,12 +7,10 @@
 !> plots, all into ROOT/NAME.partial renamed at the end, so a failed run
 !> leaves nothing that looks finished.
 !>
-!> Ranks: every rank reads the deck and advances its strip of the plate
-!> (wellposed_mpm_solver). run.h5 is written by all ranks
-!> collectively (wellposed_h5_parallel), particle snapshots by rows from the
-!> ranks that hold the particles (wellposed_mpm_snapshots); curves and
-!> counts are rank 0's, which gathers the particles for band widths and
-!> writes the other files; every output has the serial layout.
+!> Ranks: each advances its strip (wellposed_mpm_solver) and writes run.h5
+!> collectively (snapshots by rows: wellposed_mpm_snapshots); rank 0 keeps
+!> curves and counts, gathers particles for band widths and writes the other
+!> files; every output has the serial layout.
 !>
 !> Checkpoints: every STEPS steps (default a tenth of a case's steps; 0:
 !> none) into ROOT/NAME.checkpoints/checkpoint_<n>.h5 (n: the steps of all
@@ -27,7 +25,7 @@ module wellposed_mpm_plate_run
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, status_cutback
   use wellposed_text, only: int_text, real_text
-  use wellposed_mpm_plane_strain, only: ps_config_t
+  use wellposed_mpm_plane_strain, only: ps_config_t, apparent_strain
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, applied_stress, &
                                   plastic_strain, max_substeps, plastic_count
   use wellposed_mpm_restart, only: save_scene, restore_scene
@@ -238,7 +236,7 @@ contains
         bounds(:, nit) = [sc%nl%last%n_alpha, sc%nl%last%bound_printed, sc%nl%last%error]
         if (sc%t >= next_sample - 1.0e-12_dp) then
           ncurve = ncurve + 1
-          curve(:, ncurve) = [sc%t, -sc%top_disp/cfg%height, applied_stress(sc)]
+          curve(:, ncurve) = [sc%t, apparent_strain(sc), applied_stress(sc)]
           next_sample = next_sample + study%sample_dt
         end if
         call bw%step(sc, comm, curve(:, 1:ncurve))
@@ -270,14 +268,10 @@ contains
       if (comm%size > 1) call allreduce_sum(comm, moved_sum)
       steps_before = steps_before + sc%nstep
       ! (on every rank: the curves and counts are alike on all)
-      outs(ic)%tag = tag
-      outs(ic)%curve = curve(:, 1:ncurve)
-      outs(ic)%its = its(1:nit)
-      outs(ic)%nplast = nplast(1:nit)
-      outs(ic)%bounds = bounds(:, 1:nit)
-      outs(ic)%nsnap = nsnap
-      outs(ic)%nparticles = ntotal
-      outs(ic)%nsteps = sc%nstep
+      outs(ic)%tag = tag; outs(ic)%curve = curve(:, 1:ncurve)
+      outs(ic)%its = its(1:nit); outs(ic)%nplast = nplast(1:nit)
+      outs(ic)%bounds = bounds(:, 1:nit); outs(ic)%nsnap = nsnap
+      outs(ic)%nparticles = ntotal; outs(ic)%nsteps = sc%nstep
       outs(ic)%scal(1:4) = [sc%dt, sc%t, sc%nl%bound_43, wall]
       outs(ic)%scal(7) = fwhm
       done_st(ic) = pst
@@ -294,14 +288,8 @@ contains
       call sm%add(outs(ic)%tag//'.curve_difference_to_'//outs(ic - 1)%tag, &
                   curve_difference(outs(ic - 1)%curve, outs(ic)%curve)*1.0e-6_dp, &
                   'MPa: max |stress difference| over the common strain range')
-      if (outs(ic)%scal(7) > 0.0_dp .and. outs(ic - 1)%scal(7) > 0.0_dp) then
-        call sm%add(outs(ic)%tag//'.band_fwhm_ratio_to_'//outs(ic - 1)%tag, &
-                    outs(ic)%scal(7)/outs(ic - 1)%scal(7))
-      else
-        i = merge(ic - 1, ic, outs(ic - 1)%scal(7) <= 0.0_dp)
-        call sm%not_applicable(outs(ic)%tag//'.band_fwhm_ratio_to_'//outs(ic - 1)%tag, &
-                               'case '//outs(i)%tag//' has no band width (its band_fwhm)')
-      end if
+      call width_ratio('band_fwhm', 7)
+      call width_ratio('band_fwhm_normal', 8)
     end do
     call sm%add('h5_writer', h5_writer_name(comm), 'how run.h5 was written: every rank its '// &
                 'rows through MPI-IO (mpio-collective), or rank 0 alone (rank0-gather)')
@@ -337,6 +325,20 @@ contains
 
   contains
 
+    !> A band width of case ic over case ic - 1's (scal slot k), if both have one.
+    subroutine width_ratio(key, k)
+      character(len=*), intent(in) :: key
+      integer, intent(in) :: k
+      if (outs(ic)%scal(k) > 0.0_dp .and. outs(ic - 1)%scal(k) > 0.0_dp) then
+        call sm%add(outs(ic)%tag//'.'//key//'_ratio_to_'//outs(ic - 1)%tag, &
+                    outs(ic)%scal(k)/outs(ic - 1)%scal(k))
+      else
+        i = merge(ic - 1, ic, outs(ic - 1)%scal(k) <= 0.0_dp)
+        call sm%not_applicable(outs(ic)%tag//'.'//key//'_ratio_to_'//outs(ic - 1)%tag, &
+                               'case '//outs(i)%tag//' has no band width (its '//key//')')
+      end if
+    end subroutine width_ratio
+
     !> The summary lines of the case just finished (rank 0); `nsub` the
     !> largest UMAT cut-back split over the ranks.
     subroutine finish_case(nsub)
@@ -366,6 +368,7 @@ contains
         call sm%add(tag//'.band_peak_plastic_strain', peak_v)
         call bw%summarise(sm, tag)
         call pst%summarise(sm, tag)
+        if (bw%staged .and. bw%fit%found) o%scal(8) = bw%fit%fwhm
         call sm%add(tag//'.max_substeps', nsub)
         call sm%add(tag//'.ended_early', ended_early, 'true: the UMAT could not go on '// &
                     '(stop_on_cutback); the curve ends at final_strain')
