@@ -12,13 +12,11 @@
 !> curves and counts, gathers particles for band widths and writes the other
 !> files; every output has the serial layout.
 !>
-!> Checkpoints: every STEPS steps (default a tenth of a case's steps; 0:
-!> none) into ROOT/NAME.checkpoints/checkpoint_<n>.h5 (n: the steps of all
-!> cases so far; the newest two kept): the scene on every rank, the case
-!> being run with its curves, the finished cases, the summary lines and the
-!> snapshots so far. `--restart` (`--restart-from FILE`) with the same deck
-!> and cli%overrides gives the files of the uninterrupted run, bit for bit on
-!> the same number of ranks (wall times aside).
+!> Checkpoints every STEPS steps (default a tenth of a case's; 0: none) into
+!> ROOT/NAME.checkpoints/checkpoint_<n>.h5 (n: steps of all cases so far; the
+!> newest two kept): scene, current case and curves, finished cases, summary
+!> and snapshots. `--restart` with the same deck and overrides gives the
+!> uninterrupted run's files bit for bit on as many ranks (wall times aside).
 module wellposed_mpm_plate_run
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
