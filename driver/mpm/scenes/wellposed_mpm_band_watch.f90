@@ -189,7 +189,7 @@ contains
     end if
     if (self%top_ratio /= 0.0_dp) then
       call sm%add(tag//'.platen_cell_stress_ratio', self%top_ratio, 'mean sigma_yy in the '// &
-                  'cell row under the platen''s nodes over the mid-height row(s)'', at the end')
+                  'cell row under the platen''s nodes over the mid-height row(s), at the end')
     else
       call sm%not_applicable(tag//'.platen_cell_stress_ratio', &
                              'no particle under a platen, or no stress at mid-height')

@@ -19,8 +19,8 @@ module wellposed_mpm_scene
   use wellposed_mpm_particles, only: particles_t, new_particles
   use wellposed_mpm_exchange, only: mpm_exchange_t, mpm_serial_t
   use wellposed_mpm_materials, only: mpm_materials_t, material_of, check_covered
-  use wellposed_umat_host, only: umat_host_t, new_umat_host
-  use wellposed_mpm_particle_umat, only: umat_particle
+  use wellposed_umat_host, only: umat_host_t, new_umat_host, umat_is_ours
+  use wellposed_mpm_particle_umat, only: umat_particle, umat_block
   use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, nonlocal_settings_t, &
                                     new_nonlocal, nonlocal_ghost_nodes
   implicit none
@@ -79,10 +79,14 @@ module wellposed_mpm_scene
     real(dp), allocatable :: q(:)         !< artificial viscous pressure (Pa)
     ! workspace: start-of-step copies, increments, volume at the step's start
     real(dp), allocatable :: s0(:, :), sv0(:, :), e0(:, :), de(:, :), vol_n(:)
+    integer, allocatable :: block_idx(:)  !< particles of one material (block update)
+    integer, allocatable :: nnz(:)        !< support nodes in use of each particle, this step
+    logical, allocatable :: done(:)       !< updated by the block kernel this step
     type(nonlocal_t) :: nl                !< Algorithm 1 (the dissertation's chapter 4)
     type(umat_host_t) :: host             !< the UMAT host, one per scene
   contains
     procedure :: update => scene_update
+    procedure :: update_local => scene_update_local
   end type mpm_scene_t
 
 contains
@@ -217,13 +221,15 @@ contains
       n = min(self%parts%n, size(self%q))
       mat = self%mat(1:n)
       q = self%q(1:n)
-      deallocate (self%mat, self%q, self%s0, self%sv0, self%e0, self%de, self%vol_n)
+      deallocate (self%mat, self%q, self%s0, self%sv0, self%e0, self%de, self%vol_n, &
+                  self%block_idx, self%done, self%nnz)
     else
       n = 0
       allocate (mat(0), q(0))
     end if
     allocate (self%mat(cap), self%q(cap), self%s0(self%ntens, cap), self%sv0(ns, cap), &
-              self%e0(self%ntens, cap), self%de(self%ntens, cap), self%vol_n(cap))
+              self%e0(self%ntens, cap), self%de(self%ntens, cap), self%vol_n(cap), &
+              self%block_idx(cap), self%done(cap), self%nnz(cap))
     self%mat(1:n) = mat
     self%q(1:n) = q
   end subroutine size_workspace
@@ -253,6 +259,43 @@ contains
       if (nsub > self%max_substeps_step) self%max_substeps_step = nsub
     end associate
   end subroutine scene_update
+
+  !> Step 1 of Algorithm 1 (every particle with <dlambda> = 0): the
+  !> particles of each material of ours a block at a time (umat_block), when
+  !> the linked UMAT is wellposed's; every other particle, and any the block
+  !> kernel leaves, through scene_update one by one, in order, up to the
+  !> first error. Each particle's answer is its own UMAT call's.
+  subroutine scene_update_local(self, dl, err)
+    class(mpm_scene_t), intent(inout) :: self
+    real(dp), intent(out) :: dl(:)
+    type(error_t), allocatable, intent(out) :: err
+    integer :: n, k, p, m, nt
+    n = size(dl)
+    nt = self%ntens
+    self%done(1:n) = .false.
+    if (umat_is_ours() .and. .not. associated(self%host%fn)) then
+      do k = 1, self%mats%n
+        if (.not. self%mats%ours(k)) cycle
+        m = 0
+        do p = 1, n
+          if (self%mat(p) /= k) cycle
+          m = m + 1
+          self%block_idx(m) = p
+        end do
+        if (m == 0) cycle
+        associate (pt => self%parts)
+          call umat_block(self%mats%props(1:self%mats%nprops(k), k), nt, self%host%nstatv, &
+                          self%dt, self%block_idx(1:m), self%s0, self%sv0, self%e0, self%de, &
+                          pt%stress, pt%statev, pt%stran, dl, self%done)
+        end associate
+      end do
+    end if
+    do p = 1, n
+      if (self%done(p)) cycle
+      call self%update(p, 0.0_dp, dl(p), err)
+      if (allocated(err)) return
+    end do
+  end subroutine scene_update_local
 
   !> Kinetic energy of the particles on all ranks (J per m^2 of section in
   !> 1D, per m of thickness in 2D; collective).
