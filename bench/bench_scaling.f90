@@ -1,6 +1,6 @@
 !> bench_scaling: strong and weak scaling of the plane-strain MPM over ranks
 !> and the cost of a checkpoint, measured in one run:
-!>   mpirun -np 2 bench_scaling [CHECKPOINT_DIR]
+!>   mpirun -np 2 bench_scaling [CHECKPOINT_DIR | --overlocal]
 !> A 200 000-particle CPDI plate in pure shear (every particle plastic): S1 on
 !> rank 0 alone, W1 its lower half on rank 0, P on all ranks, timed in
 !> interleaved rounds. Prints measures and ratios (target: strong >= 85 % on
@@ -8,7 +8,8 @@
 !> Then the overlocal plate of fig. 4.4 (h = 0.125 m, Algorithm 1 with the
 !> sweep each rank count takes by default) the same way, O1 on rank 0 and OP
 !> on all ranks in the plastic phase: strong scaling and the share of a step
-!> in Algorithm 1's sweeps and in their exchanges (docs/parallel.md).
+!> in Algorithm 1's sweeps and in their exchanges (docs/parallel.md);
+!> --overlocal: this part alone.
 program bench_scaling
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
@@ -42,6 +43,11 @@ program bench_scaling
   ckdir = 'bench_scaling.checkpoints'
   if (command_argument_count() >= 1) then
     call get_command_argument(1, arg)
+    if (trim(arg) == '--overlocal') then
+      call overlocal_scaling()
+      call comm_stop(world)
+      stop
+    end if
     ckdir = trim(arg)
   end if
   if (world%rank == 0) then

@@ -252,7 +252,7 @@ contains
       real(dp) :: xk(size(act)), gx(size(act)), e, best, limit, gmax
       real(dp), allocatable :: xn(:), xall(:), gall(:), kall(:)
       integer, allocatable :: perm(:), pos(:)
-      integer :: k, kbest, q, pp, nact
+      integer :: k, kbest, q, nact
       integer(int64) :: s0, s1, s2, s3
       type(anderson_t) :: acc
 
@@ -290,14 +290,7 @@ contains
         if (par) call ranks%nodes_from_lower(self%field)
         call system_clock(s1)
         self%ticks_exchange = self%ticks_exchange + (s1 - s0)
-        do q = 1, size(act)
-          pp = act(q)
-          call cached_average(self, pp, x(:, pp), avg)
-          call host%update(pp, avg, dnew, err)
-          if (allocated(err)) exit
-          call correct_field(pp, dnew - self%dl(pp))
-          self%dl(pp) = dnew
-        end do
+        call sweep_pass(act, err)
         if (par) then
           call system_clock(s2)
           call ranks%nodes_to_higher(self%field)
@@ -392,7 +385,7 @@ contains
         call system_clock(s0)
         do c = 0, ncol - 1
           call refresh()
-          call sweep_simultaneous(pack(act, colour == c), err)
+          call sweep_pass(pack(act, colour == c), err)
           if (stopped(err)) return
         end do
         call system_clock(s1)
@@ -459,9 +452,11 @@ contains
       call iteration_error(self, k > self%set%max_iterations, e, best, kbest, limit, nact, err)
     end subroutine iterate_simultaneous
 
-    !> One simultaneous pass over `list`: every average from the field as
-    !> the pass begins, the changes on this rank's part `own`.
-    subroutine sweep_simultaneous(list, err)
+    !> One pass over `list` in its order: average, UMAT, correction (eq. 4.47,
+    !> 4.39, 4.49-4.50). Gauss-Seidel corrects the field it reads as it goes;
+    !> the simultaneous sweeps read the field as the pass began and correct
+    !> this rank's part `own`.
+    subroutine sweep_pass(list, err)
       integer, intent(in) :: list(:)
       type(error_t), allocatable, intent(out) :: err
       integer :: q, pp
@@ -474,7 +469,7 @@ contains
         call correct_field(pp, dn - self%dl(pp))
         self%dl(pp) = dn
       end do
-    end subroutine sweep_simultaneous
+    end subroutine sweep_pass
 
     !> The field of the simultaneous sweeps: every rank's `own` added at the
     !> nodes they share (collective).
