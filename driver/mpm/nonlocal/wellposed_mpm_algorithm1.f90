@@ -83,9 +83,12 @@ module wellposed_mpm_algorithm1
   !> The host's side: one UMAT call for particle p from its start-of-step
   !> copies with STATEV(3) = avg; dlambda = STATEV(2) afterwards; the
   !> result becomes p's end-of-step state (overwritten by the next call).
+  !> `update_local`: step 1 (every particle with avg = 0; dl(p) out), by
+  !> default `update` per particle; a host may do it a block at a time.
   type, abstract :: nonlocal_host_t
   contains
     procedure(host_update), deferred :: update
+    procedure :: update_local
   end type nonlocal_host_t
 
   abstract interface
@@ -100,6 +103,19 @@ module wellposed_mpm_algorithm1
   end interface
 
 contains
+
+  !> Step 1 of Algorithm 1: every particle once with <dlambda> = 0, in
+  !> order, up to the first error.
+  subroutine update_local(self, dl, err)
+    class(nonlocal_host_t), intent(inout) :: self
+    real(dp), intent(out) :: dl(:)
+    type(error_t), allocatable, intent(out) :: err
+    integer :: p
+    do p = 1, size(dl)
+      call self%update(p, 0.0_dp, dl(p), err)
+      if (allocated(err)) return
+    end do
+  end subroutine update_local
 
   !> One time step of Algorithm 1 (see the module comment). `x` (ndim, n)
   !> are the particle positions (m), `mass` (kg), `node`/`phi` the shape
@@ -156,10 +172,7 @@ contains
     end if
     ! Step 1: the local estimate, <dlambda> = 0.
     call system_clock(c0)
-    do p = 1, n
-      call host%update(p, 0.0_dp, self%dl(p), err)
-      if (allocated(err)) exit
-    end do
+    call host%update_local(self%dl, err)
     if (stopped(err)) return
     call system_clock(c1)
     self%ticks_local = self%ticks_local + (c1 - c0)

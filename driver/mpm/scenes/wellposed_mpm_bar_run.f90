@@ -27,7 +27,8 @@ module wellposed_mpm_bar_run
   use wellposed_mpm_config
   use wellposed_mpm_deck, only: read_mpm_deck, mpm_options_t
   use wellposed_mpm_deck_checks, only: check_bar_deck
-  use wellposed_mpm_station_summary, only: add_station_summary
+  use wellposed_mpm_station_summary, only: add_station_summary, head_speed, head_speed_t
+  use wellposed_mpm_nonlocal_summary, only: add_nonlocal_summary
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, kinetic_energy, &
                                   total_momentum, timer_umat, timer_transfer, timer_grid
   use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations, &
@@ -76,6 +77,7 @@ contains
     type(mpm_scene_t) :: scene
     type(stations_t) :: st
     type(station_measures_t) :: meas
+    type(head_speed_t) :: head
     type(run_dir_t) :: rd
     type(h5_parallel_file_t) :: h5
     type(summary_t) :: sm
@@ -118,6 +120,7 @@ contains
     ghost = scene%exchange%ghost_layers()
     c_e = sqrt(scene%modulus_elastic/cfg%density)
     c_p = sqrt(scene%modulus_plastic/cfg%density)
+    head = head_speed(cfg, scene%nl%active, c_p)
     ! rank 0 makes the run folder; run.h5 in it is written by every rank
     h5_path = ''
     if (root) then
@@ -424,17 +427,12 @@ contains
                     'falls below weight_cutoff')
         call sm%add('nonlocal_sweep_order', 'Gauss-Seidel by owning cell, then particle '// &
                     'id, pipelined across ranks')
-        call sm%add('nonlocal_steps_iterated', scene%nl%steps_iterated)
-        call sm%add('nonlocal_iterations_mean', real(scene%nl%iterations_total, dp)/ &
-                    max(scene%nl%steps_iterated, 1), 'sweeps per step with plastic particles')
-        call sm%add('nonlocal_iterations_max', scene%nl%iterations_max)
-        call sm%add('lipschitz_eq4_43_sharp', scene%nl%bound_43, '|h_zeta/(a + h_eta)|')
-        call sm%add('lipschitz_eq4_45_sharp', scene%nl%bound_45, '|(h_eta + h_zeta)/a|')
+        call add_nonlocal_summary(sm, '', scene%nl)
       end if
       call sm%add('c_elastic', c_e, 'm/s, from the UMAT unloading modulus at the initial state')
       call sm%add('c_plastic', c_p, 'm/s, from the UMAT loading (extension) modulus')
       call add_station_summary(sm, cfg, st%x, st%time(1:st%ns), st%hist(field_sxx, :, 1:st%ns), &
-                               st%hist(field_apex, :, 1:st%ns), meas, c_e, c_p)
+                               st%hist(field_apex, :, 1:st%ns), meas, c_e, c_p, head)
       call add_wake()
       call sm%add('energy_input', escale, 'J/m^2, |W_ext| + E_kin0: the work of the '// &
                   'surface load and the initial kinetic energy')

@@ -64,14 +64,17 @@ contains
   !> Weights of one particle at xp (m): lp(2) the half-widths of its initial
   !> rectangle (m), f(2, 2) the in-plane deformation gradient (CPDI only);
   !> grid origin(2) (m), cell size h (m), nx nodes per row. nodes(:) global
-  !> node numbers, phi(:), grad(2, :) (1/m), size support_size_2d(kind).
-  pure subroutine shape_2d(kind, xp, lp, f, origin, h, nx, nodes, phi, grad)
+  !> node numbers, phi(:), grad(2, :) (1/m), size support_size_2d(kind);
+  !> nused (optional): the nodes in use, 1 .. nused (past it phi = 0).
+  pure subroutine shape_2d(kind, xp, lp, f, origin, h, nx, nodes, phi, grad, nused)
     integer, intent(in) :: kind, nx
     real(dp), intent(in) :: xp(2), lp(2), f(2, 2), origin(2), h
     integer, intent(out) :: nodes(:)
     real(dp), intent(out) :: phi(:), grad(:, :)
+    integer, intent(out), optional :: nused
     real(dp) :: sx(3), sy(3), dsx(3), dsy(3), s(2)
-    integer :: i0(2), a, b, k
+    integer :: i0(2), a, b, k, m
+    m = size(phi)
     select case (kind)
     case (shape2d_gimp)
       s = (xp - origin)/h
@@ -91,10 +94,12 @@ contains
       end do
     case (shape2d_cpdi)
       call cpdi_2d(xp, matmul(f, [lp(1), 0.0_dp]), matmul(f, [0.0_dp, lp(2)]), origin, h, &
-                   nx, nodes, phi, grad)
+                   nx, nodes, phi, grad, m)
     case default
       call bilinear(xp, origin, h, nx, nodes(1:4), phi(1:4), grad(:, 1:4))
+      m = 4
     end select
+    if (present(nused)) nused = m
   end subroutine shape_2d
 
   !> The four corners (2, 4) of a CPDI parallelogram, counter-clockwise.
@@ -107,14 +112,16 @@ contains
     c(:, 4) = xp - r1 + r2
   end function cpdi_corners
 
-  !> CPDI weights (module comment) for half side vectors r1, r2 (m).
-  pure subroutine cpdi_2d(xp, r1, r2, origin, h, nx, nodes, phi, grad)
+  !> CPDI weights (module comment) for half side vectors r1, r2 (m);
+  !> nused: the distinct nodes, first in nodes(:).
+  pure subroutine cpdi_2d(xp, r1, r2, origin, h, nx, nodes, phi, grad, nused)
     real(dp), intent(in) :: xp(2), r1(2), r2(2), origin(2), h
     integer, intent(in) :: nx
     integer, intent(out) :: nodes(:)
     real(dp), intent(out) :: phi(:), grad(:, :)
+    integer, intent(out) :: nused
     real(dp) :: c(2, 4), sc(4, 4), gdum(2, 4), vol, w(4, 16), v13(2), v24(2)
-    integer :: nc(4, 4), a, k, m, nused
+    integer :: nc(4, 4), a, k, m
     c = cpdi_corners(xp, r1, r2)
     do a = 1, 4
       call bilinear(c(:, a), origin, h, nx, nc(:, a), sc(:, a), gdum)

@@ -5,13 +5,28 @@
 !> (docs/mpm.md, "Hosting a UMAT in the MPM"). The host's rules apply:
 !> PNEWDT < 0 or a non-finite result is an error naming the particle, a
 !> cut-back splits the increment.
+!>
+!> Our own material (the linked UMAT is wellposed's, a closed-form model)
+!> also goes a block of particles at a time through the VUMAT's kernel
+!> (umat_block: closed_form_block, the same arithmetic as the UMAT's
+!> point update, so bitwise its answer); every particle the kernel defers
+!> (apex, zero deviator), whose input or output is not finite, or whose
+!> PROPS the contract refuses is left to the per-particle UMAT call, which
+!> applies the host's rules (PNEWDT, cut-back, the error naming it).
 module wellposed_mpm_particle_umat
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_umat_host, only: umat_host_t, host_update
+  use wellposed_umat_adapter, only: check_props
+  use wellposed_umat_layout, only: sv_z, sv_dlambda, sv_avg_dlambda, sv_zeta, sv_eps_p, sv_f, &
+                                   sv_status, nstatv_min
+  use wellposed_dp_params, only: dp_params_t
+  use wellposed_dp_point, only: has_closed_form
+  use wellposed_dp_block, only: closed_form_block, block_chunk
   implicit none
   private
-  public :: strain_increment, umat_particle
+  public :: strain_increment, umat_particle, umat_block
 
 contains
 
@@ -22,10 +37,15 @@ contains
   pure subroutine strain_increment(lg, dt, de)
     real(dp), intent(in) :: lg(:, :), dt
     real(dp), intent(out) :: de(:)
+    ! element by element: no array constructor (a temporary) per particle
     if (size(lg, 1) == 1) then
-      de = [lg(1, 1)*dt, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 0.0_dp]
+      de(1) = lg(1, 1)*dt
+      de(2:6) = 0.0_dp
     else
-      de = dt*[lg(1, 1), lg(2, 2), 0.0_dp, lg(1, 2) + lg(2, 1)]
+      de(1) = dt*lg(1, 1)
+      de(2) = dt*lg(2, 2)
+      de(3) = dt*0.0_dp
+      de(4) = dt*(lg(1, 2) + lg(2, 1))
     end if
   end subroutine strain_increment
 
@@ -37,9 +57,11 @@ contains
   subroutine umat_particle(host, props, t, dt, kinc, gid, x, s, sv, e, de, avg, dlambda, &
                            nsub, err)
     type(umat_host_t), intent(inout) :: host
-    real(dp), intent(in) :: props(:), t, dt, x(:), de(:), avg
+    ! contiguous, as the host's: the particle's columns pass without a copy
+    real(dp), intent(in), contiguous :: props(:), x(:), de(:)
+    real(dp), intent(in) :: t, dt, avg
     integer, intent(in) :: kinc, gid
-    real(dp), intent(inout) :: s(:), sv(:), e(:)
+    real(dp), intent(inout), contiguous :: s(:), sv(:), e(:)
     real(dp), intent(out) :: dlambda
     integer, intent(out) :: nsub
     type(error_t), allocatable, intent(out) :: err
@@ -55,5 +77,117 @@ contains
     if (allocated(err)) return
     if (host%ours) dlambda = sv(2)
   end subroutine umat_particle
+
+  !> Particles idx(:) of one material of ours, the local update of
+  !> Algorithm 1 (STATEV(3) = <dlambda> = 0), through the block kernel:
+  !> from the start-of-step s0, sv0, e0 (NTENS x n, NSTATV x n) over the
+  !> increments de, into stress, statev, stran (the particle arrays) and
+  !> dlambda; done(p) is set for every particle so updated. The UMAT's
+  !> conversions: engineering shears halved in the strains and doubled in
+  !> the plastic strain (STATEV 8-10), exact in binary. Nothing is done
+  !> when PROPS are refused or the model has no closed form.
+  subroutine umat_block(props, ntens, nstatv, dt, idx, s0, sv0, e0, de, stress, statev, stran, &
+                        dlambda, done)
+    real(dp), intent(in), contiguous :: props(:)
+    real(dp), intent(in) :: dt
+    integer, intent(in) :: ntens, nstatv, idx(:)
+    real(dp), intent(in) :: s0(:, :), sv0(:, :), e0(:, :), de(:, :)
+    real(dp), intent(inout) :: stress(:, :), statev(:, :), stran(:, :), dlambda(:)
+    logical, intent(inout) :: done(:)
+    integer, parameter :: chunk = block_chunk
+    real(dp) :: c_sig0(chunk, 6), c_ep0(chunk, 6), c_de(chunk, 6), c_sig(chunk, 6)
+    real(dp) :: c_ep(chunk, 6), c_z0(chunk), c_zeta0(chunk), c_avg(chunk), c_z(chunk)
+    real(dp) :: c_zeta(chunk), c_dl(chunk), c_f(chunk), c_st(chunk), c_trial(chunk, 6)
+    integer(int64) :: bad(chunk), bad_out
+    logical :: want_tangent
+    type(dp_params_t) :: par
+    integer :: fault, k0, n, i, j, q, nt
+    nt = ntens
+    if (nt /= 6 .and. nt /= 4) return
+    call check_props(3, nt - 3, nt, nstatv, size(props), props, dt, par, want_tangent, fault)
+    if (fault /= 0) return
+    if (.not. has_closed_form(par) .or. par%gdl) return
+    c_avg = 0.0_dp
+    do k0 = 1, size(idx), chunk
+      n = min(chunk, size(idx) - k0 + 1)
+      ! Gather in the model's order with tensor shears. bad(i) < 0 when an
+      ! input the UMAT or the host checks is not finite (integer tests of
+      ! the exponent: nothing traps); such a point enters the kernel as
+      ! zeros and is left to the per-particle call.
+      do i = 1, n
+        q = idx(k0 - 1 + i)
+        bad(i) = 0_int64
+        do j = 1, nt
+          bad(i) = ior(bad(i), ior(nonfinite(s0(j, q)), ior(nonfinite(de(j, q)), &
+                                                             nonfinite(e0(j, q)))))
+        end do
+        ! every STATEV slot: the UMAT reads 1-12, the host checks all after
+        do j = 1, nstatv
+          bad(i) = ior(bad(i), nonfinite(sv0(j, q)))
+        end do
+        do j = 1, 6
+          c_sig0(i, j) = 0.0_dp
+          c_de(i, j) = 0.0_dp
+          c_ep0(i, j) = 0.0_dp
+        end do
+        c_z0(i) = 0.0_dp
+        c_zeta0(i) = 0.0_dp
+        if (bad(i) < 0) cycle
+        do j = 1, nt
+          c_sig0(i, j) = s0(j, q)
+          c_de(i, j) = de(j, q)
+        end do
+        do j = 4, 6
+          c_de(i, j) = 0.5_dp*c_de(i, j)
+        end do
+        do j = 1, 3
+          c_ep0(i, j) = sv0(sv_eps_p - 1 + j, q)
+          c_ep0(i, j + 3) = 0.5_dp*sv0(sv_eps_p + 2 + j, q)
+        end do
+        c_z0(i) = sv0(sv_z, q)
+        c_zeta0(i) = sv0(sv_zeta, q)
+      end do
+      call closed_form_block(par, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
+                             c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
+      do i = 1, n
+        if (bad(i) < 0 .or. c_st(i) < 0.0_dp) cycle
+        q = idx(k0 - 1 + i)
+        ! the outputs the host checks: STRESS and STATEV finite
+        bad_out = ior(ior(nonfinite(c_z(i)), nonfinite(c_dl(i))), &
+                      ior(nonfinite(c_zeta(i)), nonfinite(c_f(i))))
+        do j = 1, 6
+          bad_out = ior(bad_out, ior(nonfinite(c_sig(i, j)), nonfinite(c_ep(i, j))))
+        end do
+        if (bad_out < 0) cycle
+        do j = 1, nt
+          stress(j, q) = c_sig(i, j)
+          stran(j, q) = e0(j, q) + de(j, q)
+        end do
+        statev(sv_z, q) = c_z(i)
+        statev(sv_dlambda, q) = c_dl(i)
+        statev(sv_avg_dlambda, q) = 0.0_dp
+        statev(sv_zeta, q) = c_zeta(i)
+        do j = 1, 3
+          statev(sv_eps_p - 1 + j, q) = c_ep(i, j)
+          statev(sv_eps_p + 2 + j, q) = 2.0_dp*c_ep(i, j + 3)
+        end do
+        statev(sv_f, q) = c_f(i)
+        statev(sv_status, q) = c_st(i)
+        do j = nstatv_min + 1, nstatv
+          statev(j, q) = sv0(j, q)
+        end do
+        dlambda(q) = c_dl(i)
+        done(q) = .true.
+      end do
+    end do
+  end subroutine umat_block
+
+  !> Negative when x is NaN or Inf (its exponent bits all set), else >= 0:
+  !> integer arithmetic, so no floating-point exception is raised.
+  elemental integer(int64) function nonfinite(x)
+    real(dp), intent(in) :: x
+    integer(int64), parameter :: exponent_mask = int(z'7FF0000000000000', int64)
+    nonfinite = iand(not(transfer(x, 0_int64)), exponent_mask) - 1_int64
+  end function nonfinite
 
 end module wellposed_mpm_particle_umat

@@ -19,8 +19,8 @@ module wellposed_mpm_scene
   use wellposed_mpm_particles, only: particles_t, new_particles
   use wellposed_mpm_exchange, only: mpm_exchange_t, mpm_serial_t
   use wellposed_mpm_materials, only: mpm_materials_t, material_of, check_covered
-  use wellposed_umat_host, only: umat_host_t, new_umat_host
-  use wellposed_mpm_particle_umat, only: umat_particle
+  use wellposed_umat_host, only: umat_host_t, new_umat_host, umat_is_ours
+  use wellposed_mpm_particle_umat, only: umat_particle, umat_block
   use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, nonlocal_settings_t, &
                                     new_nonlocal, nonlocal_ghost_nodes
   implicit none
@@ -65,6 +65,7 @@ module wellposed_mpm_scene
     real(dp) :: kinetic0 = 0.0_dp, momentum0 = 0.0_dp
     ! bookkeeping of the plate
     real(dp) :: top_disp = 0.0_dp         !< vertical displacement of the top (m)
+    integer :: platen_row = -huge(1)      !< the plate's lowest platen node row (none yet)
     integer :: moved = 0                  !< particles this rank handed to others, so far
     integer :: max_substeps = 1           !< largest UMAT cut-back split used (this rank)
     integer :: max_substeps_step = 1      !< the same within the current step
@@ -78,10 +79,14 @@ module wellposed_mpm_scene
     real(dp), allocatable :: q(:)         !< artificial viscous pressure (Pa)
     ! workspace: start-of-step copies, increments, volume at the step's start
     real(dp), allocatable :: s0(:, :), sv0(:, :), e0(:, :), de(:, :), vol_n(:)
+    integer, allocatable :: block_idx(:)  !< particles of one material (block update)
+    integer, allocatable :: nnz(:)        !< support nodes in use of each particle, this step
+    logical, allocatable :: done(:)       !< updated by the block kernel this step
     type(nonlocal_t) :: nl                !< Algorithm 1 (the dissertation's chapter 4)
     type(umat_host_t) :: host             !< the UMAT host, one per scene
   contains
     procedure :: update => scene_update
+    procedure :: update_local => scene_update_local
   end type mpm_scene_t
 
 contains
@@ -216,13 +221,15 @@ contains
       n = min(self%parts%n, size(self%q))
       mat = self%mat(1:n)
       q = self%q(1:n)
-      deallocate (self%mat, self%q, self%s0, self%sv0, self%e0, self%de, self%vol_n)
+      deallocate (self%mat, self%q, self%s0, self%sv0, self%e0, self%de, self%vol_n, &
+                  self%block_idx, self%done, self%nnz)
     else
       n = 0
       allocate (mat(0), q(0))
     end if
     allocate (self%mat(cap), self%q(cap), self%s0(self%ntens, cap), self%sv0(ns, cap), &
-              self%e0(self%ntens, cap), self%de(self%ntens, cap), self%vol_n(cap))
+              self%e0(self%ntens, cap), self%de(self%ntens, cap), self%vol_n(cap), &
+              self%block_idx(cap), self%done(cap), self%nnz(cap))
     self%mat(1:n) = mat
     self%q(1:n) = q
   end subroutine size_workspace
@@ -252,6 +259,43 @@ contains
       if (nsub > self%max_substeps_step) self%max_substeps_step = nsub
     end associate
   end subroutine scene_update
+
+  !> Step 1 of Algorithm 1 (every particle with <dlambda> = 0): the
+  !> particles of each material of ours a block at a time (umat_block), when
+  !> the linked UMAT is wellposed's; every other particle, and any the block
+  !> kernel leaves, through scene_update one by one, in order, up to the
+  !> first error. Each particle's answer is its own UMAT call's.
+  subroutine scene_update_local(self, dl, err)
+    class(mpm_scene_t), intent(inout) :: self
+    real(dp), intent(out) :: dl(:)
+    type(error_t), allocatable, intent(out) :: err
+    integer :: n, k, p, m, nt
+    n = size(dl)
+    nt = self%ntens
+    self%done(1:n) = .false.
+    if (umat_is_ours() .and. .not. associated(self%host%fn)) then
+      do k = 1, self%mats%n
+        if (.not. self%mats%ours(k)) cycle
+        m = 0
+        do p = 1, n
+          if (self%mat(p) /= k) cycle
+          m = m + 1
+          self%block_idx(m) = p
+        end do
+        if (m == 0) cycle
+        associate (pt => self%parts)
+          call umat_block(self%mats%props(1:self%mats%nprops(k), k), nt, self%host%nstatv, &
+                          self%dt, self%block_idx(1:m), self%s0, self%sv0, self%e0, self%de, &
+                          pt%stress, pt%statev, pt%stran, dl, self%done)
+        end associate
+      end do
+    end if
+    do p = 1, n
+      if (self%done(p)) cycle
+      call self%update(p, 0.0_dp, dl(p), err)
+      if (allocated(err)) return
+    end do
+  end subroutine scene_update_local
 
   !> Kinetic energy of the particles on all ranks (J per m^2 of section in
   !> 1D, per m of thickness in 2D; collective).
@@ -284,17 +328,20 @@ contains
   !> The plate's applied axial stress (Pa, compression positive): the top
   !> force per unit initial width, from the volume average of sigma_yy (in
   !> equilibrium without body force, int sigma_yy dV = F_top * H, H the
-  !> current height): -sum_p sigma_yy V_p / (width * (height + top_disp)).
+  !> current height) over the body under the platen's lowest node row y_g
+  !> (the layer above it moves with the platen): -sum_p sigma_yy V_p /
+  !> (width * min(y_g, height + top_disp)), particles with y_p < y_g.
   !> Robust to the boundary layer under a laterally fixed top and to the
   !> mesh. Collective.
   real(dp) function applied_stress(self) result(s)
     type(mpm_scene_t), intent(in) :: self
     integer :: n
-    real(dp) :: a(1)
+    real(dp) :: a(1), yg
     n = self%parts%n
-    a(1) = sum(self%parts%stress(2, 1:n)*self%parts%vol(1:n))
+    yg = self%origin(2) + self%dx*self%platen_row
+    a(1) = sum(self%parts%stress(2, 1:n)*self%parts%vol(1:n), mask=self%parts%x(2, 1:n) < yg)
     call self%exchange%sum_reals(a)
-    s = -a(1)/(self%plate%width*(self%plate%height + self%top_disp))
+    s = -a(1)/(self%plate%width*min(yg, self%plate%height + self%top_disp))
   end function applied_stress
 
   !> Magnitude of the plastic strain tensor ||eps^p|| of each particle

@@ -58,7 +58,7 @@ module wellposed_mpm_solver
                                  timer_transfer, timer_grid, timer_umat, ntimers
   use wellposed_mpm_bar, only: new_bar_scene, probe_moduli, bar_load_t, bar_traction, &
                                bar_impulse, bar_external_work
-  use wellposed_mpm_plane_strain, only: new_plate_scene, platen_velocity
+  use wellposed_mpm_plane_strain, only: new_plate_scene, platen_velocity, platen_nodes
   implicit none
   private
   public :: mpm_scene_t, new_scene, advance, kinetic_energy, total_momentum, applied_stress, &
@@ -109,13 +109,14 @@ contains
       call ex%sync_error(err)
       if (allocated(err)) return
       ! --- particle to grid: eq. 4.4, momentum, eq. 4.5 (sigma - q I)
-      call p2g(g, pt, n, self%q)
+      call p2g(g, pt, n, self%q, self%nnz)
       call ex%sum_grid(g, .false.)
       ! --- the load: the bar's surface traction, the plate's platen
       given = 0.0_dp
       if (d == 1) then
         call bar_traction(self, load)
       else
+        call platen_nodes(self)
         given(2) = platen_velocity(self%plate, self%t, dt)
       end if
       call tick(timer_transfer)
@@ -126,17 +127,17 @@ contains
       if (d == 1) call bar_impulse(self, load, reaction(1))
       call tick(timer_grid)
       ! --- grid to particle: FLIP velocity (eq. 4.13), position (eq. 4.12)
-      call g2p(g, pt, n, dt)
+      call g2p(g, pt, n, dt, self%nnz)
       if (self%scheme == scheme_musl) then
         ! rebuild the grid velocity from the updated particle momentum
-        call p2g_momentum(g, pt, n)
+        call p2g_momentum(g, pt, n, self%nnz)
         call ex%sum_grid(g, .true.)
         call velocity_from_momentum(g, mmin, given)
       end if
       ! --- velocity gradient (eq. 4.11), strain increment, F and volume,
       ! viscosity, rotation
       do p = 1, n
-        call velocity_gradient(g, pt, p, lg)
+        call velocity_gradient(g, pt, p, lg, self%nnz)
         call strain_increment(lg, dt, self%de(:, p))
         self%vol_n(p) = pt%vol(p)
         call deform(self, p, lg, err)
@@ -170,11 +171,13 @@ contains
       call ex%sync_error(err)
       if (allocated(err)) return
       if (self%max_substeps_step > self%max_substeps) self%max_substeps = self%max_substeps_step
-      ! --- bookkeeping: the bar's internal work
+      ! --- bookkeeping: the bar's internal work, with the viscous pressure's
       if (d == 1) then
         do p = 1, n
           self%work_internal = self%work_internal + &
             self%vol_n(p)*0.5_dp*(self%s0(1, p) + pt%stress(1, p))*self%de(1, p)
+          if (self%q(p) /= 0.0_dp) self%work_internal = self%work_internal - &
+            self%vol_n(p)*self%q(p)*self%de(1, p)
         end do
       end if
       call tick(timer_umat)
@@ -232,11 +235,12 @@ contains
           call shape_1d(self%shape, pt%x(1, p), pt%lp(1, p), g%origin, g%dx, pt%node(:, p), &
                         pt%phi(:, p), pt%grad(1, :, p))
         end do
+        self%nnz(1:pt%n) = pt%nsup
       else
         do p = 1, pt%n
           f2 = pt%defgrad(1:2, 1:2, p)
           call shape_2d(self%shape, pt%x(:, p), pt%lp(:, p), f2, self%origin, self%dx, &
-                        self%nx, pt%node(:, p), pt%phi(:, p), pt%grad(:, :, p))
+                        self%nx, pt%node(:, p), pt%phi(:, p), pt%grad(:, :, p), self%nnz(p))
         end do
       end if
     end associate
@@ -250,14 +254,21 @@ contains
     integer, intent(in) :: p
     real(dp), intent(in) :: lg(:, :)
     type(error_t), allocatable, intent(inout) :: err
-    real(dp) :: f2(2, 2)
+    real(dp) :: f2(2, 2), lf
+    integer :: a, b
     associate (pt => self%parts)
       if (self%ndim == 1) then
         pt%defgrad(1, 1, p) = pt%defgrad(1, 1, p)*(1.0_dp + self%de(1, p))
         pt%vol(p) = pt%vol0(p)*pt%defgrad(1, 1, p)
       else
+        ! F + dt (L F), the product written out (no temporary)
         f2 = pt%defgrad(1:2, 1:2, p)
-        pt%defgrad(1:2, 1:2, p) = f2 + self%dt*matmul(lg, f2)
+        do b = 1, 2
+          do a = 1, 2
+            lf = lg(a, 1)*f2(1, b) + lg(a, 2)*f2(2, b)
+            pt%defgrad(a, b, p) = f2(a, b) + self%dt*lf
+          end do
+        end do
         pt%vol(p) = pt%vol0(p)*(pt%defgrad(1, 1, p)*pt%defgrad(2, 2, p) - &
                                 pt%defgrad(1, 2, p)*pt%defgrad(2, 1, p))
       end if

@@ -12,6 +12,11 @@
 !> bar and plate reproduces its reference bit for bit: the internal force
 !> of a bar is (V sigma) G, of a plate V (sigma G); G2P of a bar adds the
 !> weighted nodal values and then the step, a plate adds node by node.
+!> Each routine has one loop per dimension (no test of ndim inside the
+!> particle loop, no array temporaries); `nnz` (optional) is each
+!> particle's count of support nodes in use (a CPDI particle fills fewer
+!> than its room; the weights past it are 0 and are skipped, which leaves
+!> every sum unchanged).
 module wellposed_mpm_transfer
   use wellposed_kinds, only: dp
   use wellposed_mpm_grid, only: grid_t, grid_reset
@@ -22,48 +27,80 @@ module wellposed_mpm_transfer
 
 contains
 
+  !> Support nodes of particle p to visit: nnz(p) when given, else all.
+  pure integer function nodes_of(pt, p, nnz) result(m)
+    type(particles_t), intent(in) :: pt
+    integer, intent(in) :: p
+    integer, intent(in), optional :: nnz(:)
+    m = pt%nsup
+    if (present(nnz)) m = nnz(p)
+  end function nodes_of
+
   !> Mass, momentum and internal force of particles 1 .. n on the grid
   !> (the grid's sums zeroed first). The force takes sigma - q I in the
   !> plane (q: a viscous pressure per particle, optional). Components of
   !> the stress: Abaqus order (11, 22, 33, 12, ...).
-  subroutine p2g(g, pt, n, q)
+  subroutine p2g(g, pt, n, q, nnz)
     type(grid_t), intent(inout) :: g
     type(particles_t), intent(in) :: pt
     integer, intent(in) :: n
     real(dp), intent(in), optional :: q(:)
+    integer, intent(in), optional :: nnz(:)
     integer :: p, k, i
-    real(dp) :: w, sig(2, 2), qp
+    real(dp) :: w, qp, s11, s22, s12, vol, f1, f2
     call grid_reset(g)
+    if (g%ndim == 1) then
+      do p = 1, n
+        qp = 0.0_dp
+        if (present(q)) qp = q(p)
+        do k = 1, nodes_of(pt, p, nnz)
+          i = pt%node(k, p)
+          w = pt%phi(k, p)*pt%mass(p)
+          g%mass(i) = g%mass(i) + w
+          g%momentum(1, i) = g%momentum(1, i) + w*pt%v(1, p)
+          g%fint(1, i) = g%fint(1, i) - pt%vol(p)*(pt%stress(1, p) - qp)*pt%grad(1, k, p)
+        end do
+      end do
+      return
+    end if
     do p = 1, n
       qp = 0.0_dp
       if (present(q)) qp = q(p)
-      if (g%ndim == 2) sig = reshape([pt%stress(1, p) - qp, pt%stress(4, p), pt%stress(4, p), &
-                                      pt%stress(2, p) - qp], [2, 2])
-      do k = 1, pt%nsup
+      s11 = pt%stress(1, p) - qp
+      s22 = pt%stress(2, p) - qp
+      s12 = pt%stress(4, p)
+      vol = pt%vol(p)
+      do k = 1, nodes_of(pt, p, nnz)
         i = pt%node(k, p)
         w = pt%phi(k, p)*pt%mass(p)
         g%mass(i) = g%mass(i) + w
-        g%momentum(:, i) = g%momentum(:, i) + w*pt%v(:, p)
-        if (g%ndim == 1) then
-          g%fint(1, i) = g%fint(1, i) - pt%vol(p)*(pt%stress(1, p) - qp)*pt%grad(1, k, p)
-        else
-          g%fint(:, i) = g%fint(:, i) - pt%vol(p)*matmul(sig, pt%grad(:, k, p))
-        end if
+        g%momentum(1, i) = g%momentum(1, i) + w*pt%v(1, p)
+        g%momentum(2, i) = g%momentum(2, i) + w*pt%v(2, p)
+        ! V (sigma G), eq. 4.5
+        f1 = s11*pt%grad(1, k, p) + s12*pt%grad(2, k, p)
+        f2 = s12*pt%grad(1, k, p) + s22*pt%grad(2, k, p)
+        g%fint(1, i) = g%fint(1, i) - vol*f1
+        g%fint(2, i) = g%fint(2, i) - vol*f2
       end do
     end do
   end subroutine p2g
 
   !> The momentum of particles 1 .. n alone on the grid (MUSL's rebuild).
-  subroutine p2g_momentum(g, pt, n)
+  subroutine p2g_momentum(g, pt, n, nnz)
     type(grid_t), intent(inout) :: g
     type(particles_t), intent(in) :: pt
     integer, intent(in) :: n
-    integer :: p, k, i
+    integer, intent(in), optional :: nnz(:)
+    integer :: p, k, i, d
+    real(dp) :: w
     g%momentum = 0.0_dp
     do p = 1, n
-      do k = 1, pt%nsup
+      do k = 1, nodes_of(pt, p, nnz)
         i = pt%node(k, p)
-        g%momentum(:, i) = g%momentum(:, i) + pt%phi(k, p)*pt%mass(p)*pt%v(:, p)
+        w = pt%phi(k, p)*pt%mass(p)
+        do d = 1, g%ndim
+          g%momentum(d, i) = g%momentum(d, i) + w*pt%v(d, p)
+        end do
       end do
     end do
   end subroutine p2g_momentum
@@ -125,48 +162,63 @@ contains
   end subroutine velocity_from_momentum
 
   !> FLIP velocity (eq. 4.13) and position (eq. 4.12) of particles 1 .. n.
-  subroutine g2p(g, pt, n, dt)
+  subroutine g2p(g, pt, n, dt, nnz)
     type(grid_t), intent(in) :: g
     type(particles_t), intent(inout) :: pt
     integer, intent(in) :: n
     real(dp), intent(in) :: dt
+    integer, intent(in), optional :: nnz(:)
     integer :: p, k, i
-    real(dp) :: vs, ds
-    do p = 1, n
-      if (g%ndim == 1) then
+    real(dp) :: vs, ds, w
+    if (g%ndim == 1) then
+      do p = 1, n
         vs = 0.0_dp
         ds = 0.0_dp
-        do k = 1, pt%nsup
+        do k = 1, nodes_of(pt, p, nnz)
           i = pt%node(k, p)
           vs = vs + pt%phi(k, p)*g%accel(1, i)
           ds = ds + pt%phi(k, p)*g%velocity(1, i)
         end do
         pt%v(1, p) = pt%v(1, p) + dt*vs
         pt%x(1, p) = pt%x(1, p) + dt*ds
-      else
-        do k = 1, pt%nsup
-          i = pt%node(k, p)
-          pt%v(:, p) = pt%v(:, p) + dt*pt%phi(k, p)*g%accel(:, i)
-          pt%x(:, p) = pt%x(:, p) + dt*pt%phi(k, p)*g%velocity(:, i)
-        end do
-      end if
+      end do
+      return
+    end if
+    do p = 1, n
+      do k = 1, nodes_of(pt, p, nnz)
+        i = pt%node(k, p)
+        w = dt*pt%phi(k, p)
+        pt%v(1, p) = pt%v(1, p) + w*g%accel(1, i)
+        pt%v(2, p) = pt%v(2, p) + w*g%accel(2, i)
+        pt%x(1, p) = pt%x(1, p) + w*g%velocity(1, i)
+        pt%x(2, p) = pt%x(2, p) + w*g%velocity(2, i)
+      end do
     end do
   end subroutine g2p
 
   !> Velocity gradient of particle p, eq. 4.11: lg(a, b) = d v_a / d x_b
   !> (ndim x ndim) from the grid velocity.
-  pure subroutine velocity_gradient(g, pt, p, lg)
+  pure subroutine velocity_gradient(g, pt, p, lg, nnz)
     type(grid_t), intent(in) :: g
     type(particles_t), intent(in) :: pt
     integer, intent(in) :: p
     real(dp), intent(out) :: lg(:, :)
-    integer :: k, i, b
+    integer, intent(in), optional :: nnz(:)
+    integer :: k, i
     lg = 0.0_dp
-    do k = 1, pt%nsup
-      i = pt%node(k, p)
-      do b = 1, g%ndim
-        lg(:, b) = lg(:, b) + g%velocity(:, i)*pt%grad(b, k, p)
+    if (g%ndim == 1) then
+      do k = 1, nodes_of(pt, p, nnz)
+        i = pt%node(k, p)
+        lg(1, 1) = lg(1, 1) + g%velocity(1, i)*pt%grad(1, k, p)
       end do
+      return
+    end if
+    do k = 1, nodes_of(pt, p, nnz)
+      i = pt%node(k, p)
+      lg(1, 1) = lg(1, 1) + g%velocity(1, i)*pt%grad(1, k, p)
+      lg(2, 1) = lg(2, 1) + g%velocity(2, i)*pt%grad(1, k, p)
+      lg(1, 2) = lg(1, 2) + g%velocity(1, i)*pt%grad(2, k, p)
+      lg(2, 2) = lg(2, 2) + g%velocity(2, i)*pt%grad(2, k, p)
     end do
   end subroutine velocity_gradient
 
