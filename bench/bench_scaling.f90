@@ -1,10 +1,15 @@
 !> bench_scaling: strong and weak scaling of the plane-strain MPM over ranks
 !> and the cost of a checkpoint, measured in one run:
-!>   mpirun -np 2 bench_scaling [CHECKPOINT_DIR]
+!>   mpirun -np 2 bench_scaling [CHECKPOINT_DIR | --overlocal]
 !> A 200 000-particle CPDI plate in pure shear (every particle plastic): S1 on
 !> rank 0 alone, W1 its lower half on rank 0, P on all ranks, timed in
 !> interleaved rounds. Prints measures and ratios (target: strong >= 85 % on
 !> 2 ranks), never a pass/fail on wall time. Scene and method: docs/performance.md.
+!> Then the overlocal plate of fig. 4.4 (h = 0.125 m, Algorithm 1 with the
+!> sweep each rank count takes by default) the same way, O1 on rank 0 and OP
+!> on all ranks in the plastic phase: strong scaling and the share of a step
+!> in Algorithm 1's sweeps and in their exchanges (docs/parallel.md);
+!> --overlocal: this part alone.
 program bench_scaling
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
@@ -13,6 +18,7 @@ program bench_scaling
                            allreduce_sum
   use wellposed_mpm_plane_strain, only: ps_config_t, bc_free2
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, plastic_count
+  use wellposed_mpm_nonlocal, only: ours_bounds, nl_sweep_names
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpm_restart, only: save_scene
   use wellposed_mpm_shape_2d, only: shape2d_cpdi
@@ -21,6 +27,9 @@ program bench_scaling
   use wellposed_text, only: int_text
   implicit none
   integer, parameter :: nwarm = 25, nrounds = 6, nsteps = 4, nwrites = 2
+  !> the overlocal plate: warmed to t_plastic (s), then rounds of nl_steps
+  real(dp), parameter :: t_plastic = 0.0075_dp
+  integer, parameter :: nl_steps = 20
   type(comm_t) :: world
   type(mpm_scene_t) :: s1, w1, p
   type(error_t), allocatable :: err
@@ -34,6 +43,11 @@ program bench_scaling
   ckdir = 'bench_scaling.checkpoints'
   if (command_argument_count() >= 1) then
     call get_command_argument(1, arg)
+    if (trim(arg) == '--overlocal') then
+      call overlocal_scaling()
+      call comm_stop(world)
+      stop
+    end if
     ckdir = trim(arg)
   end if
   if (world%rank == 0) then
@@ -95,9 +109,112 @@ program bench_scaling
       ' % of the run'
     call remove_tree(ckdir, err)
   end if
+  call overlocal_scaling()
   call comm_stop(world)
 
 contains
+
+  !> The overlocal plate on rank 0 alone (O1) and on all ranks (OP), timed
+  !> in interleaved rounds in the plastic phase, with the shares of a step
+  !> in Algorithm 1 (step 1: the UMAT calls of a local model too; the
+  !> sweeps of steps 2-3; of those, the exchanges and reductions).
+  subroutine overlocal_scaling()
+    type(mpm_scene_t) :: o1, op
+    real(dp) :: to1(nrounds), top(nrounds), sh1(3), shp(3), t1, tpar
+    integer :: r, n1
+    if (world%rank == 0) then
+      write (output_unit, '(a)') 'bench_scaling: the overlocal plate of fig. 4.4 (4 m x 5 m, '// &
+        'h = 0.125 m, CPDI, h_eta = 2 GPa, h_zeta = -4 GPa, L = 0.5 m, rel. tol. 1e-6, no '// &
+        'weak corner), warmed to 7.5 ms; '//int_text(nrounds)//' rounds of '// &
+        int_text(nl_steps)//' steps'
+      flush (output_unit)
+      call build_overlocal(o1, comm_self())
+    end if
+    if (world%size > 1) call build_overlocal(op, world)
+    to1 = 0.0_dp
+    top = 0.0_dp
+    do r = 1, nrounds
+      call barrier(world)
+      if (world%rank == 0) to1(r) = timed_nl(o1, comm_self(), sh1)
+      call barrier(world)
+      if (world%size > 1) top(r) = timed_nl(op, world, shp)
+    end do
+    if (world%rank /= 0) return
+    t1 = minval(to1)
+    n1 = plastic_count(o1)
+    write (output_unit, '(a,i0,a,2f9.4,a,i0,a,3(f5.1,a))') '  O1  1 rank : ', o1%ntotal, &
+      ' particles, ', t1, median(to1), ' s/step (fastest, median; ', n1, ' plastic); '// &
+      trim(nl_sweep_names(o1%nl%sweep))//': step 1 ', 100*sh1(1), ' %, sweeps ', &
+      100*sh1(2), ' %, their exchanges ', 100*sh1(3), ' % of a step'
+    if (world%size == 1) return
+    tpar = minval(top)
+    write (output_unit, '(a,i0,a,2f9.4,a,3(f5.1,a))') '  OP  '//int_text(world%size)// &
+      ' ranks: ', op%ntotal, ' particles, ', tpar, median(top), ' s/step (fastest, '// &
+      'median); '//trim(nl_sweep_names(op%nl%sweep))//': step 1 ', 100*shp(1), &
+      ' %, sweeps ', 100*shp(2), ' %, their exchanges ', 100*shp(3), ' % of a step'
+    write (output_unit, '(a,f6.1,a,f6.3,a,f6.3,a)') '  overlocal strong scaling 1 -> '// &
+      int_text(world%size)//' ranks: efficiency ', 100.0_dp*t1/(world%size*tpar), &
+      ' % (time ratio ', tpar/t1, '; from the medians ', median(top)/median(to1), ')'
+    flush (output_unit)
+  end subroutine overlocal_scaling
+
+  !> The overlocal plate on `comm`, advanced to t_plastic.
+  subroutine build_overlocal(sc, comm)
+    type(mpm_scene_t), intent(out) :: sc
+    type(comm_t), intent(in) :: comm
+    type(error_t), allocatable :: e
+    type(mpm_ranks_t) :: ranks
+    type(ps_config_t) :: c
+    c = ps_config_t()
+    c%name = 'bench_scaling_overlocal'
+    c%title = 'overlocal plate'
+    c%dx = 0.125_dp
+    c%props = 0.0_dp
+    c%props(1:6) = [76.0e9_dp, 26.0e9_dp, 0.0_dp, 0.0_dp, 400.0e6_dp, 2.0e9_dp]
+    c%props(12:14) = [-4.0e9_dp, 0.5_dp, 1.0_dp]
+    c%nprops = 14
+    c%nonlocal%active = .true.
+    c%nonlocal%length = 0.5_dp
+    c%nonlocal%h_zeta = -4.0e9_dp
+    c%nonlocal%rel_tolerance = 1.0e-6_dp
+    call ours_bounds(c%props, c%nonlocal%bound_43, c%nonlocal%bound_45)
+    call new_mpm_ranks(ranks, comm)
+    call new_scene(sc, c, e, ranks)
+    if (allocated(e)) error stop 'bench_scaling: the overlocal scene was refused'
+    do while (sc%t < t_plastic)
+      call advance(sc, e)
+      if (allocated(e)) error stop 'bench_scaling: an overlocal warm-up step failed'
+    end do
+  end subroutine build_overlocal
+
+  !> Seconds per step over nl_steps steps of the overlocal `sc` (the slowest
+  !> rank's) and the shares of a step (the largest over the ranks): step 1
+  !> of Algorithm 1, its sweeps, their exchanges.
+  real(dp) function timed_nl(sc, comm, share) result(t)
+    type(mpm_scene_t), intent(inout) :: sc
+    type(comm_t), intent(in) :: comm
+    real(dp), intent(out) :: share(3)
+    type(error_t), allocatable :: e
+    integer(int64) :: c0, c1, rate, l0, s0, x0
+    integer :: k
+    call barrier(comm)
+    l0 = sc%nl%ticks_local
+    s0 = sc%nl%ticks_sweeps
+    x0 = sc%nl%ticks_exchange
+    call system_clock(c0, rate)
+    do k = 1, nl_steps
+      call advance(sc, e)
+      if (allocated(e)) error stop 'bench_scaling: an overlocal step failed'
+    end do
+    call system_clock(c1)
+    share = real([sc%nl%ticks_local - l0, sc%nl%ticks_sweeps - s0, sc%nl%ticks_exchange - x0], &
+                 dp)/real(max(c1 - c0, 1_int64), dp)
+    t = real(c1 - c0, dp)/rate/nl_steps
+    call allreduce_max(comm, t)
+    do k = 1, 3
+      call allreduce_max(comm, share(k))
+    end do
+  end function timed_nl
 
   !> The plate of height `height` on `comm`, after nwarm steps.
   subroutine build(sc, comm, height)

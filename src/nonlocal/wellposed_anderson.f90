@@ -9,7 +9,7 @@ module wellposed_anderson
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: anderson_t, new_anderson, anderson_step
+  public :: anderson_t, new_anderson, anderson_step, anderson_push, anderson_normal_solve
 
   !> History of differences of iterates and residuals (columns, newest last).
   type :: anderson_t
@@ -47,6 +47,22 @@ contains
     integer :: k
 
     r = gx - x
+    call anderson_push(self, x, r)
+
+    x_next = x + self%mixing*r
+    k = self%count
+    if (k == 0) return
+    call least_squares(self%dr(:, 1:k), r, gamma(1:k))
+    x_next = x_next - matmul(self%dx(:, 1:k) + self%mixing*self%dr(:, 1:k), gamma(1:k))
+  end subroutine anderson_step
+
+  !> Append the differences to the last call's x and residual r = G(x) - x
+  !> to the history (the newest last, the oldest dropped when full). With
+  !> anderson_normal_solve, the pieces of anderson_step for a host whose
+  !> vectors are split over processes: it sums the small Gram system.
+  pure subroutine anderson_push(self, x, r)
+    type(anderson_t), intent(inout) :: self
+    real(dp), intent(in) :: x(:), r(:)
     if (self%started) then
       ! shift the history when full, then append the newest differences
       if (self%count == self%depth) then
@@ -61,24 +77,27 @@ contains
     self%x_prev = x
     self%r_prev = r
     self%started = .true.
-
-    x_next = x + self%mixing*r
-    k = self%count
-    if (k == 0) return
-    call least_squares(self%dr(:, 1:k), r, gamma(1:k))
-    x_next = x_next - matmul(self%dx(:, 1:k) + self%mixing*self%dr(:, 1:k), gamma(1:k))
-  end subroutine anderson_step
+  end subroutine anderson_push
 
   !> min ||a g - b|| by the normal equations with a small Tikhonov shift (the
   !> columns of a are few and may become nearly dependent near convergence).
   pure subroutine least_squares(a, b, g)
     real(dp), intent(in) :: a(:, :), b(:)
     real(dp), intent(out) :: g(:)
-    real(dp) :: ata(size(a, 2), size(a, 2)), atb(size(a, 2)), piv
-    integer :: n, i, j
-    n = size(a, 2)
+    real(dp) :: ata(size(a, 2), size(a, 2)), atb(size(a, 2))
     ata = matmul(transpose(a), a)
     atb = matmul(b, a)
+    call anderson_normal_solve(ata, atb, g)
+  end subroutine least_squares
+
+  !> g solving (ata + shift) g = atb, ata = a^T a of the history's residual
+  !> differences and atb = a^T b (symmetric positive semi-definite).
+  pure subroutine anderson_normal_solve(ata, atb, g)
+    real(dp), intent(inout) :: ata(:, :), atb(:)
+    real(dp), intent(out) :: g(:)
+    real(dp) :: piv
+    integer :: n, i, j
+    n = size(ata, 2)
     do i = 1, n
       ata(i, i) = ata(i, i)*(1.0_dp + 1.0e-12_dp) + tiny(1.0_dp)
     end do
@@ -93,6 +112,6 @@ contains
     do i = n, 1, -1
       g(i) = (atb(i) - dot_product(ata(i, i + 1:n), g(i + 1:n)))/ata(i, i)
     end do
-  end subroutine least_squares
+  end subroutine anderson_normal_solve
 
 end module wellposed_anderson

@@ -9,7 +9,8 @@
 !>             (wellposed_mpm_solver), q = rho (a1 c |D_kk| dx + a2 D_kk^2
 !>             dx^2) for D_kk < 0, each finite and >= 0 (0: that term off);
 !>             defaults: bars 0, 0 (off), plates 0.4, 4 (shared reference B)
-!>   &nonlocal scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
+!>   &nonlocal scheme ('fixed_point'|'anderson'), sweep ('auto'|'gauss_seidel'|
+!>             'jacobi'|'coloured'), tolerance, rel_tolerance,
 !>             max_iterations, stall_iterations, max_rounds, anderson_depth,
 !>             anderson_mixing, weight_cutoff, L (m), h_zeta (Pa)
 !>             (wellposed_mpm_nonlocal_deck: L and h_zeta default to our
@@ -32,7 +33,7 @@ module wellposed_mpm_deck_shared
                                          is_material_group
   use wellposed_mpm_materials, only: mpm_materials_t
   use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_scheme_names, &
-                                             nl_scheme_id
+                                             nl_scheme_id, nl_sweep_names, nl_sweep_id
   use wellposed_mpm_nonlocal_deck, only: resolve_nonlocal
   use wellposed_mpm_config, only: scheme_names
   implicit none
@@ -90,7 +91,7 @@ contains
     type(shared_deck_t) :: given
     type(foreign_t) :: foreign
     real(dp) :: nl_length, nl_h_zeta
-    character(len=16) :: nl_word
+    character(len=16) :: nl_word, nl_sweep
     integer :: unit, i
 
     call blank(given)
@@ -99,6 +100,7 @@ contains
     given%plot = sh%plot
     nl_length = unset; nl_h_zeta = unset
     nl_word = nl_scheme_names(sh%nonlocal%scheme)
+    nl_sweep = nl_sweep_names(sh%nonlocal%sweep)
     call open_deck(path, text, unit, err)
     if (allocated(err)) return
     close (unit)
@@ -117,6 +119,9 @@ contains
     call check_word(path, 'nonlocal', 'scheme', nl_word, nl_scheme_names, i, err)
     if (allocated(err)) return
     sh%nonlocal%scheme = nl_scheme_id(lower(trim(nl_word)))
+    call check_word(path, 'nonlocal', 'sweep', nl_sweep, nl_sweep_names, i, err)
+    if (allocated(err)) return
+    sh%nonlocal%sweep = nl_sweep_id(lower(trim(nl_sweep)))
     call resolve_nonlocal(path, sh%materials, nl_length, nl_h_zeta, sh%nonlocal, err)
 
   contains
@@ -153,7 +158,7 @@ contains
       case ('viscosity')
         call read_viscosity(given, ios, msg, unit, line)
       case ('nonlocal')
-        call read_nonlocal(sh%nonlocal, nl_word, nl_length, nl_h_zeta, ios, msg, unit, line)
+        call read_nonlocal(sh%nonlocal, nl_word, nl_sweep, nl_length, nl_h_zeta, ios, msg, unit, line)
       case ('output')
         call read_output(given, ios, msg, unit, line)
         if (kind /= scene_kind_bar) then
@@ -358,21 +363,21 @@ contains
     g%reference = reference; g%reference_label = reference_label
   end subroutine read_output
 
-  !> &nonlocal into `s`, its scheme word and the given L and h_zeta.
-  subroutine read_nonlocal(s, word, length, h_zeta, ios, msg, unit, line)
+  !> &nonlocal into `s`, its scheme and sweep words and the given L and h_zeta.
+  subroutine read_nonlocal(s, word, sweep_word, length, h_zeta, ios, msg, unit, line)
     type(nonlocal_settings_t), intent(inout) :: s
-    character(len=*), intent(inout) :: word
+    character(len=*), intent(inout) :: word, sweep_word
     real(dp), intent(inout) :: length, h_zeta
     integer, intent(out) :: ios
     character(len=*), intent(inout) :: msg
     integer, intent(in), optional :: unit
     character(len=*), intent(in), optional :: line
-    character(len=16) :: scheme
+    character(len=16) :: scheme, sweep
     real(dp) :: tolerance, rel_tolerance, anderson_mixing, weight_cutoff, l
     integer :: max_iterations, stall_iterations, max_rounds, anderson_depth
-    namelist /nonlocal/ scheme, tolerance, rel_tolerance, max_iterations, &
+    namelist /nonlocal/ scheme, sweep, tolerance, rel_tolerance, max_iterations, &
       stall_iterations, max_rounds, anderson_depth, anderson_mixing, weight_cutoff, l, h_zeta
-    scheme = word; l = length
+    scheme = word; sweep = sweep_word; l = length
     tolerance = s%tolerance; rel_tolerance = s%rel_tolerance
     max_iterations = s%max_iterations; stall_iterations = s%stall_iterations
     max_rounds = s%max_rounds; anderson_depth = s%anderson_depth
@@ -381,7 +386,7 @@ contains
     if (present(unit)) read (unit, nml=nonlocal, iostat=ios, iomsg=msg)
     if (present(line)) read (line, nml=nonlocal, iostat=ios, iomsg=msg)
     if (ios /= 0) return
-    word = scheme; length = l
+    word = scheme; sweep_word = sweep; length = l
     s%tolerance = tolerance; s%rel_tolerance = rel_tolerance
     s%max_iterations = max_iterations; s%stall_iterations = stall_iterations
     s%max_rounds = max_rounds; s%anderson_depth = anderson_depth

@@ -25,39 +25,40 @@
 !>     called once with it (its zeta takes h_zeta <dlambda>); one that now
 !>     yields (dlambda > 0) joins the plastic set and step 2 runs again.
 !>
-!> Convergence bounds (eq. 4.43, 4.45): the dissertation's bound is N_alpha times
-!> |h_zeta/(a + h_eta)|. Since the weights of eq. 4.47 are normalised (they
-!> sum to 1 over the nodes, and the projection of eq. 4.46 too), the sup-norm
-!> of the sweep's Jacobian is at most |h_zeta/(a + h_eta)| itself: that
-!> "sharp" factor bounds a Jacobi sweep, the dissertation's N_alpha bound is reported
-!> beside it. Measured (tests/unit/mpm/test_mpm_nonlocal.pf): with a sharp
-!> factor of 5.9 (h_eta = -30 GPa, h_zeta = +40 GPa) a Jacobi sweep diverges
-!> at once, while the dissertation's Gauss-Seidel sweep creeps for ~150 sweeps and
-!> then stalls (Gauss-Seidel converges on symmetric positive definite
-!> systems whatever their diagonal dominance, and the clamp dlambda >= 0
-!> spoils it); Anderson on the Gauss-Seidel sweep (depth 16) converges in
-!> ~40, and in 6 instead of 7 on the dissertation's plate values. A sweep that stops
-!> reducing the error for `stall_iterations` sweeps, or exceeds
-!> `max_iterations`, is an error value: the host stops.
+!> Convergence bounds (eq. 4.43, 4.45): the dissertation's N_alpha |h_zeta/(a +
+!> h_eta)| and, the weights being normalised, the sharp |h_zeta/(a + h_eta)|
+!> that bounds a sweep's Jacobian (docs/theory.md has the measurements). A
+!> sweep that stops reducing the error for `stall_iterations` sweeps, or
+!> exceeds `max_iterations`, is an error value: the host stops.
 !>
-!> Across ranks: the nodal mass and field are patch arrays
-!> [glo, ghi] whose ghost layers cover the Gaussian's support around every
-!> particle of the patch (nonlocal_ghost_nodes). A decomposed run passes
-!> `ranks` (a nonlocal_ranks_t: its neighbour exchanges and reductions) and
-!> `key` (each local particle's place in the sweep order) to
-!> nonlocal_solve, which then keeps the dissertation's Gauss-Seidel sweep in the
-!> serial order across ranks by pipelining every pass that updates the
-!> nodal field as it goes (projection, sweep, plastic diffusion): rank r
-!> takes the values of the nodes it shares with rank r-1 as r-1 left them,
-!> does its particles in key order, hands its shared nodes on to r+1, and
-!> at the end every node takes the values of the highest rank holding it
-!> (which has seen every update). Each node then sees the same updates in
-!> the same order as in one process, so a pass gives the serial answer bit
-!> for bit from the same particle data, and iteration counts are the
-!> serial ones. Anderson works on the whole plastic set in key order, the
-!> same on every rank. The price: the sweeps of the ranks run one after
-!> the other (the UMAT calls of step 1, most of a step's work, stay
-!> parallel). Without `ranks` nothing of this runs: one process.
+!> Across ranks: the nodal mass and field are patch arrays [glo, ghi]
+!> whose ghost layers cover the Gaussian's support around every particle of
+!> the patch (nonlocal_ghost_nodes). A decomposed run passes `ranks` (a
+!> nonlocal_ranks_t) and `key` (each local particle's place in the serial
+!> order) to nonlocal_solve. Step 2 has three sweeps (&nonlocal sweep):
+!>  - gauss_seidel: the dissertation's sweep in the serial order. Across
+!>    ranks every pass that updates the field as it goes (projection, sweep,
+!>    plastic diffusion) is pipelined: rank r takes the nodes it shares with
+!>    r-1 as r-1 left them, does its particles in key order, hands its
+!>    shared nodes on to r+1; at the end every node takes the values of the
+!>    highest rank holding it. A pass is the serial one bit for bit, but the
+!>    ranks sweep one after the other.
+!>  - jacobi: every plastic particle from the field of the previous sweep
+!>    (eq. 4.43-4.45 bound it as well), then each rank corrects its own part
+!>    of the field (`own`) and the parts are added at shared nodes: one
+!>    neighbour exchange per sweep, all ranks at once. Relaxed by 2/(2 + b)
+!>    where h_zeta > 0, 2/(2 - b) where h_zeta < 0 and b < 1 (b: the sharp
+!>    factor of eq. 4.43), which centres the Jacobian's eigenvalues on 0.
+!>  - coloured: the same in two half-sweeps, particles in blocks of cell
+!>    layers (by global layer, at least the Gaussian's reach wide) of
+!>    alternating colour; the second colour sees the first's update.
+!> The simultaneous sweeps do not depend on the decomposition: a rank count
+!> changes only the order of the sums at shared nodes (round-off), so the
+!> iteration counts are those of one process. Their plastic diffusion is
+!> simultaneous too. 'auto' (the default): gauss_seidel on one rank (the
+!> serial program unchanged), jacobi on more (docs/parallel.md has the
+!> measurements). Anderson on the simultaneous sweeps keeps each rank's
+!> entries and sums the small Gram system over the ranks.
 !> The nodal field and the averages: wellposed_mpm_nonlocal_grid; the
 !> sweep order: wellposed_mpm_sweep_order.
 module wellposed_mpm_algorithm1
@@ -66,11 +67,15 @@ module wellposed_mpm_algorithm1
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_text, only: int_text, real_text
-  use wellposed_anderson, only: anderson_t, new_anderson, anderson_step
-  use wellposed_mpm_nonlocal_settings, only: nl_anderson, nl_scheme_names
+  use wellposed_anderson, only: anderson_t, new_anderson, anderson_step, anderson_push, &
+                               anderson_normal_solve
+  use wellposed_mpm_nonlocal_settings, only: nl_anderson, nl_sweep_auto, &
+                                             nl_gauss_seidel, nl_jacobi, nl_coloured
   use wellposed_mpm_nonlocal_grid, only: nonlocal_t, nonlocal_step_stats_t, nonlocal_project, &
-                                         nonlocal_average, cached_average
-  use wellposed_mpm_sweep_order, only: key_order, find_sorted
+                                         nonlocal_average, cached_average, warn_bounds, &
+                                         iteration_error
+  use wellposed_mpm_nonlocal_ranks, only: nonlocal_ranks_t
+  use wellposed_mpm_sweep_order, only: key_order, find_sorted, sweep_layer
   implicit none
   private
   public :: nonlocal_host_t, nonlocal_ranks_t, nonlocal_solve
@@ -95,56 +100,6 @@ module wellposed_mpm_algorithm1
       real(dp), intent(out) :: dlambda
       type(error_t), allocatable, intent(out) :: err
     end subroutine host_update
-  end interface
-
-  !> What Algorithm 1 needs from a run spread over ranks. Node
-  !> arrays are a patch's nodal values, values(1) at its first node; the
-  !> pipeline calls are collective in rank order (see the module comment).
-  type, abstract :: nonlocal_ranks_t
-  contains
-    !> values of the nodes shared with the next lower rank, as that rank left them
-    procedure(ranks_nodes), deferred :: nodes_from_lower
-    !> this rank's values of the nodes shared with the next higher rank, to it
-    procedure(ranks_nodes), deferred :: nodes_to_higher
-    !> every node the value of the highest rank holding it
-    procedure(ranks_nodes), deferred :: nodes_from_highest
-    !> maximum over the ranks, in place
-    procedure(ranks_max), deferred :: max_real
-    !> sum over the ranks, in place
-    procedure(ranks_sum_int), deferred :: sum_int
-    !> true on every rank when true on any
-    procedure(ranks_any), deferred :: any_true
-    !> every rank's `mine` concatenated in rank order, on every rank
-    procedure(ranks_gather), deferred :: gather_all
-  end type nonlocal_ranks_t
-
-  abstract interface
-    subroutine ranks_nodes(self, values)
-      import :: nonlocal_ranks_t, dp
-      class(nonlocal_ranks_t), intent(inout) :: self
-      real(dp), intent(inout) :: values(:)
-    end subroutine ranks_nodes
-    subroutine ranks_max(self, x)
-      import :: nonlocal_ranks_t, dp
-      class(nonlocal_ranks_t), intent(inout) :: self
-      real(dp), intent(inout) :: x
-    end subroutine ranks_max
-    subroutine ranks_sum_int(self, i)
-      import :: nonlocal_ranks_t
-      class(nonlocal_ranks_t), intent(inout) :: self
-      integer, intent(inout) :: i
-    end subroutine ranks_sum_int
-    logical function ranks_any(self, flag)
-      import :: nonlocal_ranks_t
-      class(nonlocal_ranks_t), intent(inout) :: self
-      logical, intent(in) :: flag
-    end function ranks_any
-    subroutine ranks_gather(self, mine, all)
-      import :: nonlocal_ranks_t, dp
-      class(nonlocal_ranks_t), intent(inout) :: self
-      real(dp), intent(in) :: mine(:)
-      real(dp), allocatable, intent(out) :: all(:)
-    end subroutine ranks_gather
   end interface
 
 contains
@@ -182,14 +137,24 @@ contains
     integer, intent(in), optional :: log_unit
     class(nonlocal_ranks_t), intent(inout), optional :: ranks
     integer(int64), intent(in), optional :: key(:)
-    integer :: n, p, q, round
+    integer :: n, p, q, round, sweep
     integer(int64) :: c0, c1
     real(dp) :: avg, dnew, smass
-    logical :: changed, par
+    logical :: changed, par, simul
     integer, allocatable :: act(:), order(:)
 
     n = size(mass)
     par = present(ranks)
+    ! the sweep: 'auto' is Gauss-Seidel in one process, Jacobi across ranks
+    sweep = self%set%sweep
+    if (sweep == nl_sweep_auto) then
+      sweep = nl_gauss_seidel
+      if (par) then
+        if (ranks%nranks() > 1) sweep = nl_jacobi
+      end if
+    end if
+    self%sweep = sweep
+    simul = sweep /= nl_gauss_seidel
     self%last = nonlocal_step_stats_t()
     if (allocated(self%dl)) then
       if (size(self%dl) /= n) deallocate (self%dl, self%plastic)
@@ -222,7 +187,7 @@ contains
     end if
     if (.not. self%active .or. self%last%n_plastic == 0) return
     ! the local particles in the serial order (a local model never needs it)
-    if (present(key)) then
+    if (present(key) .and. .not. simul) then
       call key_order(key(1:n), order)
     else
       order = [(p, p=1, n)]
@@ -237,7 +202,7 @@ contains
     end do
     if (par) call ranks%max_real(self%last%n_alpha)
     if (self%bound_43 >= 0.0_dp) self%last%bound_printed = self%last%n_alpha*self%bound_43
-    if (present(log_unit)) call warn_bounds(log_unit)
+    if (present(log_unit)) call warn_bounds(self, log_unit)
 
     do round = 1, self%set%max_rounds
       self%last%rounds = round
@@ -246,7 +211,7 @@ contains
       if (allocated(err)) return
       ! Step 3: plastic diffusion to the elastic particles.
       changed = .false.
-      if (par) call ranks%nodes_from_lower(self%field)
+      if (par .and. .not. simul) call ranks%nodes_from_lower(self%field)
       do q = 1, n
         p = order(q)
         if (self%plastic(p)) cycle
@@ -263,11 +228,13 @@ contains
           self%dl(p) = dnew
         end if
       end do
-      if (par) then
+      if (simul) then
+        call refresh()
+      else if (par) then
         call ranks%nodes_to_higher(self%field)
         call ranks%nodes_from_highest(self%field)
-        changed = ranks%any_true(changed)
       end if
+      if (par) changed = ranks%any_true(changed)
       if (stopped(err)) return
       if (.not. changed) exit
       if (round == self%set%max_rounds) then
@@ -298,14 +265,17 @@ contains
       real(dp) :: xk(size(act)), gx(size(act)), e, best, limit, gmax
       real(dp), allocatable :: xn(:), xall(:), gall(:), kall(:)
       integer, allocatable :: perm(:), pos(:)
-      integer :: k, kbest, q, pp, nact
-      integer(int64) :: s0, s1
+      integer :: k, kbest, q, nact
+      integer(int64) :: s0, s1, s2, s3
       type(anderson_t) :: acc
-      character(len=:), allocatable :: why, hint
 
       nact = size(act)
       if (par) call ranks%sum_int(nact)
       allocate (pos(size(act)), perm(0), xn(0))
+      if (simul) then
+        call iterate_simultaneous(act, nact, err)
+        return
+      end if
       if (self%set%scheme == nl_anderson) then
         ! Anderson acts on the whole plastic set in the serial order: with
         ! ranks, every rank runs it on the gathered vectors (bitwise alike)
@@ -331,17 +301,15 @@ contains
         ! one Gauss-Seidel sweep, eq. 4.47, 4.39 (through the UMAT), 4.49-4.50
         call system_clock(s0)
         if (par) call ranks%nodes_from_lower(self%field)
-        do q = 1, size(act)
-          pp = act(q)
-          call cached_average(self, pp, x(:, pp), avg)
-          call host%update(pp, avg, dnew, err)
-          if (allocated(err)) exit
-          call correct_field(pp, dnew - self%dl(pp))
-          self%dl(pp) = dnew
-        end do
+        call system_clock(s1)
+        self%ticks_exchange = self%ticks_exchange + (s1 - s0)
+        call sweep_pass(act, err)
         if (par) then
+          call system_clock(s2)
           call ranks%nodes_to_higher(self%field)
           call ranks%nodes_from_highest(self%field)
+          call system_clock(s3)
+          self%ticks_exchange = self%ticks_exchange + (s3 - s2)
         end if
         if (stopped(err)) return
         call system_clock(s1)
@@ -379,26 +347,172 @@ contains
           call project(self%dl)
         end if
       end do
-      if (k > self%set%max_iterations) then
-        why = 'did not converge in '//int_text(self%set%max_iterations)//' sweeps'
-      else if (.not. ieee_is_finite(e)) then
-        why = 'diverges: the error is no longer finite'
-      else
-        why = 'diverges: no smaller error in '//int_text(self%set%stall_iterations)//' sweeps'
-      end if
-      if (self%bound_43 > 1.0_dp) then
-        hint = ' > 1: the plain fixed point cannot be relied on; set &nonlocal scheme = '// &
-               '''anderson'''
-      else
-        hint = ' <= 1'
-      end if
-      call new_error(err, status_cutback, 'scheme', 'the nonlocal '// &
-        trim(nl_scheme_names(self%set%scheme))//' iteration '//why// &
-        ' (max |dlambda^{k+1} - dlambda^k| = '//real_text(e)//', smallest '// &
-        real_text(best)//' at sweep '//int_text(kbest)//', tolerance '// &
-        real_text(limit)//'; '//int_text(nact)//' plastic particles); '// &
-        'contraction factor |h_zeta/(a + h_eta)| of eq. 4.43 = '//real_text(self%bound_43)//hint)
+      call iteration_error(self, k > self%set%max_iterations, e, best, kbest, limit, nact, err)
     end subroutine iterate
+
+    !> Step 2 with the simultaneous sweeps (module comment) on this rank's
+    !> plastic particles act(:) (nact over all ranks), plain or with
+    !> Anderson: each rank keeps its entries, the Gram system is summed.
+    subroutine iterate_simultaneous(act, nact, err)
+      integer, intent(in) :: act(:), nact
+      type(error_t), allocatable, intent(out) :: err
+      real(dp) :: xk(size(act)), gx(size(act)), xn(size(act)), e, e_prev, best, limit, gmax, w
+      real(dp) :: gram(self%set%anderson_depth*(self%set%anderson_depth + 1))
+      integer :: k, kbest, m, c, ncol, q
+      integer, allocatable :: colour(:)
+      real(dp) :: gamma(self%set%anderson_depth)
+      real(dp), allocatable :: ata(:, :), atb(:)
+      integer(int64) :: s0, s1
+      type(anderson_t) :: acc
+
+      allocate (colour(size(act)))
+      colour = 0
+      ncol = 1
+      if (self%sweep == nl_coloured) then
+        ncol = 2
+        colour = colour_of(act)
+      end if
+      ! The sweep's Jacobian is -h_zeta/(a + h_eta) times the averaging (eq.
+      ! 4.39, 4.47), eigenvalues in [-b, 0] for h_zeta > 0, [0, b] for h_zeta
+      ! < 0 (b = bound_43): relaxing by w = 2/(2 + b), resp. 2/(2 - b) when b
+      ! < 1, centres them on 0, the smallest factor (docs/parallel.md).
+      w = 1.0_dp
+      if (self%bound_43 > 0.0_dp) then
+        if (self%h_zeta > 0.0_dp) then
+          w = 2.0_dp/(2.0_dp + self%bound_43)
+        else if (self%h_zeta < 0.0_dp .and. self%bound_43 < 1.0_dp) then
+          w = 2.0_dp/(2.0_dp - self%bound_43)
+        end if
+      end if
+      ! at most as many differences as unknowns: more make the least-squares
+      ! problem singular, and the step wild
+      if (self%set%scheme == nl_anderson) call new_anderson(acc, size(act), &
+        min(self%set%anderson_depth, nact), w*self%set%anderson_mixing)
+      best = huge(1.0_dp)
+      e_prev = huge(1.0_dp)
+      kbest = 0
+      do k = 1, self%set%max_iterations
+        xk = self%dl(act)
+        ! one sweep, eq. 4.47, 4.39 (through the UMAT), 4.49-4.50 on `own`,
+        ! each colour from the field the previous one left
+        call system_clock(s0)
+        do c = 0, ncol - 1
+          call refresh()
+          call sweep_pass(pack(act, colour == c), err)
+          if (stopped(err)) return
+        end do
+        call system_clock(s1)
+        self%ticks_sweeps = self%ticks_sweeps + (s1 - s0)
+        self%calls_sweeps = self%calls_sweeps + size(act)
+        self%last%umat_calls = self%last%umat_calls + size(act)
+        self%last%iterations = self%last%iterations + 1
+        gx = self%dl(act)
+        e = 0.0_dp
+        gmax = 0.0_dp
+        if (size(act) > 0) then
+          e = maxval(abs(gx - xk))
+          gmax = maxval(abs(gx))
+        end if
+        if (par) then
+          call system_clock(s0)
+          call ranks%max_real(e)
+          call ranks%max_real(gmax)
+          call system_clock(s1)
+          self%ticks_exchange = self%ticks_exchange + (s1 - s0)
+        end if
+        self%last%error = e
+        limit = self%set%tolerance + self%set%rel_tolerance*gmax
+        if (.not. ieee_is_finite(e)) exit
+        if (e <= limit) then
+          call refresh()
+          return
+        end if
+        if (e < best) then
+          best = e
+          kbest = k
+        else if (k - kbest >= self%set%stall_iterations) then
+          exit
+        end if
+        if (self%set%scheme == nl_anderson) then
+          ! anderson_step with the Gram system dR^T [dR r] summed over the ranks;
+          ! a residual that grew (the clamp dlambda >= 0 changed the map) starts
+          ! the history afresh from the relaxed step
+          if (e > e_prev) call new_anderson(acc, size(act), min(self%set%anderson_depth, nact), &
+                                            w*self%set%anderson_mixing)
+          e_prev = e
+          call anderson_push(acc, xk, gx - xk)
+          xn = xk + acc%mixing*(gx - xk)
+          m = acc%count
+          if (m > 0) then
+            gram(1:m*m) = reshape(matmul(transpose(acc%dr(:, 1:m)), acc%dr(:, 1:m)), [m*m])
+            gram(m*m + 1:m*m + m) = matmul(gx - xk, acc%dr(:, 1:m))
+            if (par) call ranks%sum_reals(gram(1:m*m + m))
+            ata = reshape(gram(1:m*m), [m, m])
+            atb = gram(m*m + 1:m*m + m)
+            call anderson_normal_solve(ata, atb, gamma(1:m))
+            xn = xn - matmul(acc%dx(:, 1:m) + acc%mixing*acc%dr(:, 1:m), gamma(1:m))
+          end if
+        else if (w /= 1.0_dp) then
+          xn = xk + w*(gx - xk)
+        else
+          cycle
+        end if
+        do q = 1, size(act)
+          call correct_field(act(q), xn(q) - gx(q))
+        end do
+        self%dl(act) = xn
+      end do
+      call iteration_error(self, k > self%set%max_iterations, e, best, kbest, limit, nact, err)
+    end subroutine iterate_simultaneous
+
+    !> One pass over `list` in its order: average, UMAT, correction (eq. 4.47,
+    !> 4.39, 4.49-4.50). Gauss-Seidel corrects the field it reads as it goes;
+    !> the simultaneous sweeps read the field as the pass began and correct
+    !> this rank's part `own`.
+    subroutine sweep_pass(list, err)
+      integer, intent(in) :: list(:)
+      type(error_t), allocatable, intent(out) :: err
+      integer :: q, pp
+      real(dp) :: avg, dn
+      do q = 1, size(list)
+        pp = list(q)
+        call cached_average(self, pp, x(:, pp), avg)
+        call host%update(pp, avg, dn, err)
+        if (allocated(err)) return
+        call correct_field(pp, dn - self%dl(pp))
+        self%dl(pp) = dn
+      end do
+    end subroutine sweep_pass
+
+    !> The field of the simultaneous sweeps: every rank's `own` added at the
+    !> nodes they share (collective).
+    subroutine refresh()
+      integer(int64) :: t0, t1
+      self%field = self%own
+      if (.not. par) return
+      call system_clock(t0)
+      call ranks%nodes_sum(self%field)
+      call system_clock(t1)
+      self%ticks_exchange = self%ticks_exchange + (t1 - t0)
+    end subroutine refresh
+
+    !> Colours 0/1 of particles idx(:): the parity of their block of cell
+    !> layers along the decomposition axis, blocks as wide as the Gaussian's
+    !> reach plus one layer (the layer of the sweep key, else of x).
+    function colour_of(idx) result(c)
+      integer, intent(in) :: idx(:)
+      integer :: c(size(idx))
+      integer :: q, w, layer
+      w = ceiling(self%radius/self%dx) + 1
+      do q = 1, size(idx)
+        if (present(key)) then
+          layer = sweep_layer(key(idx(q)))
+        else
+          layer = floor((x(self%ndim, idx(q)) - self%origin(self%ndim))/self%dx)
+        end if
+        c(q) = modulo(layer/w, 2)
+      end do
+    end function colour_of
 
     !> The serial-order keys of local particles (their indices without `key`).
     function key_of(idx) result(k)
@@ -418,6 +532,16 @@ contains
       real(dp), intent(in) :: values(:)
       integer :: k, i, qq, pq
       real(dp) :: w
+      if (simul) then
+        ! each rank its own part, then the parts added at shared nodes
+        call nonlocal_project(self, mass, node, phi, values)
+        self%own = self%field
+        if (par) then
+          call ranks%nodes_sum(self%node_mass)
+          call ranks%nodes_sum(self%field)
+        end if
+        return
+      end if
       if (.not. par .and. .not. present(key)) then
         call nonlocal_project(self, mass, node, phi, values)
         return
@@ -455,36 +579,25 @@ contains
         'Algorithm 1 stopped on another rank (its message is above)')
     end function stopped
 
-    !> eq. 4.49-4.50: move particle p's contribution on its nodes by `delta`.
+    !> eq. 4.49-4.50: move particle p's contribution on its nodes by `delta`
+    !> (in the simultaneous sweeps on this rank's part of the field).
     subroutine correct_field(p, delta)
       integer, intent(in) :: p
       real(dp), intent(in) :: delta
       integer :: k, i
       if (delta == 0.0_dp) return
+      if (simul) then
+        do k = 1, size(node, 1)
+          i = node(k, p)
+          self%own(i) = self%own(i) + mass(p)*phi(k, p)*delta
+        end do
+        return
+      end if
       do k = 1, size(node, 1)
         i = node(k, p)
         self%field(i) = self%field(i) + mass(p)*phi(k, p)*delta
       end do
     end subroutine correct_field
-
-    subroutine warn_bounds(unit)
-      integer, intent(in) :: unit
-      if (self%bound_43 > 1.0_dp .and. .not. self%warned_sharp) then
-        write (unit, '(a)') 'warning: nonlocal contraction factor |h_zeta/(a + h_eta)| '// &
-          '(eq. 4.43 with normalised weights) = '//real_text(self%bound_43)//' > 1: the '// &
-          'dissertation''s fixed point (scheme fixed_point) is not a contraction and may diverge'
-        self%warned_sharp = .true.
-      end if
-      if (self%last%bound_printed > 1.0_dp .and. .not. self%warned_printed) then
-        write (unit, '(a)') 'note: the dissertation''s Lipschitz bound of eq. 4.43, N_alpha |h_zeta/'// &
-          '(a + h_eta)| with N_alpha = '//real_text(self%last%n_alpha)//', is '// &
-          real_text(self%last%bound_printed)//' > 1 (eq. 4.45: '// &
-          real_text(self%last%n_alpha*self%bound_45)//'); it counts every particle in the '// &
-          'support at full weight, so convergence is not guaranteed by it; the sharp '// &
-          'factor above decides'
-        self%warned_printed = .true.
-      end if
-    end subroutine warn_bounds
 
   end subroutine nonlocal_solve
 

@@ -17,14 +17,16 @@ module wellposed_mpm_nonlocal_grid
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
-  use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_text, only: real_text, int_text
   use wellposed_nonlocal, only: nonlocal_weight, weight_support
-  use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_fixed_point, nl_anderson
+  use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_fixed_point, nl_anderson, &
+                                             nl_sweep_names, nl_scheme_names
   implicit none
   private
   public :: nonlocal_t, nonlocal_step_stats_t, new_nonlocal, nonlocal_ghost_nodes, &
-            nonlocal_project, nonlocal_average, cached_average
+            nonlocal_project, nonlocal_average, cached_average, warn_bounds, &
+            iteration_error
 
   !> Measures of the last solve (one time step).
   type :: nonlocal_step_stats_t
@@ -60,6 +62,10 @@ module wellposed_mpm_nonlocal_grid
     !> eq. 4.47 need only this product, and eq. 4.49-4.50 update it without
     !> a division
     real(dp), allocatable :: field(:)
+    !> this rank's own part of `field` (its particles' sum) in the
+    !> simultaneous sweeps, which add the parts of the ranks after each pass
+    real(dp), allocatable :: own(:)
+    integer :: sweep = 0                    !< the step-2 sweep of the last solve
     ! per-step cache of each particle's separable weights (eq. 4.27) and M_p
     integer :: nbmax = 0
     real(dp), allocatable :: wx(:, :), wy(:, :), den(:)
@@ -76,6 +82,9 @@ module wellposed_mpm_nonlocal_grid
     !> Cost accounting (system_clock ticks and UMAT calls): step 1, the local
     !> pass; and the sweeps with their averages, UMAT calls and corrections.
     integer(int64) :: ticks_local = 0, ticks_sweeps = 0
+    !> of ticks_sweeps: the exchanges between ranks (node sums or the
+    !> pipeline, with the waiting for the other ranks) and the reductions
+    integer(int64) :: ticks_exchange = 0
     integer(int64) :: calls_local = 0, calls_sweeps = 0
   end type nonlocal_t
 
@@ -107,6 +116,9 @@ contains
     associate (s => settings)
       if (s%scheme /= nl_fixed_point .and. s%scheme /= nl_anderson) then
         call bad('scheme', 'must be fixed_point or anderson'); return
+      end if
+      if (s%sweep < 1 .or. s%sweep > size(nl_sweep_names)) then
+        call bad('sweep', 'must be auto, gauss_seidel, jacobi or coloured'); return
       end if
       if (.not. (s%tolerance >= 0.0_dp .and. s%rel_tolerance >= 0.0_dp .and. &
                  s%tolerance + s%rel_tolerance > 0.0_dp .and. ieee_is_finite(s%tolerance) &
@@ -153,9 +165,10 @@ contains
     self%nnode(1:ndim) = nnode(1:ndim)
     self%glo = glo
     self%ghi = ghi
-    allocate (self%node_mass(glo:ghi), self%field(glo:ghi))
+    allocate (self%node_mass(glo:ghi), self%field(glo:ghi), self%own(glo:ghi))
     self%node_mass = 0.0_dp
     self%field = 0.0_dp
+    self%own = 0.0_dp
 
     self%h_zeta = settings%h_zeta
     self%length = settings%length
@@ -331,6 +344,58 @@ contains
     end if
     avg = num/self%den(p)
   end subroutine cached_average
+
+  !> The contraction bounds' warning and note (once per run each) to `unit`.
+  subroutine warn_bounds(self, unit)
+    type(nonlocal_t), intent(inout) :: self
+    integer, intent(in) :: unit
+    if (self%bound_43 > 1.0_dp .and. .not. self%warned_sharp) then
+      write (unit, '(a)') 'warning: nonlocal contraction factor |h_zeta/(a + h_eta)| '// &
+        '(eq. 4.43 with normalised weights) = '//real_text(self%bound_43)//' > 1: the '// &
+        'dissertation''s fixed point (scheme fixed_point) is not a contraction and may diverge'
+      self%warned_sharp = .true.
+    end if
+    if (self%last%bound_printed > 1.0_dp .and. .not. self%warned_printed) then
+      write (unit, '(a)') 'note: the dissertation''s Lipschitz bound of eq. 4.43, N_alpha |h_zeta/'// &
+        '(a + h_eta)| with N_alpha = '//real_text(self%last%n_alpha)//', is '// &
+        real_text(self%last%bound_printed)//' > 1 (eq. 4.45: '// &
+        real_text(self%last%n_alpha*self%bound_45)//'); it counts every particle in the '// &
+        'support at full weight, so convergence is not guaranteed by it; the sharp '// &
+        'factor above decides'
+      self%warned_printed = .true.
+    end if
+  end subroutine warn_bounds
+
+  !> The error value of a step-2 iteration that did not converge
+  !> (`exhausted`: in max_iterations sweeps) or diverged.
+  subroutine iteration_error(self, exhausted, e, best, kbest, limit, nact, err)
+    type(nonlocal_t), intent(in) :: self
+    logical, intent(in) :: exhausted
+    real(dp), intent(in) :: e, best, limit
+    integer, intent(in) :: kbest, nact
+    type(error_t), allocatable, intent(out) :: err
+    character(len=:), allocatable :: why, hint
+    if (exhausted) then
+      why = 'did not converge in '//int_text(self%set%max_iterations)//' sweeps'
+    else if (.not. ieee_is_finite(e)) then
+      why = 'diverges: the error is no longer finite'
+    else
+      why = 'diverges: no smaller error in '//int_text(self%set%stall_iterations)//' sweeps'
+    end if
+    if (self%bound_43 > 1.0_dp) then
+      hint = ' > 1: the plain fixed point cannot be relied on; set &nonlocal scheme = '// &
+             '''anderson'''
+    else
+      hint = ' <= 1'
+    end if
+    call new_error(err, status_cutback, 'scheme', 'the nonlocal '// &
+      trim(nl_scheme_names(self%set%scheme))//' iteration ('//trim(nl_sweep_names(self%sweep))// &
+      ' sweeps) '//why// &
+      ' (max |dlambda^{k+1} - dlambda^k| = '//real_text(e)//', smallest '// &
+      real_text(best)//' at sweep '//int_text(kbest)//', tolerance '// &
+      real_text(limit)//'; '//int_text(nact)//' plastic particles); '// &
+      'contraction factor |h_zeta/(a + h_eta)| of eq. 4.43 = '//real_text(self%bound_43)//hint)
+  end subroutine iteration_error
 
   !> Node index box [lo, hi] per direction covering the cut Gaussian at xp.
   pure subroutine box(self, xp, lo, hi)

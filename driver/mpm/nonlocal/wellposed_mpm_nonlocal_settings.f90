@@ -12,6 +12,7 @@ module wellposed_mpm_nonlocal_settings
   private
   public :: nonlocal_settings_t, nl_fixed_point, nl_anderson, nl_scheme_names, nl_scheme_id, &
             ours_bounds
+  public :: nl_sweep_auto, nl_gauss_seidel, nl_jacobi, nl_coloured, nl_sweep_names, nl_sweep_id
 
   !> Iteration schemes: the dissertation's Gauss-Seidel fixed point of eq. 4.39,
   !> and Anderson acceleration of the same sweep.
@@ -19,10 +20,20 @@ module wellposed_mpm_nonlocal_settings
   character(len=11), parameter :: nl_scheme_names(2) = [character(len=11) :: 'fixed_point', &
                                                         'anderson']
 
+  !> Sweeps of step 2 (docs/parallel.md): the dissertation's Gauss-Seidel in
+  !> the serial order (pipelined across ranks); Jacobi, every plastic
+  !> particle from the field of the previous sweep; coloured, two colours of
+  !> blocks of cell layers (by global layer), each colour from the field the
+  !> other left. 'auto': Gauss-Seidel on one rank, Jacobi on more.
+  integer, parameter :: nl_sweep_auto = 1, nl_gauss_seidel = 2, nl_jacobi = 3, nl_coloured = 4
+  character(len=12), parameter :: nl_sweep_names(4) = [character(len=12) :: 'auto', &
+                                                       'gauss_seidel', 'jacobi', 'coloured']
+
   !> What a deck chooses (&nonlocal group). Tolerances are on dlambda, a
   !> strain increment (dimensionless).
   type :: nonlocal_settings_t
     integer :: scheme = nl_fixed_point
+    integer :: sweep = nl_sweep_auto
     real(dp) :: tolerance = 1.0e-14_dp      !< absolute on max |dlambda^{k+1} - dlambda^k|
     real(dp) :: rel_tolerance = 1.0e-8_dp   !< times max_p dlambda_p, added to tolerance
     integer :: max_iterations = 200         !< sweeps per step-2 round
@@ -52,6 +63,15 @@ contains
     end do
     id = 0
   end function nl_scheme_id
+
+  !> The deck's sweep word as a sweep id, 0 when it is none.
+  pure integer function nl_sweep_id(word) result(id)
+    character(len=*), intent(in) :: word
+    do id = 1, size(nl_sweep_names)
+      if (trim(word) == trim(nl_sweep_names(id))) return
+    end do
+    id = 0
+  end function nl_sweep_id
 
   !> The contraction factors of our model from its named keys (PROPS of
   !> docs/umat.md), with N_alpha = 1: eq. 4.43 |h_zeta/(a + h_eta)| and

@@ -14,7 +14,7 @@ module wellposed_mpm_sweep_order
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: sweep_key, key_order, find_sorted
+  public :: sweep_key, sweep_layer, key_order, find_sorted
 
 contains
 
@@ -26,6 +26,12 @@ contains
     integer, intent(in) :: layer, gid
     k = int(layer, int64)*2_int64**31 + int(gid, int64)
   end function sweep_key
+
+  !> The cell layer of a sweep key.
+  elemental integer function sweep_layer(k) result(layer)
+    integer(int64), intent(in) :: k
+    layer = int(k/2_int64**31)
+  end function sweep_layer
 
   !> order(1:n): the indices of key(1:n) in ascending key order (stable
   !> merge sort; the identity, at the cost of one pass, when already sorted).

@@ -20,6 +20,7 @@ module wellposed_mpm_ranks
   use wellposed_mpm_exchange, only: mpm_exchange_t, left_grid_error
   use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, restrict_grid, &
                                          hand_off_particles_with, sum_ghost_grid, &
+                                         sum_ghost_values, &
                                          owner_of_position, patch_nodes
   implicit none
   private
@@ -49,6 +50,7 @@ module wellposed_mpm_ranks
     procedure :: nodes_from_lower => ranks_from_lower
     procedure :: nodes_to_higher => ranks_to_higher
     procedure :: nodes_from_highest => ranks_from_highest
+    procedure :: nodes_sum => ranks_nodes_sum
     procedure :: max_real => ranks_max
     procedure :: sum_int => ranks_sum_int
     procedure :: any_true => ranks_any
@@ -265,6 +267,18 @@ contains
       deallocate (recv)
     end do
   end subroutine ranks_from_highest
+
+  !> Every node of the patch the sum of the partial values of the ranks
+  !> holding it (the simultaneous sweeps of Algorithm 1).
+  subroutine ranks_nodes_sum(self, values)
+    class(mpm_ranks_t), intent(inout) :: self
+    real(dp), intent(inout) :: values(:)
+    real(dp), allocatable :: buf(:, :)
+    if (self%dec%nnb == 0) return
+    buf = reshape(values, [1, size(values)])
+    call sum_ghost_values(self%dec, self%comm, buf)
+    values = buf(1, :)
+  end subroutine ranks_nodes_sum
 
   subroutine ranks_max(self, x)
     class(mpm_ranks_t), intent(inout) :: self

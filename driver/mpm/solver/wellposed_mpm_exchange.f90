@@ -10,7 +10,8 @@
 !>    every call is a no-op or an identity, so one rank is the serial
 !>    program bit for bit.
 !> The core library keeps no MPI: the parallel type extends this one in
-!> the parallel library. It also serves Algorithm 1 (nonlocal_ranks_t).
+!> the parallel library. It also serves Algorithm 1 (nonlocal_ranks_t: its node exchanges,
+!> reductions, sum_reals and nranks).
 module wellposed_mpm_exchange
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -42,17 +43,14 @@ module wellposed_mpm_exchange
     !> sum the patches' partial particle-to-grid sums at shared nodes:
     !> mass, momentum and forces, or the momentum only (collective)
     procedure(ex_sum_grid), deferred :: sum_grid
-    !> sum over the ranks, in place (collective)
-    procedure(ex_sum_reals), deferred :: sum_reals
     !> an error on any rank becomes an error on every rank, with the
     !> message of the lowest rank where it arose (collective)
     procedure(ex_sync), deferred :: sync_error
     !> every rank's `mine` concatenated in rank order on rank 0, with the
     !> count of each rank (collective; the other ranks get nothing)
     procedure(ex_gather), deferred :: gather_root
-    !> 0-based rank of this process and the number of ranks
+    !> 0-based rank of this process (the number of ranks: nranks)
     procedure(ex_int), deferred :: rank
-    procedure(ex_int), deferred :: nranks
     !> ghost node layers of the patches
     procedure(ex_int), deferred :: ghost_layers
   end type mpm_exchange_t
@@ -108,11 +106,6 @@ module wellposed_mpm_exchange
       type(grid_t), intent(inout) :: grid
       logical, intent(in) :: momentum_only
     end subroutine ex_sum_grid
-    subroutine ex_sum_reals(self, x)
-      import :: mpm_exchange_t, dp
-      class(mpm_exchange_t), intent(in) :: self
-      real(dp), intent(inout) :: x(:)
-    end subroutine ex_sum_reals
     integer function ex_int(self)
       import :: mpm_exchange_t
       class(mpm_exchange_t), intent(in) :: self
@@ -137,6 +130,7 @@ module wellposed_mpm_exchange
     procedure :: nodes_from_lower => serial_nodes
     procedure :: nodes_to_higher => serial_nodes
     procedure :: nodes_from_highest => serial_nodes
+    procedure :: nodes_sum => serial_nodes
     procedure :: max_real => serial_max
     procedure :: sum_int => serial_sum_int
     procedure :: any_true => serial_any
