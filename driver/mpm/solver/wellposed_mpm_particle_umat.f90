@@ -37,10 +37,15 @@ contains
   pure subroutine strain_increment(lg, dt, de)
     real(dp), intent(in) :: lg(:, :), dt
     real(dp), intent(out) :: de(:)
-    ! element by element: no array constructor (a temporary) per particle
+    ! element by element: no array constructor (a temporary) nor a fill
+    ! (a library call) per particle
     if (size(lg, 1) == 1) then
       de(1) = lg(1, 1)*dt
-      de(2:6) = 0.0_dp
+      de(2) = 0.0_dp
+      de(3) = 0.0_dp
+      de(4) = 0.0_dp
+      de(5) = 0.0_dp
+      de(6) = 0.0_dp
     else
       de(1) = dt*lg(1, 1)
       de(2) = dt*lg(2, 2)
