@@ -4,12 +4,13 @@ outcome: the regressions of tests/regression/point and tests/regression/plate.
 
 usage:
   driver_check.py [--expect FILE ...] [--expect-suffix SUFFIX ...]
-                  EXE DECK RUN_NAME [--no-plot] [--png NAME ...] CHECK ...
+                  EXE DECK RUN_NAME [--no-plot] [--png NAME ...] [--arg ARG ...] CHECK ...
       CHECK is key=expected:tolerance (absolute), or key=word (true, false,
       usl: the summary's value exactly);
       runs in the current folder, reads out/RUN_NAME/summary.txt. The run
       folder must hold summary.txt, the deck, every --expect FILE and a file
       ending in every --expect-suffix (e.g. the XDMF beside the HDF5).
+      --arg ARG passes ARG to the driver (an override, --name NAME).
   driver_check.py --fail REGEX EXE DECK RUN_NAME [ARG ...]
       the run (with the extra command-line ARGs) must exit non-zero, print
       REGEX (Python re) on stderr and leave no finished folder out/RUN_NAME.
@@ -68,6 +69,9 @@ def main(argv):
         elif rest[i] == "--png":
             i += 1
             pngs.append(rest[i])
+        elif rest[i] == "--arg":
+            i += 1
+            extra.append(rest[i])
         else:
             checks.append(rest[i])
         i += 1

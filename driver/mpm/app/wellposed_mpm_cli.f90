@@ -133,7 +133,7 @@ contains
     write (output_unit, '(a)') '  DECK: a 1D bar (inputs/fig2_*.nml) or a plane-strain plate '// &
       '(inputs/fig4_*.nml): its &scene kind says which'
     write (output_unit, '(a)') '  (''bar'' or ''plate''; absent: ''plate'' when the deck has '// &
-      'a &plate, &boundary, &study or &viscosity group); default '//default_deck
+      'a &plate, &boundary or &study group); default '//default_deck
     write (output_unit, '(a)') '  results go to ROOT/NAME (ROOT = out, NAME = &scene name)'
     write (output_unit, '(a)') '  overrides, e.g. grid.dx=0.5 time.cfl=0.1 material.h=-5e8'
     write (output_unit, '(a)') '  --checkpoint-every STEPS  into ROOT/NAME.checkpoints/ '// &

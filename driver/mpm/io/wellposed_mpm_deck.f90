@@ -1,5 +1,5 @@
-!> The bar's MPM deck: the shared groups (&scene, &grid, &time, &material,
-!> &nonlocal, &output: wellposed_mpm_deck_shared, with the bar's defaults,
+!> The bar's MPM deck: the shared groups (&scene, &grid, &time, &viscosity,
+!> &material, &nonlocal, &output: wellposed_mpm_deck_shared, with the bar's defaults,
 !> the Sandler-Rubin case of shared reference A) and the bar's own:
 !>   &initial  stress (6 values, Pa, Abaqus order, tension +), velocity (m/s),
 !>             out_of_equilibrium (stress need not balance the load at t = 0)
@@ -60,6 +60,7 @@ contains
     sh%length = cfg%length; sh%dx = cfg%dx; sh%ppc = cfg%ppc; sh%pad_cells = cfg%pad_cells
     sh%shape = 'gimp'; sh%far_end = 'fixed'; sh%scheme = 'musl'
     sh%t_end = cfg%t_end; sh%cfl = cfg%cfl
+    sh%visc_a1 = cfg%visc_a1; sh%visc_a2 = cfg%visc_a2
     sh%sample_dt = cfg%sample_dt; sh%snapshot_dt = cfg%snapshot_dt
     sh%mdef%density = cfg%density
     sh%mdef%nstatv = cfg%nstatv
@@ -172,6 +173,7 @@ contains
       cfg%pad_cells = sh%pad_cells
       cfg%shape = sh%shape_id; cfg%bc_far = sh%far_end_id; cfg%scheme = sh%scheme_id
       cfg%t_end = sh%t_end; cfg%cfl = sh%cfl
+      cfg%visc_a1 = sh%visc_a1; cfg%visc_a2 = sh%visc_a2
       cfg%materials = sh%materials
       cfg%density = sh%density
       call first_material(cfg%materials, cfg%props, cfg%nprops, cfg%nstatv)

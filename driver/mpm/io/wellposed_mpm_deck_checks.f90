@@ -79,13 +79,31 @@ contains
     end subroutine fail
   end subroutine check_bar_deck
 
-  !> The plate deck `path` (cfg, study): samples and snapshots inside the run.
+  !> The plate deck `path` (cfg, study): samples and snapshots inside the
+  !> run; stations inside the plate, sampled at a fixed interval.
   subroutine check_plate_deck(path, cfg, study, err)
     character(len=*), intent(in) :: path
     type(ps_config_t), intent(in) :: cfg
     type(ps_study_t), intent(in) :: study
     type(error_t), allocatable, intent(out) :: err
+    integer :: s
     call check_times(path, cfg%t_end, study%sample_dt, study%snapshot_dt, err)
+    if (allocated(err) .or. study%nstations == 0) return
+    if (.not. study%sample_dt > 0.0_dp) then
+      call new_error(err, status_invalid, 'sample_dt', path//': &stations: the station '// &
+        'histories need &output sample_dt > 0 s (it is '//real_text(study%sample_dt)//' s)')
+      return
+    end if
+    do s = 1, study%nstations
+      if (study%station_x(s) < 0.0_dp .or. study%station_x(s) > cfg%width .or. &
+          study%station_y(s) < 0.0_dp .or. study%station_y(s) > cfg%height) then
+        call new_error(err, status_invalid, 'stations', path//': &stations: point '// &
+          int_text(s)//' (x, y) = ('//real_text(study%station_x(s))//', '// &
+          real_text(study%station_y(s))//') m lies outside the plate [0, '// &
+          real_text(cfg%width)//'] x [0, '//real_text(cfg%height)//'] m (&plate)')
+        return
+      end if
+    end do
   end subroutine check_plate_deck
 
   !> Samples and snapshots at most t_end apart: one after t = 0 at least.

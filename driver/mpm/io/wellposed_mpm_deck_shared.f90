@@ -5,6 +5,10 @@
 !>   &grid     dx (m), ppc, pad_cells, shape; bars: length (m), far_end
 !>   &time     t_end (s), cfl, scheme ('musl'|'usl'); plates: stop_on_cutback
 !>   &material one or more groups (wellposed_mpm_material_deck)
+!>   &viscosity a1, a2: the bulk artificial viscosity of the step
+!>             (wellposed_mpm_solver), q = rho (a1 c |D_kk| dx + a2 D_kk^2
+!>             dx^2) for D_kk < 0, each finite and >= 0 (0: that term off);
+!>             defaults: bars 0, 0 (off), plates 0.4, 4 (shared reference B)
 !>   &nonlocal scheme ('fixed_point'|'anderson'), tolerance, rel_tolerance,
 !>             max_iterations, stall_iterations, max_rounds, anderson_depth,
 !>             anderson_mixing, weight_cutoff, L (m), h_zeta (Pa)
@@ -21,7 +25,7 @@
 module wellposed_mpm_deck_shared
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: check_finite, check_word, unset, is_set, lower
+  use wellposed_deck, only: check_finite, check_word, unset, is_set, lower, real_str
   use wellposed_mpm_deck_file, only: open_deck, read_deck_groups
   use wellposed_mpm_scene_kind, only: check_scene_name, scene_kind_bar, scene_kind_names
   use wellposed_mpm_material_deck, only: read_materials, material_defaults_t, &
@@ -37,8 +41,8 @@ module wellposed_mpm_deck_shared
 
   !> Cases of a plate deck's &study.
   integer, parameter :: max_cases = 16
-  character(len=8), parameter :: shared_groups(5) = [character(len=8) :: 'scene', 'grid', &
-    'time', 'nonlocal', 'output']
+  character(len=9), parameter :: shared_groups(6) = [character(len=9) :: 'scene', 'grid', &
+    'time', 'viscosity', 'nonlocal', 'output']
 
   !> The shared groups' values: the kind's defaults before reading, the
   !> deck's after (words also as ids into the kind's name lists).
@@ -52,6 +56,7 @@ module wellposed_mpm_deck_shared
     integer :: shape_id = 0, far_end_id = 0, scheme_id = 0
     real(dp) :: t_end = 0.0_dp, cfl = 0.2_dp
     logical :: stop_on_cutback = .false.
+    real(dp) :: visc_a1 = 0.0_dp, visc_a2 = 0.0_dp  !< &viscosity a1, a2
     real(dp) :: sample_dt = 0.0_dp, snapshot_dt = 0.0_dp
     real(dp) :: band_y = 2.5_dp, band_x = 0.0_dp, band_time = 0.0_dp
     real(dp) :: band_drop = 0.05_dp, band_onset_strain = 1.0e-3_dp
@@ -145,6 +150,8 @@ contains
         call read_time(given, ios, msg, unit, line)
         if (given%stop_on_cutback .eqv. soc) call note('time', 'stop_on_cutback')
         given%stop_on_cutback = soc
+      case ('viscosity')
+        call read_viscosity(given, ios, msg, unit, line)
       case ('nonlocal')
         call read_nonlocal(sh%nonlocal, nl_word, nl_length, nl_h_zeta, ios, msg, unit, line)
       case ('output')
@@ -179,6 +186,7 @@ contains
     sh%length = unset; sh%dx = unset; sh%ppc = -huge(1); sh%pad_cells = -huge(1)
     sh%shape = ''; sh%far_end = ''; sh%scheme = ''
     sh%t_end = unset; sh%cfl = unset; sh%stop_on_cutback = .false.
+    sh%visc_a1 = unset; sh%visc_a2 = unset
     sh%sample_dt = unset; sh%snapshot_dt = unset
     sh%band_y = unset; sh%band_x = unset; sh%band_time = unset; sh%band_axis = ''
     sh%band_drop = unset; sh%band_onset_strain = unset
@@ -199,6 +207,8 @@ contains
     if (len_trim(g%scheme) > 0) sh%scheme = g%scheme
     if (is_set(g%t_end)) sh%t_end = g%t_end
     if (is_set(g%cfl)) sh%cfl = g%cfl
+    if (is_set(g%visc_a1)) sh%visc_a1 = g%visc_a1
+    if (is_set(g%visc_a2)) sh%visc_a2 = g%visc_a2
     sh%stop_on_cutback = g%stop_on_cutback
     if (is_set(g%sample_dt)) sh%sample_dt = g%sample_dt
     if (is_set(g%snapshot_dt)) sh%snapshot_dt = g%snapshot_dt
@@ -231,6 +241,8 @@ contains
     if (allocated(err)) return
     call check_finite(path, 'time', 't_end', sh%t_end, err); if (allocated(err)) return
     call check_finite(path, 'time', 'cfl', sh%cfl, err); if (allocated(err)) return
+    call check_viscosity(path, 'a1', sh%visc_a1, err); if (allocated(err)) return
+    call check_viscosity(path, 'a2', sh%visc_a2, err); if (allocated(err)) return
     select case (lower(trim(sh%band_axis)))
     case ('x', 'y')
       sh%band_axis = lower(trim(sh%band_axis))
@@ -239,6 +251,32 @@ contains
         trim(sh%band_axis)//"' is not one of 'x' (along y = band_y), 'y' (along x = band_x)")
     end select
   end subroutine check_shared
+
+  !> &viscosity `key` = `a`: finite and >= 0.
+  subroutine check_viscosity(path, key, a, err)
+    character(len=*), intent(in) :: path, key
+    real(dp), intent(in) :: a
+    type(error_t), allocatable, intent(out) :: err
+    call check_finite(path, 'viscosity', key, a, err); if (allocated(err)) return
+    if (a < 0.0_dp) call new_error(err, status_invalid, key, path//': &viscosity: '//key// &
+      ' = '//real_str(a)//' must be >= 0 (the coefficient of a bulk artificial viscosity; '// &
+      '0 switches its term off)')
+  end subroutine check_viscosity
+
+  subroutine read_viscosity(g, ios, msg, unit, line)
+    type(shared_deck_t), intent(inout) :: g
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    integer, intent(in), optional :: unit
+    character(len=*), intent(in), optional :: line
+    real(dp) :: a1, a2
+    namelist /viscosity/ a1, a2
+    a1 = g%visc_a1; a2 = g%visc_a2
+    ios = 0
+    if (present(unit)) read (unit, nml=viscosity, iostat=ios, iomsg=msg)
+    if (present(line)) read (line, nml=viscosity, iostat=ios, iomsg=msg)
+    g%visc_a1 = a1; g%visc_a2 = a2
+  end subroutine read_viscosity
 
   subroutine read_scene(g, ios, msg, unit, line)
     type(shared_deck_t), intent(inout) :: g

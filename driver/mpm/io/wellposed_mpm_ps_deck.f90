@@ -1,5 +1,5 @@
 !> The plate's MPM deck (chapter 4's plane-strain plate): the shared groups
-!> (&scene, &grid, &time, &material, &nonlocal, &output:
+!> (&scene, &grid, &time, &viscosity, &material, &nonlocal, &output:
 !> wellposed_mpm_deck_shared, with the plate's defaults) and the plate's own,
 !> read into a ps_config_t plus the list of cases a figure needs:
 !>   &plate     width, height (m); deprecated: weak_x(2), weak_y(2) (m),
@@ -7,8 +7,12 @@
 !>              first with k0 = weak_k0) in the box weak_x by weak_y
 !>   &boundary  bottom ('roller'|'fixed'|'free'), top ('velocity'|'free'),
 !>              sides ('free'|'roller'), top_velocity (m/s), ramp_time (s),
-!>              top_lateral ('fixed': v_x = 0 on the top as the dissertation; 'free')
-!>   &viscosity a1, a2 (shared reference B; 0 switches a term off)
+!>              top_lateral ('fixed': v_x = 0 on the top as the dissertation; 'free'),
+!>              platen ('surface': on the body's current top; 'grid': on the
+!>              fixed node row y = height; docs/mpm.md, "The platen")
+!>   &stations  x(:), y(:) (m, up to max_stations points of the unscaled plate,
+!>              scaled with it): stress and velocity histories of the particle
+!>              nearest each point, sampled every &output sample_dt (> 0)
 !>   &study     dx(:) (m), scale(:): one run per entry, the plate, weak zone,
 !>              top velocity and t_end scaled by `scale` (fig. 4.6), the mesh
 !>              by dx; label(:) optional names. Absent: one run per &grid dx.
@@ -35,14 +39,16 @@ module wellposed_mpm_ps_deck
   use wellposed_mpm_deck_file, only: read_deck_groups
   use wellposed_mpm_scene_kind, only: scene_kind_plate
   use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
-                                        bc_velocity
+                                        bc_velocity, platen_names
   use wellposed_mpm_shape_2d, only: shape2d_names
   implicit none
   private
-  public :: read_ps_deck, ps_study_t
+  public :: read_ps_deck, ps_study_t, max_stations
 
-  character(len=9), parameter :: plate_groups(4) = [character(len=9) :: 'plate', 'boundary', &
-    'viscosity', 'study']
+  character(len=8), parameter :: plate_groups(4) = [character(len=8) :: 'plate', 'boundary', &
+    'stations', 'study']
+  !> Most stations of a plate deck.
+  integer, parameter :: max_stations = 16
 
   !> The cases of one deck and the output settings.
   type :: ps_study_t
@@ -68,6 +74,9 @@ module wellposed_mpm_ps_deck
     !> A cut-back the UMAT cannot resolve (a particle softened to zero
     !> strength) ends the case at the last complete step instead of failing.
     logical :: stop_on_cutback = .false.
+    !> &stations: the points (m, unscaled plate) whose histories are sampled
+    integer :: nstations = 0
+    real(dp) :: station_x(max_stations) = 0.0_dp, station_y(max_stations) = 0.0_dp
   end type ps_study_t
 
 contains
@@ -83,16 +92,17 @@ contains
     real(dp) :: width, height, weak_x(2), weak_y(2), weak_k0
     real(dp) :: dx(max_cases), scale(max_cases)
     character(len=32) :: label(max_cases)
-    character(len=16) :: bottom, top, sides, top_lateral
-    real(dp) :: top_velocity, ramp_time, a1, a2
+    character(len=16) :: bottom, top, sides, top_lateral, platen
+    real(dp) :: top_velocity, ramp_time, x(max_stations), y(max_stations)
     namelist /plate/ width, height, weak_x, weak_y, weak_k0
-    namelist /boundary/ bottom, top, sides, top_velocity, ramp_time, top_lateral
-    namelist /viscosity/ a1, a2
+    namelist /boundary/ bottom, top, sides, top_velocity, ramp_time, top_lateral, platen
     namelist /study/ dx, scale, label
+    namelist /stations/ x, y
 
     sh%title = 'plane-strain plate (fig. 4.1 of the dissertation)'
     sh%dx = cfg%dx; sh%ppc = cfg%ppc; sh%pad_cells = cfg%pad_cells; sh%shape = 'cpdi'
     sh%t_end = cfg%t_end; sh%cfl = cfg%cfl; sh%scheme = 'musl'
+    sh%visc_a1 = cfg%visc_a1; sh%visc_a2 = cfg%visc_a2
     sh%mdef%density = cfg%density; sh%mdef%nstatv = cfg%nstatv
     sh%mdef%named = 0.0_dp
     sh%mdef%named(1:6) = [76.0e9_dp, 26.0e9_dp, 0.0_dp, 0.0_dp, 400.0e6_dp, -4.0e9_dp]
@@ -103,9 +113,9 @@ contains
     width = cfg%width; height = cfg%height
     weak_x = unset; weak_y = unset; weak_k0 = unset
     dx = unset; dx(1) = sh%dx; scale = unset; label = ''
-    bottom = 'roller'; top = 'velocity'; sides = 'free'; top_lateral = 'fixed'
+    bottom = 'roller'; top = 'velocity'; sides = 'free'; top_lateral = 'fixed'; platen = 'surface'
     top_velocity = cfg%top_velocity; ramp_time = cfg%ramp_time
-    a1 = cfg%visc_a1; a2 = cfg%visc_a2
+    x = unset; y = unset
     call read_deck_groups(path, text, overrides, plate_groups, read_group, err)
     if (allocated(err)) return
 
@@ -116,10 +126,27 @@ contains
     call legacy_weak_zone(); if (allocated(err)) return
     call first_material(cfg%materials, cfg%props, cfg%nprops, cfg%nstatv)
     call boundaries(); if (allocated(err)) return
-    cfg%visc_a1 = a1; cfg%visc_a2 = a2
-    call study_cases()
+    call study_cases(); if (allocated(err)) return
+    call station_points()
 
   contains
+
+    !> &stations x(:), y(:): as many of each, finite, without gaps.
+    subroutine station_points()
+      integer :: n
+      n = count(is_set(x))
+      if (count(is_set(y)) /= n .or. .not. all(is_set(x(1:n))) .or. &
+          .not. all(is_set(y(1:n)))) then
+        call new_error(err, status_invalid, 'x', path//': &stations: x and y must give '// &
+          'the same number of points, without gaps (up to '//int_text(max_stations)//')')
+        return
+      end if
+      call check_finite(path, 'stations', 'x', x(1:n), err); if (allocated(err)) return
+      call check_finite(path, 'stations', 'y', y(1:n), err); if (allocated(err)) return
+      cases%nstations = n
+      cases%station_x(1:n) = x(1:n)
+      cases%station_y(1:n) = y(1:n)
+    end subroutine station_points
 
     subroutine read_group(grp, ios, msg, unit, line)
       character(len=*), intent(in) :: grp
@@ -135,9 +162,9 @@ contains
       case ('boundary')
         if (present(unit)) read (unit, nml=boundary, iostat=ios, iomsg=msg)
         if (present(line)) read (line, nml=boundary, iostat=ios, iomsg=msg)
-      case ('viscosity')
-        if (present(unit)) read (unit, nml=viscosity, iostat=ios, iomsg=msg)
-        if (present(line)) read (line, nml=viscosity, iostat=ios, iomsg=msg)
+      case ('stations')
+        if (present(unit)) read (unit, nml=stations, iostat=ios, iomsg=msg)
+        if (present(line)) read (line, nml=stations, iostat=ios, iomsg=msg)
       case ('study')
         if (present(unit)) read (unit, nml=study, iostat=ios, iomsg=msg)
         if (present(line)) read (line, nml=study, iostat=ios, iomsg=msg)
@@ -151,6 +178,7 @@ contains
       cfg%ppc = sh%ppc; cfg%pad_cells = sh%pad_cells
       cfg%shape = sh%shape_id; cfg%scheme = sh%scheme_id
       cfg%t_end = sh%t_end; cfg%cfl = sh%cfl
+      cfg%visc_a1 = sh%visc_a1; cfg%visc_a2 = sh%visc_a2
       cfg%materials = sh%materials
       cfg%density = sh%density
       cfg%nonlocal = sh%nonlocal
@@ -194,6 +222,7 @@ contains
           "dissertation's), 'free'")
         return
       end select
+      cfg%platen = word(platen, platen_names, 'boundary', 'platen'); if (allocated(err)) return
       call check_finite(path, 'boundary', 'top_velocity', [top_velocity, ramp_time], err)
     end subroutine boundaries
 

@@ -1,7 +1,7 @@
 !> Which scene a deck describes: &scene kind = 'bar' (the 1D uniaxial-strain
 !> bar of the dissertation's chapter 2) or 'plate' (the plane-strain plate of
 !> chapter 4). Without the key, a deck with a group only plates have
-!> (&plate, &boundary, &study, &viscosity) is a plate and any other a bar.
+!> (&plate, &boundary, &study) is a plate and any other a bar.
 !> An override scene.kind=... on the command line wins. Also the check of
 !> &scene name, which every kind's reader makes.
 module wellposed_mpm_scene_kind
@@ -49,7 +49,7 @@ contains
     if (len(word) == 0) then
       which = scene_kind_bar
       if (has_group(text, 'plate') .or. has_group(text, 'boundary') .or. &
-          has_group(text, 'study') .or. has_group(text, 'viscosity')) which = scene_kind_plate
+          has_group(text, 'study')) which = scene_kind_plate
       return
     end if
     call check_scene_kind(path, word, which, err)

@@ -3,8 +3,11 @@
 !> signed peak, arrivals and width beside the admissible solution of shared
 !> reference A (docs/cases.md), the station where the cone's apex was
 !> reached, and for a ramp with a sinusoid (fig. 2.10 left) the phase speed.
-!> A figure that does not apply is written `not_applicable  # why`, never
-!> NaN (docs/decks.md, "Summary figures").
+!> The head is compared with the speed it runs at: C_P of the UMAT's
+!> loading modulus for a local material, and for an overlocal one the
+!> low-frequency limit of its dispersion relation (head_speed). A figure
+!> that does not apply is written `not_applicable  # why`, never NaN
+!> (docs/decks.md, "Summary figures").
 module wellposed_mpm_station_summary
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
@@ -13,22 +16,70 @@ module wellposed_mpm_station_summary
   use wellposed_mpm_config, only: mpm_config_t, pulse_ramp_sine
   use wellposed_mpm_stations, only: station_measures_t, find_apex, phase_speed
   use wellposed_umat_host, only: umat_is_ours
+  use wellposed_error, only: error_t
+  use wellposed_umat_layout, only: prop_h, prop_h_zeta
+  use wellposed_mpm_bar, only: probe_moduli
   implicit none
   private
-  public :: add_station_summary
+  public :: add_station_summary, head_speed
+
+  !> The speed the head of a plastic pulse runs at and how it was found.
+  type, public :: head_speed_t
+    real(dp) :: c = 0.0_dp                 !< m/s; 0 when not known
+    character(len=:), allocatable :: what  !< the summary comment, or why not known
+  end type head_speed_t
 
 contains
 
+  !> The speed of the head of a plastic pulse in the scene `cfg` with the
+  !> UMAT's loading speed c_p: c_p for a local material; with Algorithm 1
+  !> (`overlocal`) the low-frequency limit of the overlocal dispersion
+  !> relation (fig. 2.10 left): a uniform field has <dlambda> = dlambda,
+  !> so zeta hardens with h_zeta as eta with h_eta (eq. 4.24) and the head
+  !> runs at the local speed with h_eta + h_zeta, probed through the UMAT
+  !> with PROPS(6) = h_eta + h_zeta, PROPS(12) = 0. For a user's UMAT
+  !> (nonlocal_contract) that slot meaning is not known: c = 0.
+  function head_speed(cfg, overlocal, c_p) result(head)
+    type(mpm_config_t), intent(in) :: cfg
+    logical, intent(in) :: overlocal
+    real(dp), intent(in) :: c_p
+    type(head_speed_t) :: head
+    type(error_t), allocatable :: err
+    real(dp) :: props(cfg%nprops), m_e, m_p
+    head%c = c_p
+    head%what = 'm/s, C_P of the UMAT''s loading modulus at the initial state'
+    if (.not. overlocal) return
+    head%c = 0.0_dp
+    head%what = 'a user''s UMAT with nonlocal_contract: its overlocal head speed is not known'
+    if (.not. umat_is_ours() .or. cfg%nprops < prop_h_zeta) return
+    props = cfg%props(1:cfg%nprops)
+    props(prop_h) = props(prop_h) + props(prop_h_zeta)
+    props(prop_h_zeta) = 0.0_dp
+    call probe_moduli(cfg, props, m_e, m_p, err)
+    if (allocated(err)) then
+      ! a softening h_eta + h_zeta: no wave of that speed (not an error of the run)
+      head%what = 'the local model with h_eta + h_zeta has no positive loading modulus: '// &
+                  'no low-frequency head speed'
+      return
+    end if
+    head%c = sqrt(m_p/cfg%density)
+    head%what = 'm/s, C_P(h_eta + h_zeta): the overlocal head speed, the low-frequency '// &
+                'limit of its dispersion relation (the UMAT''s loading modulus with h_eta + '// &
+                'h_zeta; c_plastic has h_eta alone)'
+  end function head_speed
+
   !> Add the station figures of `meas` (stations at x, histories time,
   !> sxx and the apex flag as sampled) for the scene `cfg` with the UMAT's
-  !> wave speeds c_e (unloading) and c_p (loading) at the initial state.
-  subroutine add_station_summary(sm, cfg, x, time, sxx, apex_flag, meas, c_e, c_p)
+  !> wave speeds c_e (unloading) and c_p (loading) at the initial state and
+  !> the speed the head runs at (`head`, head_speed).
+  subroutine add_station_summary(sm, cfg, x, time, sxx, apex_flag, meas, c_e, c_p, head)
     type(summary_t), intent(inout) :: sm
     type(mpm_config_t), intent(in) :: cfg
     real(dp), intent(in) :: x(:), time(:), sxx(:, :), apex_flag(:, :), c_e, c_p
     type(station_measures_t), intent(in) :: meas
-    character(len=:), allocatable :: k, no_pulse, no_ideal, no_speed, who
-    real(dp) :: tau, t_apex, s_apex, c, rms
+    type(head_speed_t), intent(in) :: head
+    character(len=:), allocatable :: k, no_pulse, no_ideal, no_speed, who, no_head
+    real(dp) :: tau, t_apex, s_apex, c, rms, c_h
     integer :: i, n, apex
     logical :: ramp, ideal, reached(size(x)), ok
     n = size(x)
@@ -43,10 +94,19 @@ contains
       no_speed = no_pulse
       no_ideal = no_pulse
     end if
+    c_h = head%c
+    no_head = no_speed
+    if (.not. c_h > 0.0_dp) no_head = head%what
+    ! the admissible solution of reference A is the local model's (C_P, C_E)
     ideal = .not. ramp .and. c_p >= c_e
     call sm%add('c_head', meas%c_head, 'm/s, least-squares fit of x against t_head', no_speed)
     call sm%add('c_tail', meas%c_tail, 'm/s, least-squares fit of x against t_tail', no_speed)
-    call sm%add('c_head_over_c_plastic', meas%c_head/c_p, why=no_speed)
+    if (c_h > 0.0_dp) then
+      call sm%add('c_plastic_head', c_h, head%what)
+    else
+      call sm%not_applicable('c_plastic_head', head%what)
+    end if
+    call sm%add('c_head_over_c_plastic', meas%c_head/c_h, 'c_head/c_plastic_head', no_head)
     call sm%add('c_tail_over_c_elastic', meas%c_tail/c_e, why=no_speed)
     call sm%add('separation_rate', meas%c_head - meas%c_tail, &
                 'm/s, head minus tail speed (ideal Sandler-Rubin: C_P - C_E)', no_speed)

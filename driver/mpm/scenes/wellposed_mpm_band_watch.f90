@@ -8,13 +8,16 @@
 !> - stage: the first curve sample after the onset at which the apparent
 !>   stress has dropped by the fraction &output band_drop below its peak so
 !>   far; there the band is fitted and measured normal to itself
-!>   (wellposed_mpm_band) in the middle 60 % of the plate's height.
+!>   (wellposed_mpm_band) in the middle 60 % of the plate's height;
+!> - the platen's layer: the mean sigma_yy in the cell row under the
+!>   platen's lowest node row over that of the particle row(s) nearest
+!>   mid-height, after the last step (docs/mpm.md, "The platen").
 !> Collective: every rank calls `step` each step with the same curve.
 module wellposed_mpm_band_watch
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_text, only: real_text
-  use wellposed_mpi, only: comm_t, allreduce_max
+  use wellposed_mpi, only: comm_t, allreduce_max, allreduce_sum
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_summary, only: summary_t
   use wellposed_mpm_solver, only: mpm_scene_t, plastic_strain
@@ -38,6 +41,7 @@ module wellposed_mpm_band_watch
     logical :: staged = .false.
     real(dp) :: stage(3) = 0.0_dp     !< the stage's (time, apparent strain, stress)
     type(band_fit_t) :: fit
+    real(dp) :: top_ratio = 0.0_dp   !< top row's mean sigma_yy / mid-height row's, now
   contains
     procedure :: step => watch_step
     procedure :: summarise => watch_summarise
@@ -76,6 +80,7 @@ contains
     real(dp), allocatable :: ep(:)
     real(dp) :: emax, x, y
     integer :: p, nc
+    call top_row_ratio(self, sc, comm)
     if (self%staged) return
     nc = size(curve, 2)
     if (nc > 0) self%peak = max(self%peak, curve(3, nc))
@@ -107,6 +112,31 @@ contains
     self%stage = curve(:, nc)
     call measure(self, sc, comm)
   end subroutine watch_step
+
+  !> The mean sigma_yy of the particles in the cell row under the platen's
+  !> lowest node row (by their centres now) over that of the particle
+  !> row(s) within lp of mid-height (by their initial centres), now.
+  subroutine top_row_ratio(self, sc, comm)
+    type(band_watch_t), intent(inout) :: self
+    type(mpm_scene_t), intent(in) :: sc
+    type(comm_t), intent(in) :: comm
+    real(dp) :: a(4), lp, yg, y
+    integer :: p
+    lp = 0.5_dp*sc%dx/sc%plate%ppc
+    yg = sc%origin(2) + sc%dx*sc%platen_row
+    a = 0.0_dp
+    do p = 1, sc%parts%n
+      y = sc%parts%x(2, p)
+      if (y < yg .and. y > yg - sc%dx) a(1:2) = a(1:2) + [sc%parts%stress(2, p), 1.0_dp]
+      y = sc%parts%x0(2, p)
+      if (abs(y - 0.5_dp*sc%plate%height) < 1.0001_dp*lp) &
+        a(3:4) = a(3:4) + [sc%parts%stress(2, p), 1.0_dp]
+    end do
+    if (comm%size > 1) call allreduce_sum(comm, a)
+    self%top_ratio = 0.0_dp
+    if (a(2) > 0.0_dp .and. a(4) > 0.0_dp .and. a(3) /= 0.0_dp) &
+      self%top_ratio = (a(1)/a(2))/(a(3)/a(4))
+  end subroutine top_row_ratio
 
   !> The band now (rank 0 gathers the particles and fits).
   subroutine measure(self, sc, comm)
@@ -152,6 +182,13 @@ contains
       call sm%not_applicable(tag//'.band_onset_time', why)
       call sm%not_applicable(tag//'.band_starts_at_weak_zone', why)
     end if
+    if (self%top_ratio /= 0.0_dp) then
+      call sm%add(tag//'.platen_cell_stress_ratio', self%top_ratio, 'mean sigma_yy in the '// &
+                  'cell row under the platen''s nodes over the mid-height row(s), at the end')
+    else
+      call sm%not_applicable(tag//'.platen_cell_stress_ratio', &
+                             'no particle under a platen, or no stress at mid-height')
+    end if
     call sm%add(tag//'.band_drop', self%drop, 'the stage: apparent stress this fraction '// &
                 'below its peak, first sample after the onset')
     if (.not. self%staged) then
@@ -186,7 +223,7 @@ contains
     character(len=*), intent(in) :: pre
     call ck%put(pre//'reals', [self%onset_t, self%onset_x, self%onset_ep, self%peak, self%stage, &
                                self%fit%fwhm, self%fit%angle_deg, self%fit%x0, self%fit%slope, &
-                               self%fit%peak, self%fit%rms])
+                               self%fit%peak, self%fit%rms, self%top_ratio])
     call ck%put(pre//'ints', [merge(1, 0, self%onset), merge(1, 0, self%staged), &
                               merge(1, 0, self%fit%found), self%fit%slices])
     call ck%put_text(pre//'why', self%fit%why)
@@ -208,6 +245,7 @@ contains
     self%stage = a(6:8)
     self%fit%fwhm = a(9); self%fit%angle_deg = a(10); self%fit%x0 = a(11)
     self%fit%slope = a(12); self%fit%peak = a(13); self%fit%rms = a(14)
+    self%top_ratio = a(15)
     self%onset = iv(1) == 1; self%staged = iv(2) == 1; self%fit%found = iv(3) == 1
     self%fit%slices = iv(4)
     self%fit%why = why

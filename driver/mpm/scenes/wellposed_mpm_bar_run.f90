@@ -27,12 +27,14 @@ module wellposed_mpm_bar_run
   use wellposed_mpm_config
   use wellposed_mpm_deck, only: read_mpm_deck, mpm_options_t
   use wellposed_mpm_deck_checks, only: check_bar_deck
-  use wellposed_mpm_station_summary, only: add_station_summary
+  use wellposed_mpm_station_summary, only: add_station_summary, head_speed, head_speed_t
+  use wellposed_mpm_nonlocal_summary, only: add_nonlocal_summary
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, kinetic_energy, &
                                   total_momentum, timer_umat, timer_transfer, timer_grid
   use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations, &
                                     station_measures_t, measure_stations, field_sxx, &
                                     field_syy, field_v, field_z, field_apex, nfields
+  use wellposed_mpm_wake, only: wake_t, station_wake, wake_start
   use wellposed_mpm_paths, only: find_data, stations_plot_name
   use wellposed_mpm_reference, only: reference_plot_args
   use wellposed_mpm_particles, only: particle_bytes, particles_t
@@ -75,6 +77,7 @@ contains
     type(mpm_scene_t) :: scene
     type(stations_t) :: st
     type(station_measures_t) :: meas
+    type(head_speed_t) :: head
     type(run_dir_t) :: rd
     type(h5_parallel_file_t) :: h5
     type(summary_t) :: sm
@@ -117,6 +120,7 @@ contains
     ghost = scene%exchange%ghost_layers()
     c_e = sqrt(scene%modulus_elastic/cfg%density)
     c_p = sqrt(scene%modulus_plastic/cfg%density)
+    head = head_speed(cfg, scene%nl%active, c_p)
     ! rank 0 makes the run folder; run.h5 in it is written by every rank
     h5_path = ''
     if (root) then
@@ -423,17 +427,13 @@ contains
                     'falls below weight_cutoff')
         call sm%add('nonlocal_sweep_order', 'Gauss-Seidel by owning cell, then particle '// &
                     'id, pipelined across ranks')
-        call sm%add('nonlocal_steps_iterated', scene%nl%steps_iterated)
-        call sm%add('nonlocal_iterations_mean', real(scene%nl%iterations_total, dp)/ &
-                    max(scene%nl%steps_iterated, 1), 'sweeps per step with plastic particles')
-        call sm%add('nonlocal_iterations_max', scene%nl%iterations_max)
-        call sm%add('lipschitz_eq4_43_sharp', scene%nl%bound_43, '|h_zeta/(a + h_eta)|')
-        call sm%add('lipschitz_eq4_45_sharp', scene%nl%bound_45, '|(h_eta + h_zeta)/a|')
+        call add_nonlocal_summary(sm, '', scene%nl)
       end if
       call sm%add('c_elastic', c_e, 'm/s, from the UMAT unloading modulus at the initial state')
       call sm%add('c_plastic', c_p, 'm/s, from the UMAT loading (extension) modulus')
       call add_station_summary(sm, cfg, st%x, st%time(1:st%ns), st%hist(field_sxx, :, 1:st%ns), &
-                               st%hist(field_apex, :, 1:st%ns), meas, c_e, c_p)
+                               st%hist(field_apex, :, 1:st%ns), meas, c_e, c_p, head)
+      call add_wake()
       call sm%add('energy_input', escale, 'J/m^2, |W_ext| + E_kin0: the work of the '// &
                   'surface load and the initial kinetic energy')
       call sm%add('energy_balance_error', ebal/max(escale, tiny(1.0_dp)), &
@@ -443,6 +443,52 @@ contains
                   max(abs(scene%impulse), maxval(abs(energy(5, 1:nenergy))), tiny(1.0_dp)), &
                   '(P - P0 - impulse)/max|impulse|')
     end subroutine write_summary
+
+    !> The wake behind the pulse at every station (wellposed_mpm_wake) and
+    !> the largest over the stations whose record reaches the window.
+    subroutine add_wake()
+      type(wake_t) :: w
+      character(len=:), allocatable :: why
+      real(dp) :: worst, worst_grid
+      logical :: any_window
+      integer :: i
+      why = 'the record ends before the wake window starts'
+      if (cfg%pulse == pulse_ramp_sine) why = "pulse = 'ramp_sine' is a ramp, not a pulse"
+      call sm%add('wake_definition', 'max and RMS of |sigma_xx(t) - sigma_xx(0)| at a '// &
+                  'station over t >= x/C_E + 2 tau (the ideal elastic tail plus one pulse '// &
+                  'duration) to t_end, where the continuum is at or near its initial '// &
+                  'stress; _grid: max |sigma_xx - its centred moving average over 4 dx/C_E|, '// &
+                  'the grid-scale part, without the smooth signal a plastic pulse leaves')
+      worst = 0.0_dp
+      worst_grid = 0.0_dp
+      any_window = .false.
+      do i = 1, st%n
+        w = station_wake(st%time(1:st%ns), st%hist(field_sxx, i, 1:st%ns), &
+                         wake_start(st%x(i), c_e, cfg%load_duration), 4.0_dp*cfg%dx/c_e)
+        if (cfg%pulse == pulse_ramp_sine) w%samples = 0
+        tag = 'station_'//int_text(i)
+        if (w%samples > 1) then
+          call sm%add(trim(tag)//'_wake_amplitude', w%amplitude, 'Pa')
+          call sm%add(trim(tag)//'_wake_rms', w%rms, 'Pa')
+          call sm%add(trim(tag)//'_wake_grid', w%grid, 'Pa')
+          any_window = .true.
+          worst = max(worst, w%amplitude)
+          worst_grid = max(worst_grid, w%grid)
+        else
+          call sm%not_applicable(trim(tag)//'_wake_amplitude', why)
+          call sm%not_applicable(trim(tag)//'_wake_rms', why)
+          call sm%not_applicable(trim(tag)//'_wake_grid', why)
+        end if
+      end do
+      if (any_window) then
+        call sm%add('wake_amplitude', worst, 'Pa, the largest station_<i>_wake_amplitude')
+        call sm%add('wake_grid_amplitude', worst_grid, 'Pa, the largest station_<i>_wake_grid')
+      else
+        why = 'no station''s record reaches its wake window'
+        call sm%not_applicable('wake_amplitude', why)
+        call sm%not_applicable('wake_grid_amplitude', why)
+      end if
+    end subroutine add_wake
 
     real(dp) function share(id)
       integer, intent(in) :: id

@@ -23,7 +23,8 @@ module wellposed_mpm_plate_cases
     integer, allocatable :: its(:), nplast(:)
     real(dp), allocatable :: bounds(:, :)    !< (n_alpha, eq. 4.43 bound, error, step)
     !> dt, final time, sharp bound, wall time, peak (strain, stress), band FWHM
-    real(dp) :: scal(7) = 0.0_dp
+    !> along the line, band FWHM normal to the band (0: none measured)
+    real(dp) :: scal(8) = 0.0_dp
     integer :: nsnap = 0, nparticles = 0, nsteps = 0
   end type case_out_t
 
@@ -86,7 +87,8 @@ contains
     o%nparticles = iv(2)
     o%nsteps = iv(3)
     call ck%get(pre//'scal', a, err); if (allocated(err)) return
-    o%scal = a
+    o%scal = 0.0_dp
+    o%scal(1:min(size(a), size(o%scal))) = a(1:min(size(a), size(o%scal)))
     call ck%get(pre//'its', iv, err); if (allocated(err)) return
     o%its = iv(2:)
     call ck%get(pre//'nplast', iv, err); if (allocated(err)) return

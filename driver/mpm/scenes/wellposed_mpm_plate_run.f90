@@ -7,26 +7,23 @@
 !> plots, all into ROOT/NAME.partial renamed at the end, so a failed run
 !> leaves nothing that looks finished.
 !>
-!> Ranks: every rank reads the deck and advances its strip of the plate
-!> (wellposed_mpm_solver). run.h5 is written by all ranks
-!> collectively (wellposed_h5_parallel), particle snapshots by rows from the
-!> ranks that hold the particles (wellposed_mpm_snapshots); curves and
-!> counts are rank 0's, which gathers the particles for band widths and
-!> writes the other files; every output has the serial layout.
+!> Ranks: each advances its strip (wellposed_mpm_solver) and writes run.h5
+!> collectively (snapshots by rows: wellposed_mpm_snapshots); rank 0 keeps
+!> curves and counts, gathers particles for band widths and writes the other
+!> files; every output has the serial layout.
 !>
-!> Checkpoints: every STEPS steps (default a tenth of a case's steps; 0:
-!> none) into ROOT/NAME.checkpoints/checkpoint_<n>.h5 (n: the steps of all
-!> cases so far; the newest two kept): the scene on every rank, the case
-!> being run with its curves, the finished cases, the summary lines and the
-!> snapshots so far. `--restart` (`--restart-from FILE`) with the same deck
-!> and cli%overrides gives the files of the uninterrupted run, bit for bit on
-!> the same number of ranks (wall times aside).
+!> Checkpoints every STEPS steps (default a tenth of a case's; 0: none) into
+!> ROOT/NAME.checkpoints/checkpoint_<n>.h5 (n: steps of all cases so far; the
+!> newest two kept): scene, current case and curves, finished cases, summary
+!> and snapshots. `--restart` with the same deck and overrides gives the
+!> uninterrupted run's files bit for bit on as many ranks (wall times aside).
 module wellposed_mpm_plate_run
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, status_cutback
   use wellposed_text, only: int_text, real_text
-  use wellposed_mpm_plane_strain, only: ps_config_t
+  use wellposed_mpm_plane_strain, only: ps_config_t, apparent_strain
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, applied_stress, &
                                   plastic_strain, max_substeps, plastic_count
   use wellposed_mpm_restart, only: save_scene, restore_scene
@@ -41,7 +38,10 @@ module wellposed_mpm_plate_run
                                        get_case_out, band_width, curve_difference, &
                                        write_csv_curve, write_csv_iterations
   use wellposed_mpm_cli, only: mpm_cli_t
+  use wellposed_mpm_nonlocal_summary, only: add_nonlocal_summary, bound_text
   use wellposed_mpm_band_watch, only: band_watch_t, new_band_watch
+  use wellposed_mpm_plate_stations, only: plate_stations_t, new_plate_stations, &
+                                          restore_plate_stations
   use wellposed_mpm_stop, only: stop_alone, stop_all
   use wellposed_mpm_run_loop, only: run_clock_t, checkpoint_every, checkpoint_due, snapshot_due
   use wellposed_mpm_decomposition, only: gather_by_gid
@@ -69,10 +69,15 @@ contains
     type(comm_t), intent(inout) :: comm
     type(ps_config_t) :: cfg0, cfg
     type(ps_study_t) :: study
-    type(mpm_scene_t) :: sc, prev
+    type(mpm_scene_t) :: sc
+    !> the scene before a step (stop_on_cutback): allocated by its first copy
+    type(mpm_scene_t), allocatable :: prev
     type(mpm_ranks_t) :: ranks
     type(case_out_t), allocatable :: outs(:)
     type(band_watch_t) :: bw
+    !> the stations of the case being run and of every case (for run.h5)
+    type(plate_stations_t) :: pst
+    type(plate_stations_t), allocatable :: done_st(:)
     !> particle snapshots of every case: each rank keeps its particles' rows
     type(snapshot_store_t) :: store
     logical :: ended_early, measured, root, resuming
@@ -141,7 +146,7 @@ contains
         ' when done)'
       flush (output_unit)
     end if
-    allocate (outs(study%ncases))
+    allocate (outs(study%ncases), done_st(study%ncases))
     steps_before = 0
     if (cli%restart) then
       call resume_run()
@@ -180,8 +185,9 @@ contains
           int_text(nsteps_est)//' steps, c = '//real_text(sc%c_max)//' m/s'
         if (sc%nl%active) write (output_unit, '(a)') '    nonlocal: L = '// &
           real_text(sc%nl%length)//' m, support radius '//real_text(sc%nl%radius)// &
-          ' m, |h_zeta/(a + h_eta)| = '//real_text(sc%nl%bound_43)//' (eq. 4.43), '// &
-          '|(h_eta + h_zeta)/a| = '//real_text(sc%nl%bound_45)//' (eq. 4.45), scheme '// &
+          ' m, |h_zeta/(a + h_eta)| = '//bound_text(sc%nl%bound_43, real_text(sc%nl%bound_43))// &
+          ' (eq. 4.43), |(h_eta + h_zeta)/a| = '//bound_text(sc%nl%bound_45, &
+          real_text(sc%nl%bound_45))//' (eq. 4.45), scheme '// &
           trim(nl_scheme_names(cfg%nonlocal%scheme))
         flush (output_unit)
       end if
@@ -195,6 +201,7 @@ contains
       wall_before = 0.0_dp
       measured = .false.
       bw = new_band_watch(sc, study%band_drop, study%band_onset_strain)
+      call new_plate_stations(pst, study, ic, sc, cfg%t_end, comm)
       resuming = cli%restart .and. ic == ic0
       call clock%start(10.0_dp)
       if (resuming) then
@@ -219,6 +226,7 @@ contains
           exit
         end if
         nit = nit + 1
+        call pst%sample(sc, comm)
         if (study%band_time > 0.0_dp .and. .not. measured .and. sc%t >= study%band_time) &
           call measure_band()
         its(nit) = sc%nl%last%iterations
@@ -226,7 +234,7 @@ contains
         bounds(:, nit) = [sc%nl%last%n_alpha, sc%nl%last%bound_printed, sc%nl%last%error]
         if (sc%t >= next_sample - 1.0e-12_dp) then
           ncurve = ncurve + 1
-          curve(:, ncurve) = [sc%t, -sc%top_disp/cfg%height, applied_stress(sc)]
+          curve(:, ncurve) = [sc%t, apparent_strain(sc), applied_stress(sc)]
           next_sample = next_sample + study%sample_dt
         end if
         call bw%step(sc, comm, curve(:, 1:ncurve))
@@ -258,16 +266,13 @@ contains
       if (comm%size > 1) call allreduce_sum(comm, moved_sum)
       steps_before = steps_before + sc%nstep
       ! (on every rank: the curves and counts are alike on all)
-      outs(ic)%tag = tag
-      outs(ic)%curve = curve(:, 1:ncurve)
-      outs(ic)%its = its(1:nit)
-      outs(ic)%nplast = nplast(1:nit)
-      outs(ic)%bounds = bounds(:, 1:nit)
-      outs(ic)%nsnap = nsnap
-      outs(ic)%nparticles = ntotal
-      outs(ic)%nsteps = sc%nstep
+      outs(ic)%tag = tag; outs(ic)%curve = curve(:, 1:ncurve)
+      outs(ic)%its = its(1:nit); outs(ic)%nplast = nplast(1:nit)
+      outs(ic)%bounds = bounds(:, 1:nit); outs(ic)%nsnap = nsnap
+      outs(ic)%nparticles = ntotal; outs(ic)%nsteps = sc%nstep
       outs(ic)%scal(1:4) = [sc%dt, sc%t, sc%nl%bound_43, wall]
       outs(ic)%scal(7) = fwhm
+      done_st(ic) = pst
       if (root) call finish_case(i)
       call write_case(ic)
       deallocate (curve, its, nplast, bounds)
@@ -281,8 +286,8 @@ contains
       call sm%add(outs(ic)%tag//'.curve_difference_to_'//outs(ic - 1)%tag, &
                   curve_difference(outs(ic - 1)%curve, outs(ic)%curve)*1.0e-6_dp, &
                   'MPa: max |stress difference| over the common strain range')
-      call sm%add(outs(ic)%tag//'.band_fwhm_ratio_to_'//outs(ic - 1)%tag, &
-                  outs(ic)%scal(7)/outs(ic - 1)%scal(7))
+      call width_ratio('band_fwhm', 7)
+      call width_ratio('band_fwhm_normal', 8)
     end do
     call sm%add('h5_writer', h5_writer_name(comm), 'how run.h5 was written: every rank its '// &
                 'rows through MPI-IO (mpio-collective), or rank 0 alone (rank0-gather)')
@@ -318,6 +323,20 @@ contains
 
   contains
 
+    !> A band width of case ic over case ic - 1's (scal slot k), if both have one.
+    subroutine width_ratio(key, k)
+      character(len=*), intent(in) :: key
+      integer, intent(in) :: k
+      if (outs(ic)%scal(k) > 0.0_dp .and. outs(ic - 1)%scal(k) > 0.0_dp) then
+        call sm%add(outs(ic)%tag//'.'//key//'_ratio_to_'//outs(ic - 1)%tag, &
+                    outs(ic)%scal(k)/outs(ic - 1)%scal(k))
+      else
+        i = merge(ic - 1, ic, outs(ic - 1)%scal(k) <= 0.0_dp)
+        call sm%not_applicable(outs(ic)%tag//'.'//key//'_ratio_to_'//outs(ic - 1)%tag, &
+                               'case '//outs(i)%tag//' has no band width (its '//key//')')
+      end if
+    end subroutine width_ratio
+
     !> The summary lines of the case just finished (rank 0); `nsub` the
     !> largest UMAT cut-back split over the ranks.
     subroutine finish_case(nsub)
@@ -338,22 +357,22 @@ contains
         call sm%add(tag//'.final_stress', o%curve(3, size(o%curve, 2))*1.0e-6_dp, 'MPa')
         call sm%add(tag//'.final_strain', o%curve(2, size(o%curve, 2)))
         call sm%add(tag//'.max_plastic_strain', epmax)
-        call sm%add(tag//'.band_fwhm', fwhm, 'm, along the band line at '//real_text(yline)//' m')
+        call sm%add(tag//'.band_fwhm', &
+                    merge(fwhm, ieee_value(fwhm, ieee_quiet_nan), fwhm > 0.0_dp), &
+          'm, along the band line at '//real_text(yline)//' m', 'no particle within half a '// &
+          'particle spacing of the band line had plastic strain at t = '//real_text(band_t)//' s')
         call sm%add(tag//'.band_peak_at', peak_x, 'm, along the band line')
         call sm%add(tag//'.band_time', band_t, 's, when the band width was measured')
         call sm%add(tag//'.band_peak_plastic_strain', peak_v)
         call bw%summarise(sm, tag)
+        call pst%summarise(sm, tag)
+        if (bw%staged .and. bw%fit%found) o%scal(8) = bw%fit%fwhm
         call sm%add(tag//'.max_substeps', nsub)
         call sm%add(tag//'.ended_early', ended_early, 'true: the UMAT could not go on '// &
                     '(stop_on_cutback); the curve ends at final_strain')
         if (ended_early) call sm%add(tag//'.end_reason', trim(end_message))
         if (sc%nl%active) then
-          call sm%add(tag//'.nonlocal_steps_iterated', sc%nl%steps_iterated)
-          call sm%add(tag//'.nonlocal_iterations_mean', &
-                      real(sc%nl%iterations_total, dp)/max(sc%nl%steps_iterated, 1))
-          call sm%add(tag//'.nonlocal_iterations_max', sc%nl%iterations_max)
-          call sm%add(tag//'.lipschitz_eq4_43_sharp', sc%nl%bound_43, 'N_alpha = 1')
-          call sm%add(tag//'.lipschitz_eq4_45_sharp', sc%nl%bound_45, 'N_alpha = 1')
+          call add_nonlocal_summary(sm, tag//'.', sc%nl)
           if (sc%nl%calls_sweeps > 0 .and. sc%nl%calls_local > 0) &
             call sm%add(tag//'.sweep_cost_over_local_update', &
                         (real(sc%nl%ticks_sweeps, dp)/sc%nl%calls_sweeps)/ &
@@ -382,9 +401,9 @@ contains
         call h5%write('cases/'//o%tag//'/curve', transpose(o%curve))
         call h5%write('cases/'//o%tag//'/iterations', o%its)
         call h5%write('cases/'//o%tag//'/n_plastic', o%nplast)
+        call done_st(k)%write_h5(h5, 'cases/'//o%tag//'/stations/')
       end associate
     end subroutine write_case
-
 
     !> The band width now (fwhm, peak_x, peak_v on rank 0; yline, band_t,
     !> measured everywhere). Collective: rank 0 gathers the particles.
@@ -456,9 +475,11 @@ contains
       call ckw%put('main/nplast', [0, nplast_all])
       call ckw%put('main/bounds', [0.0_dp, reshape(bounds(:, 1:nit), [3*nit])])
       call bw%put(ckw, 'main/band_watch/')
+      call pst%put(ckw, 'main/stations/')
       do k = 1, ic - 1
         pre = 'main/done_'//int_text(k)//'/'
         call put_case_out(ckw, pre, outs(k))
+        call done_st(k)%put(ckw, pre//'stations/')
       end do
       lines = ''
       do k = 1, sm%n
@@ -498,6 +519,9 @@ contains
         pre = 'main/done_'//int_text(k)//'/'
         call get_case_out(ck, pre, outs(k), e)
         if (allocated(e)) call die(ck_file//': '//e%message)
+        cfg = case_config(cfg0, study, k)
+        call restore_plate_stations(done_st(k), study, cfg%t_end, comm, ck, pre//'stations/', e)
+        if (allocated(e)) call die_root(ck_file//': '//e%message)
       end do
       call store%get(ck, comm, 'snapshots/', e)
       if (allocated(e)) call die(ck_file//': '//e%message)
@@ -550,6 +574,8 @@ contains
       call ck%get('main/nplast', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
       nplast(1:nit) = iv(2:)
       call bw%get(ck, 'main/band_watch/', e); if (allocated(e)) call die(ck_file//': '//e%message)
+      call pst%get(ck, 'main/stations/', e)
+      if (allocated(e)) call die_root(ck_file//': '//e%message)
       if (.not. root) nplast(1:nit) = 0      ! rank 0 holds the counts so far
       if (root) write (output_unit, '(a)') '    '//tag//': continuing at step '// &
         int_text(sc%nstep)//', t = '//real_text(sc%t)//' s'

@@ -6,9 +6,11 @@
 !> here the plate's geometry, boundary kinds, time step and load kernel.
 !>
 !> Boundaries (deck): bottom 'roller' (v_y = 0 on nodes at y <= 0), 'fixed'
-!> or 'free'; top 'velocity' (nodes at y >= height get (0, v_top), ramped
-!> over ramp_time, for 0 <= x <= width: the platen covers the top face and
-!> no more; with top_lateral_fixed = .false. only v_y) or 'free'; sides
+!> or 'free'; top 'velocity' (the platen: nodes at and above the body's
+!> current top, or at y >= height with platen = 'grid', get (0, v_top),
+!> ramped over ramp_time, for 0 <= x <= width: the platen covers the top
+!> face and no more; with top_lateral_fixed = .false. only v_y; see
+!> platen_nodes) or 'free'; sides
 !> 'free' or 'roller' (v_x = 0 on nodes at x <= 0 and x >= width). Nodes
 !> beyond a boundary line share its condition, so GIMP/CPDI supports
 !> reaching past it see the same velocity.
@@ -28,13 +30,14 @@ module wellposed_mpm_plane_strain
   use wellposed_mpm_exchange, only: mpm_exchange_t
   use wellposed_mpm_shape_2d, only: support_size_2d, shape2d_reach
   use wellposed_mpm_plate_config, only: ps_config_t, check_plate_config, bc_roller, &
-                                        bc_fixed2, bc_free2, bc_velocity, bc2_names
+                                        bc_fixed2, bc_free2, bc_velocity, bc2_names, &
+                                        platen_surface, platen_names
   use wellposed_mpm_scene, only: mpm_scene_t, start_scene, setup_ranks, scene_particles, &
                                  assign_materials, init_particles
   implicit none
   private
-  public :: ps_config_t, new_plate_scene, platen_velocity, bc_roller, bc_fixed2, bc_free2, &
-            bc_velocity, bc2_names
+  public :: ps_config_t, new_plate_scene, platen_velocity, platen_nodes, apparent_strain, bc_roller, bc_fixed2, &
+            bc_free2, bc_velocity, bc2_names, platen_names
 
 contains
 
@@ -47,7 +50,7 @@ contains
     type(ps_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
     class(mpm_exchange_t), intent(in), optional :: exchange
-    integer :: ncx, ncy, np, p, a, b, k, g, i, j, nlocal, cap, rank
+    integer :: ncx, ncy, np, p, a, b, k, g, nlocal, cap, rank
     real(dp) :: lp, xy(2), ds(4), m_k
 
     call check_plate_config(cfg, err)
@@ -65,30 +68,7 @@ contains
     call setup_ranks(self, cfg%nonlocal, self%nx*self%ny, &
                      shape2d_reach(cfg%shape), err, exchange)
     if (allocated(err)) return
-    do j = self%grid%glo/self%nx, self%grid%ghi/self%nx
-      do i = 0, self%nx - 1
-        g = i + self%nx*j
-        xy = self%origin + cfg%dx*[i, j]
-        if (xy(2) <= 0.5_dp*cfg%dx*1.0e-6_dp) then
-          if (cfg%bottom == bc_roller) self%grid%fixed(2, g) = .true.
-          if (cfg%bottom == bc_fixed2) self%grid%fixed(:, g) = .true.
-        end if
-        if (cfg%sides == bc_roller .and. (xy(1) <= 1.0e-6_dp*cfg%dx .or. &
-                                           xy(1) >= cfg%width - 1.0e-6_dp*cfg%dx)) &
-          self%grid%fixed(1, g) = .true.
-        ! the platen covers the top face only: nodes at y >= height, 0 <= x <= width
-        ! (its velocity (0, v_top) wins over the other conditions)
-        if (cfg%top == bc_velocity .and. xy(2) >= cfg%height - 1.0e-6_dp*cfg%dx .and. &
-            xy(1) >= -1.0e-6_dp*cfg%dx .and. xy(1) <= cfg%width + 1.0e-6_dp*cfg%dx) then
-          self%grid%fixed(2, g) = .false.
-          self%grid%given(2, g) = .true.
-          if (cfg%top_lateral_fixed) then
-            self%grid%fixed(1, g) = .false.
-            self%grid%given(1, g) = .true.
-          end if
-        end if
-      end do
-    end do
+    call platen_nodes(self)
 
     np = ncx*ncy*cfg%ppc**2
     self%ntotal = np
@@ -170,6 +150,73 @@ contains
     end function probe
 
   end subroutine new_plate_scene
+
+  !> The boundary conditions on the nodes, set again whenever the platen's
+  !> lowest node row changes (before each step's grid update). The platen
+  !> covers the top face only, 0 <= x <= width, and its velocity (0, v_top)
+  !> (v_top alone with top_lateral free) wins over the other conditions.
+  !> 'grid': the node rows y >= height. 'surface': the rows at and above the
+  !> highest row at or below the body's current top y = height + top_disp,
+  !> so the cell under the lowest platen row is full of material: a node's
+  !> internal force (eq. 4.5) integrates stress over the material in its
+  !> cells only, so a partly filled cell of depth f dx under the platen row
+  !> passes the load on at 1/f times the body's stress (docs/mpm.md, "The
+  !> platen"); the material above that row moves with the platen.
+  subroutine platen_nodes(self)
+    type(mpm_scene_t), intent(inout) :: self
+    integer :: i, j, g, jtop
+    real(dp) :: xy(2), tol
+    associate (cfg => self%plate)
+      tol = 1.0e-6_dp*cfg%dx
+      jtop = self%ny
+      if (cfg%top == bc_velocity) then
+        if (cfg%platen == platen_surface) then
+          jtop = floor((cfg%height + self%top_disp - self%origin(2))/cfg%dx + 1.0e-6_dp)
+        else
+          jtop = nint((cfg%height - self%origin(2))/cfg%dx)
+        end if
+      end if
+      if (jtop == self%platen_row) return
+      self%platen_row = jtop
+      self%grid%fixed = .false.
+      self%grid%given = .false.
+      do j = self%grid%glo/self%nx, self%grid%ghi/self%nx
+        do i = 0, self%nx - 1
+          g = i + self%nx*j
+          xy = self%origin + cfg%dx*[i, j]
+          if (xy(2) <= 0.5_dp*tol) then
+            if (cfg%bottom == bc_roller) self%grid%fixed(2, g) = .true.
+            if (cfg%bottom == bc_fixed2) self%grid%fixed(:, g) = .true.
+          end if
+          if (cfg%sides == bc_roller .and. (xy(1) <= tol .or. xy(1) >= cfg%width - tol)) &
+            self%grid%fixed(1, g) = .true.
+          if (j >= jtop .and. xy(1) >= -tol .and. xy(1) <= cfg%width + tol) then
+            self%grid%fixed(2, g) = .false.
+            self%grid%given(2, g) = .true.
+            if (cfg%top_lateral_fixed) then
+              self%grid%fixed(1, g) = .false.
+              self%grid%given(1, g) = .true.
+            end if
+          end if
+        end do
+      end do
+    end associate
+  end subroutine platen_nodes
+
+  !> The apparent axial strain (compression +) of the body under the
+  !> platen's lowest node row y_g, the body applied_stress averages over:
+  !> -top_disp/height while that row lies above the body ('grid'), else
+  !> -top_disp/(y_g - top_disp) (the layer above y_g moves with the platen).
+  pure real(dp) function apparent_strain(self) result(e)
+    type(mpm_scene_t), intent(in) :: self
+    real(dp) :: yg
+    yg = self%origin(2) + self%dx*self%platen_row
+    if (yg >= self%plate%height + self%top_disp) then
+      e = -self%top_disp/self%plate%height
+    else
+      e = -self%top_disp/(yg - self%top_disp)
+    end if
+  end function apparent_strain
 
   !> The platen's velocity v_top of the step ending at t + dt: the deck's,
   !> ramped linearly over ramp_time (m/s).

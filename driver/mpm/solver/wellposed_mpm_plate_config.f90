@@ -12,12 +12,18 @@ module wellposed_mpm_plate_config
   implicit none
   private
   public :: ps_config_t, check_plate_config, bc_roller, bc_fixed2, bc_free2, bc_velocity, bc2_names
+  public :: platen_surface, platen_grid, platen_names
 
   !> Boundary kinds in 2D.
   integer, parameter :: bc_roller = 1, bc_fixed2 = 2, bc_free2 = 3, bc_velocity = 4
   character(len=8), parameter :: bc2_names(4) = [character(len=8) :: 'roller', 'fixed', 'free', &
                                                  'velocity']
   integer, parameter :: max_props2 = 40
+  !> Where the platen acts (docs/mpm.md, "The platen"): 'surface', on the
+  !> nodes at and above the highest node row at or below the body's current
+  !> top; 'grid', on the fixed node row y = height and above.
+  integer, parameter :: platen_surface = 1, platen_grid = 2
+  character(len=8), parameter :: platen_names(2) = [character(len=8) :: 'surface', 'grid']
 
   !> One plane-strain scene (defaults: the 4 m x 5 m plate of fig. 4.1 with
   !> the local softening material of section 4.7.1, h = 0.5 m).
@@ -41,6 +47,7 @@ module wellposed_mpm_plate_config
     real(dp) :: top_velocity = -7.5_dp             !< v_y of the top (m/s, < 0 compresses)
     real(dp) :: ramp_time = 0.0_dp                 !< s, linear ramp of the top velocity
     logical :: top_lateral_fixed = .true.          !< v_x = 0 on the top too (the dissertation's)
+    integer :: platen = platen_surface             !< platen_surface or platen_grid
     ! initial state
     real(dp) :: velocity_gradient0(2, 2) = 0.0_dp  !< initial v = L0 x (patch test), 1/s
     ! artificial viscosity

@@ -65,6 +65,7 @@ module wellposed_mpm_scene
     real(dp) :: kinetic0 = 0.0_dp, momentum0 = 0.0_dp
     ! bookkeeping of the plate
     real(dp) :: top_disp = 0.0_dp         !< vertical displacement of the top (m)
+    integer :: platen_row = -huge(1)      !< the plate's lowest platen node row (none yet)
     integer :: moved = 0                  !< particles this rank handed to others, so far
     integer :: max_substeps = 1           !< largest UMAT cut-back split used (this rank)
     integer :: max_substeps_step = 1      !< the same within the current step
@@ -332,17 +333,20 @@ contains
   !> The plate's applied axial stress (Pa, compression positive): the top
   !> force per unit initial width, from the volume average of sigma_yy (in
   !> equilibrium without body force, int sigma_yy dV = F_top * H, H the
-  !> current height): -sum_p sigma_yy V_p / (width * (height + top_disp)).
+  !> current height) over the body under the platen's lowest node row y_g
+  !> (the layer above it moves with the platen): -sum_p sigma_yy V_p /
+  !> (width * min(y_g, height + top_disp)), particles with y_p < y_g.
   !> Robust to the boundary layer under a laterally fixed top and to the
   !> mesh. Collective.
   real(dp) function applied_stress(self) result(s)
     type(mpm_scene_t), intent(in) :: self
     integer :: n
-    real(dp) :: a(1)
+    real(dp) :: a(1), yg
     n = self%parts%n
-    a(1) = sum(self%parts%stress(2, 1:n)*self%parts%vol(1:n))
+    yg = self%origin(2) + self%dx*self%platen_row
+    a(1) = sum(self%parts%stress(2, 1:n)*self%parts%vol(1:n), mask=self%parts%x(2, 1:n) < yg)
     call self%exchange%sum_reals(a)
-    s = -a(1)/(self%plate%width*(self%plate%height + self%top_disp))
+    s = -a(1)/(self%plate%width*min(yg, self%plate%height + self%top_disp))
   end function applied_stress
 
   !> Magnitude of the plastic strain tensor ||eps^p|| of each particle

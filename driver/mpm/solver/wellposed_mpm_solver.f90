@@ -58,7 +58,7 @@ module wellposed_mpm_solver
                                  timer_transfer, timer_grid, timer_umat, ntimers
   use wellposed_mpm_bar, only: new_bar_scene, probe_moduli, bar_load_t, bar_traction, &
                                bar_impulse, bar_external_work
-  use wellposed_mpm_plane_strain, only: new_plate_scene, platen_velocity
+  use wellposed_mpm_plane_strain, only: new_plate_scene, platen_velocity, platen_nodes
   implicit none
   private
   public :: mpm_scene_t, new_scene, advance, kinetic_energy, total_momentum, applied_stress, &
@@ -116,6 +116,7 @@ contains
       if (d == 1) then
         call bar_traction(self, load)
       else
+        call platen_nodes(self)
         given(2) = platen_velocity(self%plate, self%t, dt)
       end if
       call tick(timer_transfer)
@@ -175,11 +176,13 @@ contains
       call ex%sync_error(err)
       if (allocated(err)) return
       if (self%max_substeps_step > self%max_substeps) self%max_substeps = self%max_substeps_step
-      ! --- bookkeeping: the bar's internal work
+      ! --- bookkeeping: the bar's internal work, with the viscous pressure's
       if (d == 1) then
         do p = 1, n
           self%work_internal = self%work_internal + &
             self%vol_n(p)*0.5_dp*(self%s0(1, p) + pt%stress(1, p))*self%de(1, p)
+          if (self%q(p) /= 0.0_dp) self%work_internal = self%work_internal - &
+            self%vol_n(p)*self%q(p)*self%de(1, p)
         end do
       end if
       call tick(timer_umat)

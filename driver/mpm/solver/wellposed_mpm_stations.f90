@@ -1,7 +1,9 @@
 !> Stations: stress and velocity histories at fixed material points (the
-!> the dissertation's "locations", fig. 2.3-2.10: every 100 m), and the measures taken
-!> from them. A station at reference position X reads the two particles whose
-!> reference positions bracket X, linearly interpolated; histories are sampled
+!> dissertation's "locations", fig. 2.3-2.10: every 100 m), and the measures
+!> taken from them. In a bar a station at reference position X reads the two
+!> particles whose reference positions bracket X, linearly interpolated; in
+!> a plate (new_point_stations) a station at (X, Y) reads the particle whose
+!> reference position is nearest (the lowest id of equals). Histories are sampled
 !> at exact multiples of sample_dt by linear interpolation between steps, so
 !> runs with different dx or CFL fractions share one time axis (the mesh
 !> study subtracts them).
@@ -13,15 +15,16 @@ module wellposed_mpm_stations
   use wellposed_mpm_particles, only: particles_t
   implicit none
   private
-  public :: stations_t, new_stations, sample_stations, station_measures_t, &
-            measure_stations, fit_speed, find_apex, phase_speed, nfields, field_sxx, &
-            field_syy, field_v, field_z, field_apex
+  public :: stations_t, new_stations, new_point_stations, sample_stations, &
+            station_measures_t, measure_stations, fit_speed, find_apex, phase_speed, nfields, &
+            field_sxx, field_syy, field_v, field_z, field_apex, field_sxy, field_vy
 
-  !> Sampled fields per station: sigma_xx, sigma_yy (Pa), v_x (m/s), z, and
+  !> Sampled fields per station: sigma_xx, sigma_yy (Pa), v_x (m/s), z,
   !> 1 where a bracketing particle's last return was to the apex of the cone
-  !> (STATEV(12) = 2 of the UMAT contract), else 0.
+  !> (STATEV(12) = 2 of the UMAT contract) else 0, sigma_xy (Pa), v_y (m/s;
+  !> 0 in a bar).
   integer, parameter :: field_sxx = 1, field_syy = 2, field_v = 3, field_z = 4, &
-                        field_apex = 5, nfields = 5
+                        field_apex = 5, field_sxy = 6, field_vy = 7, nfields = 7
   !> STATEV(12) of the UMAT contract: the status, 2 for a return to the apex.
   integer, parameter :: sv_status = 12
   real(dp), parameter :: status_apex = 2.0_dp
@@ -29,6 +32,7 @@ module wellposed_mpm_stations
   type :: stations_t
     integer :: n = 0
     real(dp), allocatable :: x(:)          !< reference positions (m)
+    real(dp), allocatable :: y(:)          !< plates: reference y (m) of the particle read
     integer, allocatable :: pa(:), pb(:)   !< bracketing particles
     real(dp), allocatable :: wb(:)         !< weight of pb
     real(dp) :: sample_dt = 0.0_dp
@@ -62,9 +66,11 @@ contains
     type(mpm_config_t), intent(in) :: cfg
     type(particles_t), intent(in) :: parts
     real(dp), intent(in) :: t_end
-    integer :: s, p, nmax
+    integer :: s, p
     self%n = cfg%nstations
-    allocate (self%x(self%n), self%pa(self%n), self%pb(self%n), self%wb(self%n))
+    allocate (self%x(self%n), self%y(self%n), self%pa(self%n), self%pb(self%n), &
+              self%wb(self%n))
+    self%y = 0.0_dp
     do s = 1, self%n
       self%x(s) = cfg%station_first + (s - 1)*cfg%station_spacing
       ! particles are laid out in order of x0 (1D): find the bracketing pair
@@ -75,8 +81,41 @@ contains
       self%wb(s) = (self%x(s) - parts%x0(1, p))/(parts%x0(1, p + 1) - parts%x0(1, p))
       self%wb(s) = max(0.0_dp, min(1.0_dp, self%wb(s)))
     end do
-    self%sample_dt = cfg%sample_dt
-    nmax = int(t_end/cfg%sample_dt) + 2
+    call start_stations(self, parts, cfg%sample_dt, t_end)
+  end subroutine new_stations
+
+  !> Stations of a plate at the reference points (xs(s), ys(s)) (m), each
+  !> reading the particle of `parts` (every particle, in id order) whose
+  !> reference position x0 is nearest; x, y become that particle's.
+  subroutine new_point_stations(self, xs, ys, parts, sample_dt, t_end)
+    type(stations_t), intent(out) :: self
+    real(dp), intent(in) :: xs(:), ys(:), sample_dt, t_end
+    type(particles_t), intent(in) :: parts
+    integer :: s, p
+    self%n = size(xs)
+    allocate (self%x(self%n), self%y(self%n), self%pa(self%n), self%pb(self%n), &
+              self%wb(self%n))
+    do s = 1, self%n
+      p = minloc((parts%x0(1, 1:parts%n) - xs(s))**2 + (parts%x0(2, 1:parts%n) - ys(s))**2, &
+                 dim=1)
+      self%pa(s) = p
+      self%pb(s) = p
+      self%wb(s) = 0.0_dp
+      self%x(s) = parts%x0(1, p)
+      self%y(s) = parts%x0(2, p)
+    end do
+    call start_stations(self, parts, sample_dt, t_end)
+  end subroutine new_point_stations
+
+  !> The histories of `self` (n, pa, pb, wb set) for samples every sample_dt
+  !> up to t_end, with the first sample now (t = 0).
+  subroutine start_stations(self, parts, sample_dt, t_end)
+    type(stations_t), intent(inout) :: self
+    type(particles_t), intent(in) :: parts
+    real(dp), intent(in) :: sample_dt, t_end
+    integer :: nmax
+    self%sample_dt = sample_dt
+    nmax = int(t_end/sample_dt) + 2
     allocate (self%time(nmax), self%hist(nfields, self%n, nmax), self%prev(nfields, self%n))
     self%ns = 0
     self%t_prev = 0.0_dp
@@ -84,7 +123,7 @@ contains
     self%ns = 1
     self%time(1) = 0.0_dp
     self%hist(:, :, 1) = self%prev
-  end subroutine new_stations
+  end subroutine start_stations
 
   !> Record every sample time in (t_prev, t] by interpolation to time t.
   subroutine sample_stations(self, parts, t)
@@ -118,6 +157,9 @@ contains
       now(field_syy, s) = (1.0_dp - w)*parts%stress(2, a) + w*parts%stress(2, b)
       now(field_v, s) = (1.0_dp - w)*parts%v(1, a) + w*parts%v(1, b)
       now(field_z, s) = (1.0_dp - w)*parts%statev(1, a) + w*parts%statev(1, b)
+      now(field_sxy, s) = (1.0_dp - w)*parts%stress(4, a) + w*parts%stress(4, b)
+      now(field_vy, s) = 0.0_dp
+      if (size(parts%v, 1) >= 2) now(field_vy, s) = (1.0_dp - w)*parts%v(2, a) + w*parts%v(2, b)
       now(field_apex, s) = 0.0_dp
       if (size(parts%statev, 1) >= sv_status) then
         if (parts%statev(sv_status, a) == status_apex .or. &

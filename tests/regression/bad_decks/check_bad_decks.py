@@ -49,9 +49,9 @@ EXPECT = {
 # groups their program reads.
 GOOD = {
     'mpm': [('tests/regression/parallel/decks/short_wave.nml',
-             'scene grid time material initial load stations output nonlocal'),
+             'scene grid time viscosity material initial load stations output nonlocal'),
             ('tests/regression/plate/decks/plate_small_local.nml',
-             'scene plate grid time material boundary viscosity nonlocal study output')],
+             'scene plate grid time material boundary viscosity stations nonlocal study output')],
     'point': [('inputs/fig2_4_directional_stiffness.nml',
                'run material initial leg probe chapter3')],
 }

@@ -18,6 +18,9 @@ tolerances. Each mode exits 0 on success, 1 with a message otherwise.
   mpm_check.py same  TOL EXE DECK NAME [driver args] -- [driver args of run B]
       two runs of the same deck; max |sigma_xx(A) - sigma_xx(B)| over all
       stations and samples, over the load peak, must be <= TOL.
+  mpm_check.py ratio KEY BELOW EXE DECK NAME [driver args] -- [driver args of run B]
+      two runs of the same deck (B typically on a finer grid); the summary
+      figure KEY of B over that of A must be below BELOW.
   mpm_check.py sls   PEAK_TOL L2_TOL EXE DECK NAME [driver args]
       a Duvaut-Lions run (PROPS(11) = tau > 0) of a small raised-cosine
       pulse on a state at yield, against the linearised model: a standard
@@ -236,6 +239,22 @@ def mode_same(argv):
     return 0 if ok else 1
 
 
+def mode_ratio(argv):
+    key, below, exe, deck, name = argv[:5]
+    rest = argv[5:]
+    k = rest.index("--")
+    vals = []
+    for tag, args in (("_a", rest[:k]), ("_b", rest[k + 1:])):
+        p, folder, cmd = run(exe, deck, name + tag, args)
+        need_ok(p, cmd)
+        vals.append(num(summary(folder), key))
+        print(f"run {tag[1:].upper()} ({' '.join(args)}): {key} = {vals[-1]:.6g}")
+    ratio = vals[1] / vals[0]
+    ok = ratio < float(below)
+    print(("ok   " if ok else "FAIL ") + f"{key}(B) / {key}(A) = {ratio:.4f}, required < {below}")
+    return 0 if ok else 1
+
+
 def linear_dl_histories(t, xs, nums, tau):
     """Stress increments at the stations xs of the linearised Duvaut-Lions
     bar driven by the raised-cosine boundary pulse: a standard linear solid
@@ -292,7 +311,7 @@ def main(argv):
         sys.stderr.write(__doc__)
         return 2
     modes = {"run": mode_run, "fail": mode_fail, "order": mode_order, "same": mode_same,
-             "sls": mode_sls}
+             "sls": mode_sls, "ratio": mode_ratio}
     return modes[argv[1]](argv[2:])
 
 

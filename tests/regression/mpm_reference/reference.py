@@ -90,6 +90,22 @@ def number(v):
         return None
 
 
+def tolerance_of(per_key, key, tol):
+    """The relative tolerance for summary key `key`: per_key's entry (a
+    number, or a tuple whose first item is the number) or `tol`."""
+    t = per_key.get(key, tol)
+    return float(t[0] if isinstance(t, (tuple, list)) else t)
+
+
+def within(x, y, t):
+    """True when the numbers x and y (None: not a number) agree within t
+    relative to the larger; never for t = 0 (bitwise: the caller compared
+    the text already) or a non-number."""
+    if x is None or y is None or not t > 0 or not (np.isfinite(x) and np.isfinite(y)):
+        return False
+    return abs(x - y) <= t * max(abs(x), abs(y))
+
+
 def compare_summary(a, b, tol, where, bad, per_key=None):
     sa, sb = read_summary(a), read_summary(b)
     per_key = per_key or {}
@@ -108,9 +124,11 @@ def compare_summary(a, b, tol, where, bad, per_key=None):
             continue
         if k.endswith(MESSAGES) and sa[k].split(': ')[0] == sb[k].split(': ')[0]:
             continue
-        t = per_key.get(k, (tol,))[0]
-        if x is not None and y is not None and t > 0 and np.isfinite(x) and \
-                abs(x - y) <= t * max(abs(x), abs(y)):
+        if within(x, y, tolerance_of(per_key, k, tol)):
+            continue
+        if (x is None) != (y is None):
+            bad.append(f'{where}: {k} = {sa[k]} (reference) vs {sb[k]}: one is a number, '
+                       f'the other not')
             continue
         bad.append(f'{where}: {k} = {sa[k]} (reference) vs {sb[k]}')
     return n
@@ -137,9 +155,18 @@ def compare_h5(a, b, tol, where, bad):
                 bad.append(f'{where}: {k} shape {np.shape(x)} vs {np.shape(y)}')
                 continue
             x, y = np.asarray(x), np.asarray(y)
-            if x.dtype.kind in 'fc':
+            numeric = 'biufc'
+            if (x.dtype.kind in numeric) != (y.dtype.kind in numeric):
+                bad.append(f'{where}: {k} is {x.dtype} in the reference, {y.dtype} in the run')
+                continue
+            if 'f' in (x.dtype.kind, y.dtype.kind):
+                x, y = x.astype(float), y.astype(float)
                 same = np.array_equal(x, y, equal_nan=True)
                 if same:
+                    continue
+                if not np.array_equal(np.isfinite(x), np.isfinite(y)):
+                    bad.append(f'{where}: {k} differs, NaN or infinity where the other has '
+                               f'a number')
                     continue
                 s = np.nanmax(np.abs(x)) if x.size else 0.0
                 d = np.nanmax(np.abs(x - y)) if x.size else 0.0
