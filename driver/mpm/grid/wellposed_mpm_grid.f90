@@ -86,10 +86,18 @@ contains
   !> Zero the accumulated fields before a particle-to-grid pass.
   pure subroutine grid_reset(self)
     type(grid_t), intent(inout) :: self
-    self%mass = 0.0_dp
-    self%momentum = 0.0_dp
-    self%fint = 0.0_dp
-    self%fext = 0.0_dp
+    call zero(self%mass, size(self%mass))
+    call zero(self%momentum, size(self%momentum))
+    call zero(self%fint, size(self%fint))
+    call zero(self%fext, size(self%fext))
   end subroutine grid_reset
+
+  !> a(1:n) = 0: a node array as one run of memory (an (ndim, node) array
+  !> zeroed directly is filled one short column at a time).
+  pure subroutine zero(a, n)
+    integer, intent(in) :: n
+    real(dp), intent(out) :: a(n)
+    a = 0.0_dp
+  end subroutine zero
 
 end module wellposed_mpm_grid

@@ -113,29 +113,48 @@ contains
   end function cpdi_corners
 
   !> CPDI weights (module comment) for half side vectors r1, r2 (m);
-  !> nused: the distinct nodes, first in nodes(:).
+  !> nused: the distinct nodes, first in nodes(:), in the order the corners
+  !> 1-4 first reach them. A corner's four nodes are distinct, so each
+  !> node's value of a corner is that corner's weight, unsummed. The nodes
+  !> are found by their place in the box of the corners' cells (a table of
+  !> at most 4 x 4 slots) or, for a box wider than that (a particle
+  !> stretched over more than two cells), by a search of the list.
   pure subroutine cpdi_2d(xp, r1, r2, origin, h, nx, nodes, phi, grad, nused)
     real(dp), intent(in) :: xp(2), r1(2), r2(2), origin(2), h
     integer, intent(in) :: nx
     integer, intent(out) :: nodes(:)
     real(dp), intent(out) :: phi(:), grad(:, :)
     integer, intent(out) :: nused
-    real(dp) :: c(2, 4), sc(4, 4), gdum(2, 4), vol, w(4, 16), v13(2), v24(2)
-    integer :: nc(4, 4), a, k, m
+    real(dp) :: c(2, 4), sc(4, 4), vol, w(4, 16), v13(2), v24(2)
+    integer :: cell(2, 4), slot(4, 4), lo(2), a, k, m, i, j, node
+    logical :: boxed
     c = cpdi_corners(xp, r1, r2)
     do a = 1, 4
-      call bilinear(c(:, a), origin, h, nx, nc(:, a), sc(:, a), gdum)
+      call bilinear_weights(c(:, a), origin, h, cell(:, a), sc(:, a))
     end do
-    ! distinct nodes of the four corner supports, and each corner's value there
+    lo(1) = min(cell(1, 1), cell(1, 2), cell(1, 3), cell(1, 4))
+    lo(2) = min(cell(2, 1), cell(2, 2), cell(2, 3), cell(2, 4))
+    boxed = max(cell(1, 1), cell(1, 2), cell(1, 3), cell(1, 4)) - lo(1) <= 2 .and. &
+            max(cell(2, 1), cell(2, 2), cell(2, 3), cell(2, 4)) - lo(2) <= 2
+    slot = 0
     nused = 0
-    w = 0.0_dp
     do a = 1, 4
       do m = 1, 4
-        k = findloc(nodes(1:nused), nc(m, a), dim=1)
+        ! node m of corner a: the order of bilinear's loops (x fastest)
+        i = cell(1, a) + mod(m - 1, 2)
+        j = cell(2, a) + (m - 1)/2
+        node = i + nx*j
+        if (boxed) then
+          k = slot(i - lo(1) + 1, j - lo(2) + 1)
+        else
+          k = findloc(nodes(1:nused), node, dim=1)
+        end if
         if (k == 0) then
           nused = nused + 1
-          nodes(nused) = nc(m, a)
+          nodes(nused) = node
+          w(:, nused) = 0.0_dp
           k = nused
+          if (boxed) slot(i - lo(1) + 1, j - lo(2) + 1) = k
         end if
         w(a, k) = w(a, k) + sc(m, a)
       end do
@@ -144,13 +163,29 @@ contains
     vol = 4.0_dp*abs(r1(1)*r2(2) - r1(2)*r2(1))
     v13 = [r1(2) - r2(2), r2(1) - r1(1)]
     v24 = [r1(2) + r2(2), -r1(1) - r2(1)]
-    phi = 0.0_dp
-    grad = 0.0_dp
     do k = 1, nused
       phi(k) = 0.25_dp*sum(w(:, k))
       grad(:, k) = ((w(1, k) - w(3, k))*v13 + (w(2, k) - w(4, k))*v24)/vol
     end do
+    phi(nused + 1:) = 0.0_dp
+    grad(:, nused + 1:) = 0.0_dp
   end subroutine cpdi_2d
+
+  !> The cell (i, j) holding x and the bilinear weights of its four nodes
+  !> (x fastest): the arithmetic of bilinear's phi, without the gradients.
+  pure subroutine bilinear_weights(x, origin, h, cell, phi)
+    real(dp), intent(in) :: x(2), origin(2), h
+    integer, intent(out) :: cell(2)
+    real(dp), intent(out) :: phi(4)
+    real(dp) :: s(2), fr(2)
+    s = (x - origin)/h
+    cell = floor(s)
+    fr = s - cell
+    phi(1) = (1.0_dp - fr(1))*(1.0_dp - fr(2))
+    phi(2) = fr(1)*(1.0_dp - fr(2))
+    phi(3) = (1.0_dp - fr(1))*fr(2)
+    phi(4) = fr(1)*fr(2)
+  end subroutine bilinear_weights
 
   !> Bilinear hats of the cell holding x: 4 nodes, weights, gradients (the
   !> cell's own gradients, also on its edges, so they always sum to zero).

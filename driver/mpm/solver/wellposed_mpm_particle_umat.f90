@@ -20,7 +20,7 @@ module wellposed_mpm_particle_umat
   use wellposed_umat_host, only: umat_host_t, host_update
   use wellposed_umat_adapter, only: check_props
   use wellposed_umat_layout, only: sv_z, sv_dlambda, sv_avg_dlambda, sv_zeta, sv_eps_p, sv_f, &
-                                   sv_status, nstatv_min
+                                   sv_status
   use wellposed_dp_params, only: dp_params_t
   use wellposed_dp_point, only: has_closed_form
   use wellposed_dp_block, only: closed_form_block, block_chunk
@@ -37,10 +37,15 @@ contains
   pure subroutine strain_increment(lg, dt, de)
     real(dp), intent(in) :: lg(:, :), dt
     real(dp), intent(out) :: de(:)
-    ! element by element: no array constructor (a temporary) per particle
+    ! element by element: no array constructor (a temporary) nor a fill
+    ! (a library call) per particle
     if (size(lg, 1) == 1) then
       de(1) = lg(1, 1)*dt
-      de(2:6) = 0.0_dp
+      de(2) = 0.0_dp
+      de(3) = 0.0_dp
+      de(4) = 0.0_dp
+      de(5) = 0.0_dp
+      de(6) = 0.0_dp
     else
       de(1) = dt*lg(1, 1)
       de(2) = dt*lg(2, 2)
@@ -79,19 +84,19 @@ contains
   end subroutine umat_particle
 
   !> Particles idx(:) of one material of ours, the local update of
-  !> Algorithm 1 (STATEV(3) = <dlambda> = 0), through the block kernel:
-  !> from the start-of-step s0, sv0, e0 (NTENS x n, NSTATV x n) over the
-  !> increments de, into stress, statev, stran (the particle arrays) and
-  !> dlambda; done(p) is set for every particle so updated. The UMAT's
-  !> conversions: engineering shears halved in the strains and doubled in
-  !> the plastic strain (STATEV 8-10), exact in binary. Nothing is done
-  !> when PROPS are refused or the model has no closed form.
-  subroutine umat_block(props, ntens, nstatv, dt, idx, s0, sv0, e0, de, stress, statev, stran, &
-                        dlambda, done)
+  !> Algorithm 1 (STATEV(3) = <dlambda> = 0), through the block kernel, in
+  !> place: stress, statev, stran (the particle arrays, NTENS x n, NSTATV x
+  !> n) hold the start of the step and, for every particle so updated, its
+  !> end, with dlambda; done(p) is set for those. A particle left (deferred,
+  !> not finite) is not touched. The UMAT's conversions: engineering shears
+  !> halved in the strains and doubled in the plastic strain (STATEV 8-10),
+  !> exact in binary. Nothing is done when PROPS are refused or the model
+  !> has no closed form.
+  subroutine umat_block(props, ntens, nstatv, dt, idx, de, stress, statev, stran, dlambda, done)
     real(dp), intent(in), contiguous :: props(:)
     real(dp), intent(in) :: dt
     integer, intent(in) :: ntens, nstatv, idx(:)
-    real(dp), intent(in) :: s0(:, :), sv0(:, :), e0(:, :), de(:, :)
+    real(dp), intent(in) :: de(:, :)
     real(dp), intent(inout) :: stress(:, :), statev(:, :), stran(:, :), dlambda(:)
     logical, intent(inout) :: done(:)
     integer, parameter :: chunk = block_chunk
@@ -108,6 +113,11 @@ contains
     if (fault /= 0) return
     if (.not. has_closed_form(par) .or. par%gdl) return
     c_avg = 0.0_dp
+    ! plane strain: the shears 13, 23 are zero in every point
+    do j = nt + 1, 6
+      c_sig0(:, j) = 0.0_dp
+      c_de(:, j) = 0.0_dp
+    end do
     do k0 = 1, size(idx), chunk
       n = min(chunk, size(idx) - k0 + 1)
       ! Gather in the model's order with tensor shears. bad(i) < 0 when an
@@ -118,34 +128,37 @@ contains
         q = idx(k0 - 1 + i)
         bad(i) = 0_int64
         do j = 1, nt
-          bad(i) = ior(bad(i), ior(nonfinite(s0(j, q)), ior(nonfinite(de(j, q)), &
-                                                             nonfinite(e0(j, q)))))
+          bad(i) = ior(bad(i), ior(nonfinite(stress(j, q)), ior(nonfinite(de(j, q)), &
+                                                                 nonfinite(stran(j, q)))))
         end do
         ! every STATEV slot: the UMAT reads 1-12, the host checks all after
         do j = 1, nstatv
-          bad(i) = ior(bad(i), nonfinite(sv0(j, q)))
+          bad(i) = ior(bad(i), nonfinite(statev(j, q)))
         end do
-        do j = 1, 6
-          c_sig0(i, j) = 0.0_dp
-          c_de(i, j) = 0.0_dp
-          c_ep0(i, j) = 0.0_dp
-        end do
-        c_z0(i) = 0.0_dp
-        c_zeta0(i) = 0.0_dp
-        if (bad(i) < 0) cycle
-        do j = 1, nt
-          c_sig0(i, j) = s0(j, q)
+        if (bad(i) < 0) then
+          do j = 1, 6
+            c_sig0(i, j) = 0.0_dp
+            c_de(i, j) = 0.0_dp
+            c_ep0(i, j) = 0.0_dp
+          end do
+          c_z0(i) = 0.0_dp
+          c_zeta0(i) = 0.0_dp
+          cycle
+        end if
+        do j = 1, 3
+          c_sig0(i, j) = stress(j, q)
           c_de(i, j) = de(j, q)
         end do
-        do j = 4, 6
-          c_de(i, j) = 0.5_dp*c_de(i, j)
+        do j = 4, nt
+          c_sig0(i, j) = stress(j, q)
+          c_de(i, j) = 0.5_dp*de(j, q)
         end do
         do j = 1, 3
-          c_ep0(i, j) = sv0(sv_eps_p - 1 + j, q)
-          c_ep0(i, j + 3) = 0.5_dp*sv0(sv_eps_p + 2 + j, q)
+          c_ep0(i, j) = statev(sv_eps_p - 1 + j, q)
+          c_ep0(i, j + 3) = 0.5_dp*statev(sv_eps_p + 2 + j, q)
         end do
-        c_z0(i) = sv0(sv_z, q)
-        c_zeta0(i) = sv0(sv_zeta, q)
+        c_z0(i) = statev(sv_z, q)
+        c_zeta0(i) = statev(sv_zeta, q)
       end do
       call closed_form_block(par, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
                              c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
@@ -161,7 +174,7 @@ contains
         if (bad_out < 0) cycle
         do j = 1, nt
           stress(j, q) = c_sig(i, j)
-          stran(j, q) = e0(j, q) + de(j, q)
+          stran(j, q) = stran(j, q) + de(j, q)
         end do
         statev(sv_z, q) = c_z(i)
         statev(sv_dlambda, q) = c_dl(i)
@@ -173,9 +186,6 @@ contains
         end do
         statev(sv_f, q) = c_f(i)
         statev(sv_status, q) = c_st(i)
-        do j = nstatv_min + 1, nstatv
-          statev(j, q) = sv0(j, q)
-        end do
         dlambda(q) = c_dl(i)
         done(q) = .true.
       end do

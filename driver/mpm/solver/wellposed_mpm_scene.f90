@@ -77,7 +77,8 @@ module wellposed_mpm_scene
     ! per particle, beside particles_t (they travel with it: hand-off, checkpoint)
     integer, allocatable :: mat(:)        !< material of each particle
     real(dp), allocatable :: q(:)         !< artificial viscous pressure (Pa)
-    ! workspace: start-of-step copies, increments, volume at the step's start
+    ! workspace: start-of-step copies (s0, sv0, e0 when Algorithm 1
+    ! iterates; the bar's s0(1, :) always), increments, volume at the start
     real(dp), allocatable :: s0(:, :), sv0(:, :), e0(:, :), de(:, :), vol_n(:)
     integer, allocatable :: block_idx(:)  !< particles of one material (block update)
     integer, allocatable :: nnz(:)        !< support nodes in use of each particle, this step
@@ -234,9 +235,11 @@ contains
     self%q(1:n) = q
   end subroutine size_workspace
 
-  !> The host side of Algorithm 1: particle p from its start-of-step copies
-  !> with STATEV(3) = avg through the UMAT host (driver/host: its cut-back
-  !> splitting, PNEWDT and non-finite rules); dlambda = STATEV(2) afterwards.
+  !> The host side of Algorithm 1: particle p from its start of step (the
+  !> copies s0, sv0, e0 when Algorithm 1 iterates; else the particle's own
+  !> state: a local model updates each particle once) with STATEV(3) = avg
+  !> through the UMAT host (driver/host: its cut-back splitting, PNEWDT and
+  !> non-finite rules); dlambda = STATEV(2) afterwards.
   subroutine scene_update(self, p, avg, dlambda, err)
     class(mpm_scene_t), intent(inout) :: self
     integer, intent(in) :: p
@@ -246,9 +249,11 @@ contains
     integer :: nsub, k, nt
     nt = self%ntens
     associate (pt => self%parts)
-      pt%stress(1:nt, p) = self%s0(:, p)
-      pt%statev(:, p) = self%sv0(:, p)
-      pt%stran(1:nt, p) = self%e0(:, p)
+      if (self%nl%active) then
+        pt%stress(1:nt, p) = self%s0(:, p)
+        pt%statev(:, p) = self%sv0(:, p)
+        pt%stran(1:nt, p) = self%e0(:, p)
+      end if
       k = self%mat(p)
       self%host%ours = self%mats%contract(k)
       call umat_particle(self%host, self%mats%props(1:self%mats%nprops(k), k), self%t, &
@@ -285,8 +290,8 @@ contains
         if (m == 0) cycle
         associate (pt => self%parts)
           call umat_block(self%mats%props(1:self%mats%nprops(k), k), nt, self%host%nstatv, &
-                          self%dt, self%block_idx(1:m), self%s0, self%sv0, self%e0, self%de, &
-                          pt%stress, pt%statev, pt%stran, dl, self%done)
+                          self%dt, self%block_idx(1:m), self%de, pt%stress, pt%statev, &
+                          pt%stran, dl, self%done)
         end associate
       end do
     end if

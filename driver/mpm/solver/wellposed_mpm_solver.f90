@@ -144,6 +144,16 @@ contains
         if (allocated(err)) exit
         if (self%visc_a1 > 0.0_dp .or. self%visc_a2 > 0.0_dp) call viscosity(self, p, lg)
         if (d == 2) call jaumann(self, p, lg)
+        ! the start of the stress update: Algorithm 1's sweeps restart from
+        ! copies; a local model updates in place (the bar's work keeps
+        ! sigma_11 of the start)
+        if (self%nl%active) then
+          self%s0(:, p) = pt%stress(1:nt, p)
+          self%sv0(:, p) = pt%statev(:, p)
+          self%e0(:, p) = pt%stran(1:nt, p)
+        else if (d == 1) then
+          self%s0(1, p) = pt%stress(1, p)
+        end if
       end do
       if (d == 1) call bar_external_work(self, load)
       call ex%sync_error(err)
@@ -153,11 +163,6 @@ contains
       ! with h_zeta = 0 one call per particle, exactly the local update;
       ! otherwise the fixed point on the grid (collective: the sweeps in the
       ! serial order across ranks; the bound warnings from rank 0 only)
-      do p = 1, n
-        self%s0(:, p) = pt%stress(1:nt, p)
-        self%sv0(:, p) = pt%statev(:, p)
-        self%e0(:, p) = pt%stran(1:nt, p)
-      end do
       self%max_substeps_step = 1
       if (ex%rank() == 0) then
         call nonlocal_solve(self%nl, self, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &

@@ -205,21 +205,31 @@ contains
     real(dp), intent(out) :: lg(:, :)
     integer, intent(in), optional :: nnz(:)
     integer :: k, i
-    lg = 0.0_dp
+    real(dp) :: l11, l21, l12, l22
+    ! sums in scalars from zero, as the nodes come (no fill of lg)
+    l11 = 0.0_dp
     if (g%ndim == 1) then
       do k = 1, nodes_of(pt, p, nnz)
         i = pt%node(k, p)
-        lg(1, 1) = lg(1, 1) + g%velocity(1, i)*pt%grad(1, k, p)
+        l11 = l11 + g%velocity(1, i)*pt%grad(1, k, p)
       end do
+      lg(1, 1) = l11
       return
     end if
+    l21 = 0.0_dp
+    l12 = 0.0_dp
+    l22 = 0.0_dp
     do k = 1, nodes_of(pt, p, nnz)
       i = pt%node(k, p)
-      lg(1, 1) = lg(1, 1) + g%velocity(1, i)*pt%grad(1, k, p)
-      lg(2, 1) = lg(2, 1) + g%velocity(2, i)*pt%grad(1, k, p)
-      lg(1, 2) = lg(1, 2) + g%velocity(1, i)*pt%grad(2, k, p)
-      lg(2, 2) = lg(2, 2) + g%velocity(2, i)*pt%grad(2, k, p)
+      l11 = l11 + g%velocity(1, i)*pt%grad(1, k, p)
+      l21 = l21 + g%velocity(2, i)*pt%grad(1, k, p)
+      l12 = l12 + g%velocity(1, i)*pt%grad(2, k, p)
+      l22 = l22 + g%velocity(2, i)*pt%grad(2, k, p)
     end do
+    lg(1, 1) = l11
+    lg(2, 1) = l21
+    lg(1, 2) = l12
+    lg(2, 2) = l22
   end subroutine velocity_gradient
 
 end module wellposed_mpm_transfer
