@@ -10,7 +10,7 @@ module wellposed_mpm_band
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: band_fit_t, fit_band, in_grown_box, half_crossings
+  public :: band_fit_t, fit_band, in_grown_box, line_meets_box, half_crossings
 
   !> A measured band.
   type :: band_fit_t
@@ -219,5 +219,20 @@ contains
     real(dp), intent(in) :: x(2), lo(2), hi(2), grow
     in_grown_box = all(x >= lo - grow) .and. all(x <= hi + grow)
   end function in_grown_box
+
+  !> Whether the line x = x0 + slope y passes through the box [lo, hi] grown
+  !> by `grow` on every side and clipped to the body [0, body(1)] x [0, body(2)]
+  !> (a band's centre line through a weak zone: docs/mpm.md).
+  pure logical function line_meets_box(x0, slope, lo, hi, grow, body) result(meets)
+    real(dp), intent(in) :: x0, slope, lo(2), hi(2), grow, body(2)
+    real(dp) :: a(2), b(2), xa, xb
+    a = max(lo - grow, 0.0_dp)
+    b = min(hi + grow, body)
+    meets = .false.
+    if (any(a > b)) return
+    xa = x0 + slope*a(2)
+    xb = x0 + slope*b(2)
+    meets = max(xa, xb) >= a(1) .and. min(xa, xb) <= b(1)
+  end function line_meets_box
 
 end module wellposed_mpm_band

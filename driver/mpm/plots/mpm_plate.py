@@ -4,10 +4,10 @@ usage: mpm_plate.py RUN_DIR TAG [TAG ...]
 
 Reads RUN_DIR/run.h5 and writes, beside it:
   plastic_strain.png  contours of ||eps^p||, one panel per case (as fig. 4.2
-                      and 4.4) on one colour scale, each at the snapshot
-                      nearest its band stage (summary.txt band_stage_time;
-                      the last snapshot when there is none), the fitted centre
-                      line and its +- FWHM/2 lines marked;
+                      and 4.4) on one colour scale, each at its band
+                      stage (summary.txt band_stage_time: the run writes a
+                      snapshot there; the last snapshot when there is none),
+                      the fitted centre line and its +- FWHM/2 lines marked;
   stress_strain.png   applied stress against apparent axial strain, all
                       cases (as fig. 4.3, 4.5, 4.6);
   iterations.png      nonlocal iterations per plastic step (when iterated).
@@ -60,6 +60,8 @@ def mark_band(ax, sm, tag, height):
     """The fitted centre line x = x0 + slope y and the lines FWHM/2 either side."""
     x0, slope = number(sm, tag + ".band_line_x0"), number(sm, tag + ".band_line_slope")
     w = number(sm, tag + ".band_fwhm_normal")
+    if sm.get(tag + ".band_fwhm_normal") == "not_applicable":
+        return ", FWHM not_applicable (summary.txt says why)"
     if x0 is None or slope is None or w is None:
         return ""
     y = np.linspace(0.2 * height, 0.8 * height, 2)
@@ -70,13 +72,13 @@ def mark_band(ax, sm, tag, height):
     return ", FWHM %.2f m at %.0f deg" % (w, number(sm, tag + ".band_angle_deg"))
 
 
-def main(argv):
-    run_dir, tags = argv[1], argv[2:]
-    h5 = h5py.File(os.path.join(run_dir, "run.h5"), "r")
-    cases = h5["cases"]
-
-    sm = read_summary(run_dir)
+def contour_figure(cases, sm, tags):
+    """||eps^p|| of each case at its band stage, one panel per case on one
+    colour scale (0 to the largest value of all panels), the fitted centre
+    line and the lines FWHM/2 either side of it marked. Returns the figure
+    and each panel's contour levels."""
     n = len(tags)
+    drawn = {}
     snaps = {tag: stage_snapshot(cases[tag], number(sm, tag + ".band_stage_time")) for tag in tags}
     fig, axes = plt.subplots(1, n, figsize=(3.2 * n + 1.2, 4.6), squeeze=False)
     vmax = 0.0
@@ -94,6 +96,7 @@ def main(argv):
         edge = np.max(np.linalg.norm(p - np.roll(p, 1, axis=1), axis=2), axis=1)
         tri.set_mask(edge > 3.0 * np.median(edge))
         cs = ax.tricontourf(tri, ep, levels=levels, cmap="viridis", extend="max")
+        drawn[tag] = cs.levels
         ax.set_aspect("equal")
         # the fit window is 0.2-0.8 of the plate's height (its top: the highest particle)
         label = mark_band(ax, sm, tag, float(np.max(xy[:, 1])))
@@ -106,6 +109,16 @@ def main(argv):
         ax.set_xlabel("x (m)")
     axes[0][0].set_ylabel("y (m)")
     fig.colorbar(cs, ax=axes[0].tolist(), label="||eps^p||", shrink=0.85)
+    return fig, drawn
+
+
+def main(argv):
+    run_dir, tags = argv[1], argv[2:]
+    h5 = h5py.File(os.path.join(run_dir, "run.h5"), "r")
+    cases = h5["cases"]
+
+    sm = read_summary(run_dir)
+    fig, _ = contour_figure(cases, sm, tags)
     fig.savefig(os.path.join(run_dir, "plastic_strain.png"), dpi=130)
     plt.close(fig)
 

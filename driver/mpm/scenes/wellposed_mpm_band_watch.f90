@@ -22,7 +22,7 @@ module wellposed_mpm_band_watch
   use wellposed_summary, only: summary_t
   use wellposed_mpm_solver, only: mpm_scene_t, plastic_strain
   use wellposed_mpm_decomposition, only: gather_by_gid
-  use wellposed_mpm_band, only: band_fit_t, fit_band, in_grown_box
+  use wellposed_mpm_band, only: band_fit_t, fit_band, in_grown_box, line_meets_box
   implicit none
   private
   public :: band_watch_t, new_band_watch
@@ -35,10 +35,12 @@ module wellposed_mpm_band_watch
     real(dp) :: drop = 0.05_dp, threshold = 1.0e-3_dp
     logical :: has_weak = .false.
     real(dp) :: weak_lo(2) = 0.0_dp, weak_hi(2) = 0.0_dp, grow = 0.0_dp
+    real(dp) :: body(2) = 0.0_dp     !< the plate's width and height (m)
     logical :: onset = .false.
     real(dp) :: onset_t = 0.0_dp, onset_x(2) = 0.0_dp, onset_ep = 0.0_dp
     real(dp) :: peak = -huge(1.0_dp)
     logical :: staged = .false.
+    logical :: just_staged = .false. !< the stage was reached in the last step (snapshot it)
     real(dp) :: stage(3) = 0.0_dp     !< the stage's (time, apparent strain, stress)
     type(band_fit_t) :: fit
     real(dp) :: top_ratio = 0.0_dp   !< top row's mean sigma_yy / mid-height row's, now
@@ -60,6 +62,7 @@ contains
     w%drop = drop
     w%threshold = threshold
     w%grow = sc%dx
+    w%body = [sc%plate%width, sc%plate%height]
     nbox = 0
     do k = 1, sc%mats%n
       if (sc%mats%rest(k)) cycle
@@ -81,6 +84,7 @@ contains
     real(dp) :: emax, x, y
     integer :: p, nc
     call top_row_ratio(self, sc, comm)
+    self%just_staged = .false.
     if (self%staged) return
     nc = size(curve, 2)
     if (nc > 0) self%peak = max(self%peak, curve(3, nc))
@@ -109,6 +113,7 @@ contains
     if (nc < 1) return
     if (curve(3, nc) > (1.0_dp - self%drop)*self%peak) return
     self%staged = .true.
+    self%just_staged = .true.
     self%stage = curve(:, nc)
     call measure(self, sc, comm)
   end subroutine watch_step
@@ -196,6 +201,7 @@ contains
       call sm%not_applicable(tag//'.band_stage_time', why)
       call sm%not_applicable(tag//'.band_fwhm_normal', why)
       call sm%not_applicable(tag//'.band_angle_deg', why)
+      call sm%not_applicable(tag//'.band_through_weak_zone', why)
       return
     end if
     call sm%add(tag//'.band_stage_time', self%stage(1), 's')
@@ -204,6 +210,7 @@ contains
     if (.not. self%fit%found) then
       call sm%not_applicable(tag//'.band_fwhm_normal', trim(self%fit%why))
       call sm%not_applicable(tag//'.band_angle_deg', trim(self%fit%why))
+      call sm%not_applicable(tag//'.band_through_weak_zone', trim(self%fit%why))
       return
     end if
     call sm%add(tag//'.band_fwhm_normal', self%fit%fwhm, 'm, FWHM of ||eps^p|| normal to '// &
@@ -214,6 +221,14 @@ contains
     call sm%add(tag//'.band_line_rms', self%fit%rms, 'm, slice centres off the line')
     call sm%add(tag//'.band_fit_slices', self%fit%slices)
     call sm%add(tag//'.band_normal_peak', self%fit%peak, 'peak of the profile across the band')
+    if (self%has_weak) then
+      call sm%add(tag//'.band_through_weak_zone', line_meets_box(self%fit%x0, self%fit%slope, &
+                  self%weak_lo, self%weak_hi, self%grow, self%body), 'the centre line at the '// &
+                  'stage, across the plate, within one cell of the weak zone')
+    else
+      call sm%not_applicable(tag//'.band_through_weak_zone', &
+                             'the deck has no single box-region material (weak zone)')
+    end if
   end subroutine watch_summarise
 
   !> The watch into a checkpoint (under `pre`).

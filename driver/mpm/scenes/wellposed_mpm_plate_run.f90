@@ -238,7 +238,7 @@ contains
           next_sample = next_sample + study%sample_dt
         end if
         call bw%step(sc, comm, curve(:, 1:ncurve))
-        if (snapshot_due(study%snapshot_dt, sc%t, next_snap, 1.0e-12_dp)) call snapshot()
+        if (bw%just_staged .or. snapshot_due(study%snapshot_dt, sc%t, next_snap, 1.0e-12_dp)) call snapshot()
         if (checkpoint_due(ck_every, sc%nstep, sc%t, cfg%t_end, sc%dt)) call checkpoint()
         if (root .and. study%progress) then
           if (clock%progress_due()) then
@@ -431,13 +431,13 @@ contains
 
     !> Particle fields of the current state into run.h5: cases/<tag>/snap_<n>/
     !> (collective: every rank its own particles' rows, in global-id order in
-    !> the file; `store` keeps them for checkpoints).
+    !> the file; `store` keeps them); also at the band's stage, off schedule.
     subroutine snapshot()
       real(dp), allocatable :: f(:, :)
       type(error_t), allocatable :: e
       integer :: n
       nsnap = nsnap + 1
-      next_snap = next_snap + study%snapshot_dt
+      if (snapshot_due(study%snapshot_dt, sc%t, next_snap, 1.0e-12_dp)) next_snap = next_snap + study%snapshot_dt
       n = sc%parts%n
       allocate (f(8, n))
       f(1:2, :) = sc%parts%x(:, 1:n)
