@@ -32,6 +32,7 @@ module wellposed_umat_host
   use wellposed_text, only: int_text, real_text
   use wellposed_umat_interface, only: umat
   use wellposed_abaqus_job, only: abaqus_take_error
+  use wellposed_step_kinematics, only: split_kinematics, small_strain_kinematics
   implicit none
   private
   public :: umat_host_t, new_umat_host, host_call, host_error, host_update, host_probe, &
@@ -67,6 +68,10 @@ module wellposed_umat_host
                                         0.0_dp, 0.0_dp, 1.0_dp], [3, 3])  !< F at the start
     real(dp) :: dfgrd1(3, 3) = reshape([1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp, 1.0_dp, 0.0_dp, &
                                         0.0_dp, 0.0_dp, 1.0_dp], [3, 3])  !< F at the end
+    !> The driver sets DFGRD0, DFGRD1 and DROT (the MPM: the particle's F);
+    !> else each call passes the small-strain F = I + eps of STRAN and of
+    !> STRAN + DSTRAN and DROT = I (a point, a probe of the moduli)
+    logical :: kinematics_given = .false.
     real(dp) :: temp = 0.0_dp, dtemp = 0.0_dp  !< no temperature field
     real(dp) :: predef(1) = 0.0_dp, dpred(1) = 0.0_dp  !< no predefined fields
     ! written by the UMAT
@@ -137,6 +142,8 @@ contains
       self%sse = 0.0_dp; self%spd = 0.0_dp; self%scd = 0.0_dp
     end if
     self%pnewdt = 1.0_dp
+    if (.not. self%kinematics_given) call small_strain_kinematics(stran, dstran, self%dfgrd0, &
+                                                                  self%dfgrd1, self%drot)
     fn => umat
     if (associated(self%fn)) fn => self%fn
     call fn(stress, statev, self%ddsdde, self%sse, self%spd, self%scd, self%rpl, self%ddsddt, &
@@ -205,7 +212,8 @@ contains
   !> Advance one point by DSTRAN over self%dtime from self%time: STRESS,
   !> STATEV, STRAN (advanced by DSTRAN) in place. A cut-back request splits
   !> the increment into 2, 4, ... 2**max_halvings equal parts from the saved
-  !> start state; when the UMAT follows our slots (self%ours), each part gets
+  !> start state (each part its share of DFGRD0 -> DFGRD1 and that part's
+  !> DROT); when the UMAT follows our slots (self%ours), each part gets
   !> the share 1/n of the nonlocal average STATEV(3) and STATEV(2) returns the
   !> sum of the parts' dlambda (Algorithm 1 sees one increment). On an error
   !> the state is left as it came in. `nsub` is the number of parts used.
@@ -216,7 +224,7 @@ contains
     integer, intent(out) :: nsub
     type(error_t), allocatable, intent(out) :: err
     real(dp), intent(inout), optional :: energy(3)
-    real(dp) :: s0(6), e0(6), en0(3), time0(2), dtime0, dl, avg
+    real(dp) :: s0(6), e0(6), en0(3), time0(2), dtime0, dl, avg, f0(3, 3), f1(3, 3), rot(3, 3)
     integer :: verdict, level, k, n
     n = self%ntens
     s0(1:n) = stress(1:n)
@@ -237,6 +245,9 @@ contains
     e0(1:n) = stran(1:n)
     time0 = self%time
     dtime0 = self%dtime
+    f0 = self%dfgrd0
+    f1 = self%dfgrd1
+    rot = self%drot
     avg = 0.0_dp
     if (self%ours .and. self%nstatv >= 3) avg = self%statev_save(3)
     levels: do level = 1, max_halvings
@@ -247,6 +258,7 @@ contains
       dl = 0.0_dp
       do k = 1, nsub
         self%time = time0 + dtime0*real(k - 1, dp)/nsub
+        call split_kinematics(f0, f1, k, nsub, self%dfgrd0, self%dfgrd1, self%drot)
         if (self%ours .and. self%nstatv >= 3) statev(3) = avg/nsub
         call host_call(self, props, stress, statev, stran, dstran/nsub, verdict, energy)
         if (verdict == verdict_cutback) cycle levels
@@ -287,6 +299,9 @@ contains
     subroutine finish()
       self%time = time0
       self%dtime = dtime0
+      self%dfgrd0 = f0
+      self%dfgrd1 = f1
+      self%drot = rot
     end subroutine finish
 
   end subroutine host_update

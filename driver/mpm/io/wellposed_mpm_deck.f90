@@ -145,6 +145,7 @@ contains
 
     !> One READ of the bar's group `grp` from the deck (`unit`) or an
     !> override `line`.
+    !> Each reader keeps its own: a namelist group cannot be an argument.
     subroutine read_group(grp, ios, msg, unit, line)
       character(len=*), intent(in) :: grp
       integer, intent(out) :: ios

@@ -148,6 +148,9 @@ contains
       cases%station_y(1:n) = y(1:n)
     end subroutine station_points
 
+    !> One READ of the plate's group `grp` from the deck (`unit`) or an
+    !> override `line`.
+    !> Each reader keeps its own: a namelist group cannot be an argument.
     subroutine read_group(grp, ios, msg, unit, line)
       character(len=*), intent(in) :: grp
       integer, intent(out) :: ios

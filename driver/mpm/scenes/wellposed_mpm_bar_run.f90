@@ -108,14 +108,14 @@ contains
     ! ---- deck and scene
     call read_mpm_deck(cli%deck_path, cli%overrides, cfg, opts, deck_text, err)
     if (.not. allocated(err)) call check_bar_deck(cli%deck_path, cfg, err)
-    if (allocated(err)) call die(err)
+    if (allocated(err)) call stop_all(comm, rd, err)
     if (len(cli%run_name) > 0) cfg%name = cli%run_name
     ! every rank builds the scene and keeps its strip (errors: the same on all)
     call new_mpm_ranks(ranks, comm)
     call new_scene(scene, cfg, err, ranks)
     if (allocated(err)) then
       err%message = cli%deck_path//': '//err%message
-      call die(err)
+      call stop_all(comm, rd, err)
     end if
     ghost = scene%exchange%ghost_layers()
     c_e = sqrt(scene%modulus_elastic/cfg%density)
@@ -125,12 +125,12 @@ contains
     h5_path = ''
     if (root) then
       call rd%create(cli%out_root, cfg%name, cli%deck_path, err)
-      if (allocated(err)) call die_alone(err)
+      if (allocated(err)) call stop_alone(comm, rd, err)
       h5_path = rd%path('run.h5')
     end if
     call broadcast(comm, h5_path, 0)
     call h5%create(comm, h5_path, err)
-    if (allocated(err)) call die(err)
+    if (allocated(err)) call stop_all(comm, rd, err)
     ! stations on rank 0 over every particle in id order, read through a
     ! proxy (a gather for setting them up; the other ranks hold none)
     ntotal = scene%parts%n
@@ -197,7 +197,7 @@ contains
         ! (every rank has the error: the step's errors are collective) close
         ! what was written (under its temporary name) and report the error
         call h5%close(err2)
-        call die_text(cli%deck_path//': '//err%message)
+        call stop_all(comm, rd, cli%deck_path//': '//err%message)
       end if
       call fill_station_proxy(proxy, comm, scene%parts)
       sampled = .false.
@@ -250,26 +250,26 @@ contains
     if (root) then
       call write_summary()
       call sm%write(rd%path('summary.txt'), err)
-      if (allocated(err)) call die_alone(err)
+      if (allocated(err)) call stop_alone(comm, rd, err)
     end if
     call write_h5()
     call h5%close(err)
-    if (allocated(err)) call die(err)
+    if (allocated(err)) call stop_all(comm, rd, err)
     if (.not. root) return
     ! the particle snapshots for ParaView: points on the x axis over time
     if (nsnap > 0) then
       call snaps%write_xdmf(rd%path('run.xdmf'), 'run.h5', 'particles', ntotal, 1, 'x', err)
-      if (allocated(err)) call die_alone(err)
+      if (allocated(err)) call stop_alone(comm, rd, err)
     end if
     if (opts%plot .and. .not. cli%no_plot) then
       script = find_data(stations_plot_name)
       call run_plot(script, shell_quote(rd%path('run.h5'))//' '// &
                     shell_quote(rd%path('stations.png'))//reference_plot_args(cli%out_root, &
                     cli%deck_path, opts%reference, opts%reference_label), err)
-      if (allocated(err)) call die_alone(err)
+      if (allocated(err)) call stop_alone(comm, rd, err)
     end if
     call rd%commit(err)
-    if (allocated(err)) call die_alone(err)
+    if (allocated(err)) call stop_alone(comm, rd, err)
     ! the run is complete: its checkpoints have served
     if (path_exists(ck_dir)) then
       call remove_tree(ck_dir, err)
@@ -306,7 +306,7 @@ contains
       write (tag, '(i4.4)') nsnap
       call snaps%take(h5, comm, 'snapshots/'//trim(tag)//'/', scene%t, scene%parts%gid(1:n), &
                       rows, e)
-      if (allocated(e)) call die(e)
+      if (allocated(e)) call stop_all(comm, rd, e)
       next_snap = nsnap*cfg%snapshot_dt
     end subroutine snapshot
 
@@ -333,7 +333,7 @@ contains
       end if
       call ck%put_text('main/deck', deck_text)
       call write_checkpoint(ck, ck_dir, scene%nstep, 2, path, e)
-      if (allocated(e)) call die_alone(e)
+      if (allocated(e)) call stop_alone(comm, rd, e)
     end subroutine checkpoint
 
     !> --restart: continue from the newest checkpoint of ck_dir, or from
@@ -347,45 +347,45 @@ contains
       integer, allocatable :: counts(:), ia(:)
       real(dp), allocatable :: a(:)
       call open_restart_checkpoint(ck_dir, cli%deck_path, deck_text, ck_file, ck, e)
-      if (allocated(e)) call die(e)
+      if (allocated(e)) call stop_all(comm, rd, e)
       call ck%get('main/counts', counts, e)
-      if (allocated(e)) call die(e)
-      if (size(counts) /= 4) call die_text(ck_file//': the run counts are garbled')
-      if (counts(3) /= ntotal) call die_text(ck_file//' holds '//int_text(counts(3))// &
+      if (allocated(e)) call stop_all(comm, rd, e)
+      if (size(counts) /= 4) call stop_all(comm, rd, ck_file//': the run counts are garbled')
+      if (counts(3) /= ntotal) call stop_all(comm, rd, ck_file//' holds '//int_text(counts(3))// &
         ' particles, this deck '//int_text(ntotal))
       call restore_scene(scene, ck, e)
-      if (allocated(e)) call die(e)
+      if (allocated(e)) call stop_all(comm, rd, e)
       call ck%get('main/next_snap', next_snap, e)
-      if (allocated(e)) call die(e)
+      if (allocated(e)) call stop_all(comm, rd, e)
       nsnap = counts(2)
       call snaps%get(ck, comm, 'snapshots/', e)
-      if (allocated(e)) call die_text(ck_file//': '//e%message)
-      if (snaps%n /= nsnap) call die_text(ck_file//': the snapshot count is garbled')
+      if (allocated(e)) call stop_all(comm, rd, ck_file//': '//e%message)
+      if (snaps%n /= nsnap) call stop_all(comm, rd, ck_file//': the snapshot count is garbled')
       call snaps%write_stored(h5, comm, e)
-      if (allocated(e)) call die(e)
+      if (allocated(e)) call stop_all(comm, rd, e)
       if (.not. root) return
       call get_stations(ck, 'stations/', st, e)
-      if (allocated(e)) call die_alone(e)
+      if (allocated(e)) call stop_alone(comm, rd, e)
       nenergy = counts(1)
       call ck%get('main/energy', a, e)
-      if (allocated(e)) call die_alone(e)
+      if (allocated(e)) call stop_alone(comm, rd, e)
       if (nenergy > size(energy, 2) .or. size(a) /= 5*nenergy) &
-        call die_root(ck_file//': the energy rows do not fit this deck')
+        call stop_alone(comm, rd, ck_file//': the energy rows do not fit this deck')
       energy(:, 1:nenergy) = reshape(a, [5, nenergy])
       nl_n = counts(4)
       if (nl_n > 0) then
         allocate (nl_its(nl_n + 1024), nl_plastic(nl_n + 1024), nl_bound(nl_n + 1024))
         call ck%get('main/nl_step', ia, e)
-        if (allocated(e)) call die_alone(e)
-        if (size(ia) /= nl_n) call die_root(ck_file//': nonlocal records garbled')
+        if (allocated(e)) call stop_alone(comm, rd, e)
+        if (size(ia) /= nl_n) call stop_alone(comm, rd, ck_file//': nonlocal records garbled')
         nl_plastic(1:nl_n) = ia
         call ck%get('main/nl_iterations', ia, e)
-        if (allocated(e)) call die_alone(e)
-        if (size(ia) /= nl_n) call die_root(ck_file//': nonlocal records garbled')
+        if (allocated(e)) call stop_alone(comm, rd, e)
+        if (size(ia) /= nl_n) call stop_alone(comm, rd, ck_file//': nonlocal records garbled')
         nl_its(1:nl_n) = ia
         call ck%get('main/nl_bound', a, e)
-        if (allocated(e)) call die_alone(e)
-        if (size(a) /= nl_n) call die_root(ck_file//': nonlocal records garbled')
+        if (allocated(e)) call stop_alone(comm, rd, e)
+        if (size(a) /= nl_n) call stop_alone(comm, rd, ck_file//': nonlocal records garbled')
         nl_bound(1:nl_n) = a
       end if
       write (output_unit, '(a)') '  restarted from '//ck_file//' (step '// &
@@ -537,29 +537,6 @@ contains
         call h5%write('nonlocal/lipschitz_eq4_43_printed', nl_bound(1:nl_n))
       end if
     end subroutine write_h5
-
-    !> An error every rank has found alike: rank 0 says it, all stop.
-    subroutine die(e)
-      type(error_t), intent(in) :: e
-      call stop_all(comm, rd, e%message)
-    end subroutine die
-
-    subroutine die_text(text)
-      character(len=*), intent(in) :: text
-      call stop_all(comm, rd, text)
-    end subroutine die_text
-
-    !> An error only this rank knows of (rank 0's files): say it and end
-    !> every rank of the job, which would otherwise wait for this one.
-    subroutine die_alone(e)
-      type(error_t), intent(in) :: e
-      call stop_alone(comm, rd, e%message)
-    end subroutine die_alone
-
-    subroutine die_root(text)
-      character(len=*), intent(in) :: text
-      call stop_alone(comm, rd, text)
-    end subroutine die_root
 
   end subroutine run_bar
 

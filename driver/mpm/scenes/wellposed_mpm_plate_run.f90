@@ -127,7 +127,7 @@ contains
     h5_path = ''
     if (root) then
       call rd%create(cli%out_root, cfg0%name, cli%deck_path, err)
-      if (allocated(err)) call die_root(err%message)
+      if (allocated(err)) call stop_alone(comm, rd, err%message)
       h5_path = rd%path('run.h5')
     end if
     call broadcast(comm, h5_path, 0)
@@ -293,7 +293,7 @@ contains
                 'rows through MPI-IO (mpio-collective), or rank 0 alone (rank0-gather)')
     call sm%add('total_wall_time', sum([(outs(ic)%scal(4), ic=1, study%ncases)]), 's')
     call sm%write(rd%path('summary.txt'), err)
-    if (allocated(err)) call die_root(err%message)
+    if (allocated(err)) call stop_alone(comm, rd, err%message)
     do ic = 1, study%ncases
       associate (o => outs(ic))
         call write_csv_curve(rd%path(o%tag//'_curve.csv'), o%curve)
@@ -301,7 +301,7 @@ contains
                                   o%scal(1), o%bounds, o%scal(3))
         call store%write_xdmf(rd%path(o%tag//'.xdmf'), 'run.h5', o%tag, o%nparticles, 2, 'xy', &
                               err, prefix='cases/'//o%tag//'/')
-        if (allocated(err)) call die_root(err%message)
+        if (allocated(err)) call stop_alone(comm, rd, err%message)
       end associate
     end do
     if (study%plot .and. .not. cli%no_plot) then
@@ -314,10 +314,10 @@ contains
         end do
         call run_plot(script, args, err)
       end block
-      if (allocated(err)) call die_root(err%message)
+      if (allocated(err)) call stop_alone(comm, rd, err%message)
     end if
     call rd%commit(err)
-    if (allocated(err)) call die_root(err%message)
+    if (allocated(err)) call stop_alone(comm, rd, err%message)
     write (output_unit, '(a)') '  finished: '//rd%final//' (total '// &
       real_text(sum([(outs(ic)%scal(4), ic=1, study%ncases)]))//' s)'
 
@@ -487,7 +487,7 @@ contains
       end do
       call ckw%put_text('main/summary', lines)
       call write_checkpoint(ckw, ck_dir, steps_before + sc%nstep, 2, path, e)
-      if (allocated(e)) call die_root(e%message)
+      if (allocated(e)) call stop_alone(comm, rd, e%message)
     end subroutine checkpoint
 
     !> --restart: read the newest checkpoint (or --restart-from FILE) on every
@@ -521,7 +521,7 @@ contains
         if (allocated(e)) call die(ck_file//': '//e%message)
         cfg = case_config(cfg0, study, k)
         call restore_plate_stations(done_st(k), study, cfg%t_end, comm, ck, pre//'stations/', e)
-        if (allocated(e)) call die_root(ck_file//': '//e%message)
+        if (allocated(e)) call stop_alone(comm, rd, ck_file//': '//e%message)
       end do
       call store%get(ck, comm, 'snapshots/', e)
       if (allocated(e)) call die(ck_file//': '//e%message)
@@ -534,7 +534,7 @@ contains
       call store%write_stored(h5, comm, e, prefix='cases/'//case_tag(study, ic0)//'/')
       if (allocated(e)) call die(e%message)
       if (.not. root) return
-      call ck%get_text('main/summary', lines, e); if (allocated(e)) call die_root(e%message)
+      call ck%get_text('main/summary', lines, e); if (allocated(e)) call stop_alone(comm, rd, e)
       at = 1
       do while (at <= len(lines))
         n = index(lines(at:), new_line('a'))
@@ -575,7 +575,7 @@ contains
       nplast(1:nit) = iv(2:)
       call bw%get(ck, 'main/band_watch/', e); if (allocated(e)) call die(ck_file//': '//e%message)
       call pst%get(ck, 'main/stations/', e)
-      if (allocated(e)) call die_root(ck_file//': '//e%message)
+      if (allocated(e)) call stop_alone(comm, rd, ck_file//': '//e%message)
       if (.not. root) nplast(1:nit) = 0      ! rank 0 holds the counts so far
       if (root) write (output_unit, '(a)') '    '//tag//': continuing at step '// &
         int_text(sc%nstep)//', t = '//real_text(sc%t)//' s'
@@ -587,13 +587,6 @@ contains
       character(len=*), intent(in) :: message
       call stop_all(comm, rd, message)
     end subroutine die
-
-    !> Stop the run for an error rank 0 alone met (its files): the other
-    !> ranks are aborted.
-    subroutine die_root(message)
-      character(len=*), intent(in) :: message
-      call stop_alone(comm, rd, message)
-    end subroutine die_root
 
   end subroutine run_plate
 

@@ -20,6 +20,7 @@ module wellposed_mpm_scene
   use wellposed_mpm_exchange, only: mpm_exchange_t, mpm_serial_t
   use wellposed_mpm_materials, only: mpm_materials_t, material_of, check_covered
   use wellposed_umat_host, only: umat_host_t, new_umat_host, umat_is_ours
+  use wellposed_step_kinematics, only: step_kinematics
   use wellposed_mpm_particle_umat, only: umat_particle, umat_block
   use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, nonlocal_settings_t, &
                                     new_nonlocal, nonlocal_ghost_nodes
@@ -80,6 +81,9 @@ module wellposed_mpm_scene
     ! workspace: start-of-step copies (s0, sv0, e0 when Algorithm 1
     ! iterates; the bar's s0(1, :) always), increments, volume at the start
     real(dp), allocatable :: s0(:, :), sv0(:, :), e0(:, :), de(:, :), vol_n(:)
+    !> F at the step's start (ndim x ndim), kept for a user's UMAT only:
+    !> its DFGRD0 and DROT (wellposed's own reads neither)
+    real(dp), allocatable :: f_n(:, :, :)
     integer, allocatable :: block_idx(:)  !< particles of one material (block update)
     integer, allocatable :: nnz(:)        !< support nodes in use of each particle, this step
     logical, allocatable :: done(:)       !< updated by the block kernel this step
@@ -231,6 +235,8 @@ contains
     allocate (self%mat(cap), self%q(cap), self%s0(self%ntens, cap), self%sv0(ns, cap), &
               self%e0(self%ntens, cap), self%de(self%ntens, cap), self%vol_n(cap), &
               self%block_idx(cap), self%done(cap), self%nnz(cap))
+    if (allocated(self%f_n)) deallocate (self%f_n)
+    if (.not. umat_is_ours()) allocate (self%f_n(self%ndim, self%ndim, cap))
     self%mat(1:n) = mat
     self%q(1:n) = q
   end subroutine size_workspace
@@ -256,6 +262,9 @@ contains
       end if
       k = self%mat(p)
       self%host%ours = self%mats%contract(k)
+      self%host%kinematics_given = .true.
+      if (allocated(self%f_n)) call step_kinematics(self%f_n(:, :, p), pt%defgrad(1:self%ndim, &
+        1:self%ndim, p), self%host%dfgrd0, self%host%dfgrd1, self%host%drot)
       call umat_particle(self%host, self%mats%props(1:self%mats%nprops(k), k), self%t, &
                          self%dt, self%nstep + 1, pt%gid(p), pt%x(:, p), pt%stress(1:nt, p), &
                          pt%statev(:, p), pt%stran(1:nt, p), self%de(:, p), avg, dlambda, &

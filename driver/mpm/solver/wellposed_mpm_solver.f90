@@ -140,6 +140,7 @@ contains
         call velocity_gradient(g, pt, p, lg, self%nnz)
         call strain_increment(lg, dt, self%de(:, p))
         self%vol_n(p) = pt%vol(p)
+        if (allocated(self%f_n)) self%f_n(:, :, p) = pt%defgrad(1:d, 1:d, p)
         call deform(self, p, lg, err)
         if (allocated(err)) exit
         if (self%visc_a1 > 0.0_dp .or. self%visc_a2 > 0.0_dp) call viscosity(self, p, lg)
