@@ -25,7 +25,8 @@ module wellposed_mpm_material_deck
                                    prop_tau, prop_h_zeta, prop_length, prop_explicit
   use wellposed_umat_host, only: umat_is_ours
   use wellposed_mpm_materials, only: mpm_materials_t, max_materials, max_material_props, &
-                                     add_material, check_regions, min_nstatv
+                                     add_material, check_regions, least_nstatv, &
+                                     nstatv_why
   implicit none
   private
   public :: read_materials, material_defaults_t, is_material_group
@@ -234,10 +235,12 @@ contains
           trim(v_model(k))//''' is not a known material: ''wellposed'' (our model, named '// &
           'keys) or ''umat'' (the linked UMAT with props)'); return
       end select
-      if (v_nstatv(k) < min_nstatv) then
+      ! our model's length where the UMAT is ours or follows the contract
+      if (v_nstatv(k) < least_nstatv(umat_is_ours(), v_contract(k))) then
         call new_error(err, status_invalid, 'nstatv', path//': &'//g//': nstatv = '// &
-          int_text(v_nstatv(k))//' is below '//int_text(min_nstatv)//', what our model '// &
-          'needs (docs/umat.md) and the MPM''s outputs read (STATEV 2 and 4)'); return
+          int_text(v_nstatv(k))//' is below '// &
+          int_text(least_nstatv(umat_is_ours(), v_contract(k)))// &
+          nstatv_why(umat_is_ours() .or. v_contract(k))); return
       end if
       r = lower(trim(v_region(k)))
       if (len(r) == 0) r = merge('box ', 'rest', any(is_set(v_x(:, k))))

@@ -12,14 +12,16 @@ module wellposed_mpm_materials
   use wellposed_text, only: int_text, real_text
   implicit none
   private
-  public :: mpm_materials_t, max_materials, max_material_props, min_nstatv
+  public :: mpm_materials_t, max_materials, max_material_props, min_nstatv, least_nstatv, &
+            nstatv_why
   public :: add_material, material_of, check_regions, check_covered, single_material, &
             scale_regions, materials_nstatv, occurrence, first_material
 
   integer, parameter :: max_materials = 8        !< &material groups per deck
   integer, parameter :: max_material_props = 40  !< PROPS per material
-  !> NSTATV every material needs: our model's length (docs/umat.md), which
-  !> the MPM's outputs read (STATEV 2 dlambda, 4 zeta)
+  !> NSTATV our model needs (docs/umat.md), and a UMAT following the
+  !> nonlocal contract (STATEV 2/3); a user's UMAT needs 1 or more and the
+  !> outputs reading our slots are left out where it has fewer
   integer, parameter :: min_nstatv = 12
 
   !> The materials of one scene (n = 0: not given; see single_material).
@@ -70,10 +72,10 @@ contains
       call new_error(err, status_invalid, 'props', occurrence(self, k)//': props: '// &
         int_text(size(props))//' entries; give 1 ... '//int_text(max_material_props)); return
     end if
-    if (nstatv < min_nstatv) then
+    if (nstatv < least_nstatv(ours, contract)) then
       call new_error(err, status_invalid, 'nstatv', occurrence(self, k)//': nstatv = '// &
-        int_text(nstatv)//' is below '//int_text(min_nstatv)//', what our model needs '// &
-        '(docs/umat.md) and the MPM''s outputs read (STATEV 2 and 4)'); return
+        int_text(nstatv)//' is below '//int_text(least_nstatv(ours, contract))// &
+        nstatv_why(ours .or. contract)); return
     end if
     self%nprops(k) = size(props)
     self%props(:, k) = 0.0_dp
@@ -166,8 +168,26 @@ contains
     m = given
     if (m%n > 0) return
     m%ndim = ndim
-    call add_material(m, props, max(nstatv, min_nstatv), ours, .false., err)
+    call add_material(m, props, max(nstatv, least_nstatv(ours, .false.)), ours, .false., err)
   end function single_material
+
+  !> Least NSTATV of a material: our model's (min_nstatv) where the UMAT is
+  !> ours or follows the nonlocal contract (STATEV 2/3), else 1.
+  pure integer function least_nstatv(ours, contract) result(n)
+    logical, intent(in) :: ours, contract
+    n = merge(min_nstatv, 1, ours .or. contract)
+  end function least_nstatv
+
+  !> Why a material's NSTATV is too short (ours_or_contract: as above).
+  pure function nstatv_why(ours_or_contract) result(s)
+    logical, intent(in) :: ours_or_contract
+    character(len=:), allocatable :: s
+    if (ours_or_contract) then
+      s = ', what our model needs (docs/umat.md) and the nonlocal contract''s STATEV 2/3 read'
+    else
+      s = ' (a UMAT''s STATEV has at least one entry)'
+    end if
+  end function nstatv_why
 
   !> Every box scaled by f about the origin (a plate scaled for fig. 4.6).
   pure subroutine scale_regions(self, f)

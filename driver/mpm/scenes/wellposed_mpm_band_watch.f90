@@ -161,10 +161,13 @@ contains
   end subroutine measure
 
   !> The case's summary lines under `tag.` (rank 0).
-  subroutine watch_summarise(self, sm, tag)
+  !> `no_slot`: why the band measures are not applicable (no plastic strain
+  !> slot in the STATEV), instead of the watch's own reasons.
+  subroutine watch_summarise(self, sm, tag, no_slot)
     class(band_watch_t), intent(in) :: self
     type(summary_t), intent(inout) :: sm
     character(len=*), intent(in) :: tag
+    character(len=*), intent(in), optional :: no_slot
     character(len=:), allocatable :: why
     call sm%add(tag//'.band_onset_strain', self%threshold, &
                 '||eps^p|| whose first crossing (one particle) marks where the band starts')
@@ -184,6 +187,7 @@ contains
       end if
     else
       why = 'no particle exceeded the onset threshold'
+      if (present(no_slot)) why = no_slot
       call sm%not_applicable(tag//'.band_onset_time', why)
       call sm%not_applicable(tag//'.band_starts_at_weak_zone', why)
     end if
@@ -198,6 +202,7 @@ contains
                 'below its peak, first sample after the onset')
     if (.not. self%staged) then
       why = 'the apparent stress never dropped by band_drop after the onset'
+      if (present(no_slot)) why = no_slot
       call sm%not_applicable(tag//'.band_stage_time', why)
       call sm%not_applicable(tag//'.band_fwhm_normal', why)
       call sm%not_applicable(tag//'.band_angle_deg', why)

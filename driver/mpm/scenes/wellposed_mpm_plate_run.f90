@@ -19,7 +19,6 @@
 !> uninterrupted run's files bit for bit on as many ranks (wall times aside).
 module wellposed_mpm_plate_run
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
-  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, status_cutback
   use wellposed_text, only: int_text, real_text
@@ -40,6 +39,9 @@ module wellposed_mpm_plate_run
   use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_mpm_nonlocal_summary, only: add_nonlocal_summary, bound_text
   use wellposed_mpm_band_watch, only: band_watch_t, new_band_watch
+  use wellposed_mpm_statev_outputs, only: plate_field_names, plate_field_widths, &
+                                          plate_field_rows, add_plate_band, no_slot_why, &
+                                          slot_plastic_strain
   use wellposed_mpm_plate_stations, only: plate_stations_t, new_plate_stations, &
                                           restore_plate_stations
   use wellposed_mpm_stop, only: stop_alone, stop_all
@@ -119,9 +121,8 @@ contains
     end do
     ck_dir = cli%out_root//'/'//cfg0%name//'.checkpoints'
     ic0 = 1
-    call new_snapshot_store(store, [character(len=14) :: 'xy', 'plastic_strain', 'sigma_xx', &
-                                    'sigma_yy', 'sigma_xy', 'dlambda', 'zeta'], &
-                            [2, 1, 1, 1, 1, 1, 1], time_first=.false.)
+    call new_snapshot_store(store, plate_field_names(cfg0%nstatv), &
+                            plate_field_widths(cfg0%nstatv), time_first=.false.)
     if (cli%restart) call read_restart()
     ! rank 0 makes the run folder; run.h5 in it is written by every rank
     h5_path = ''
@@ -356,15 +357,12 @@ contains
         call sm%add(tag//'.strain_at_peak', o%scal(5), 'apparent axial strain')
         call sm%add(tag//'.final_stress', o%curve(3, size(o%curve, 2))*1.0e-6_dp, 'MPa')
         call sm%add(tag//'.final_strain', o%curve(2, size(o%curve, 2)))
-        call sm%add(tag//'.max_plastic_strain', epmax)
-        call sm%add(tag//'.band_fwhm', &
-                    merge(fwhm, ieee_value(fwhm, ieee_quiet_nan), fwhm > 0.0_dp), &
-          'm, along the band line at '//real_text(yline)//' m', 'no particle within half a '// &
-          'particle spacing of the band line had plastic strain at t = '//real_text(band_t)//' s')
-        call sm%add(tag//'.band_peak_at', peak_x, 'm, along the band line')
-        call sm%add(tag//'.band_time', band_t, 's, when the band width was measured')
-        call sm%add(tag//'.band_peak_plastic_strain', peak_v)
-        call bw%summarise(sm, tag)
+        call add_plate_band(sm, tag, sc%parts%nstatv, epmax, fwhm, yline, band_t, peak_x, peak_v)
+        if (sc%parts%nstatv < slot_plastic_strain) then
+          call bw%summarise(sm, tag, no_slot_why('plastic strain', sc%parts%nstatv))
+        else
+          call bw%summarise(sm, tag)
+        end if
         call pst%summarise(sm, tag)
         if (bw%staged .and. bw%fit%found) o%scal(8) = bw%fit%fwhm
         call sm%add(tag//'.max_substeps', nsub)
@@ -445,10 +443,11 @@ contains
       f(4, :) = sc%parts%stress(1, 1:n)
       f(5, :) = sc%parts%stress(2, 1:n)
       f(6, :) = sc%parts%stress(4, 1:n)
-      f(7, :) = sc%parts%statev(2, 1:n)
-      f(8, :) = sc%parts%statev(4, 1:n)
+      f(7:8, :) = 0.0_dp
+      if (sc%parts%nstatv >= 2) f(7, :) = sc%parts%statev(2, 1:n)
+      if (sc%parts%nstatv >= 4) f(8, :) = sc%parts%statev(4, 1:n)
       call store%take(h5, comm, 'cases/'//tag//'/snap_'//int_text(nsnap)//'/', sc%t, &
-                      sc%parts%gid(1:n), f, e)
+                      sc%parts%gid(1:n), f(plate_field_rows(sc%parts%nstatv), :), e)
       if (allocated(e)) call die('case '//tag//': '//e%message)
     end subroutine snapshot
 

@@ -359,11 +359,14 @@ contains
   end function applied_stress
 
   !> Magnitude of the plastic strain tensor ||eps^p|| of each particle
-  !> (STATEV 5-10, engineering shears halved), as in fig. 4.2 and 4.4.
+  !> (STATEV 5-10, engineering shears halved), as in fig. 4.2 and 4.4;
+  !> zero where NSTATV < 10 (a user's UMAT: its outputs are left out).
   pure function plastic_strain(self) result(ep)
     type(mpm_scene_t), intent(in) :: self
     real(dp) :: ep(self%parts%n)
     integer :: p
+    ep = 0.0_dp
+    if (self%parts%nstatv < 10) return
     do p = 1, self%parts%n
       associate (e => self%parts%statev(5:10, p))
         ep(p) = sqrt(e(1)**2 + e(2)**2 + e(3)**2 + 0.5_dp*(e(4)**2 + e(5)**2 + e(6)**2))
