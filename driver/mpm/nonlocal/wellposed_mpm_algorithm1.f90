@@ -36,29 +36,17 @@
 !> the patch (nonlocal_ghost_nodes). A decomposed run passes `ranks` (a
 !> nonlocal_ranks_t) and `key` (each local particle's place in the serial
 !> order) to nonlocal_solve. Step 2 has three sweeps (&nonlocal sweep):
-!>  - gauss_seidel: the dissertation's sweep in the serial order. Across
-!>    ranks every pass that updates the field as it goes (projection, sweep,
-!>    plastic diffusion) is pipelined: rank r takes the nodes it shares with
-!>    r-1 as r-1 left them, does its particles in key order, hands its
-!>    shared nodes on to r+1; at the end every node takes the values of the
-!>    highest rank holding it. A pass is the serial one bit for bit, but the
-!>    ranks sweep one after the other.
-!>  - jacobi: every plastic particle from the field of the previous sweep
-!>    (eq. 4.43-4.45 bound it as well), then each rank corrects its own part
-!>    of the field (`own`) and the parts are added at shared nodes: one
-!>    neighbour exchange per sweep, all ranks at once. Relaxed by 2/(2 + b)
-!>    where h_zeta > 0, 2/(2 - b) where h_zeta < 0 and b < 1 (b: the sharp
-!>    factor of eq. 4.43), which centres the Jacobian's eigenvalues on 0.
-!>  - coloured: the same in two half-sweeps, particles in blocks of cell
-!>    layers (by global layer, at least the Gaussian's reach wide) of
-!>    alternating colour; the second colour sees the first's update.
-!> The simultaneous sweeps do not depend on the decomposition: a rank count
-!> changes only the order of the sums at shared nodes (round-off), so the
-!> iteration counts are those of one process. Their plastic diffusion is
-!> simultaneous too. 'auto' (the default): gauss_seidel on one rank (the
-!> serial program unchanged), jacobi on more (docs/parallel.md has the
-!> measurements). Anderson on the simultaneous sweeps keeps each rank's
-!> entries and sums the small Gram system over the ranks.
+!>  - gauss_seidel: the dissertation's sweep in the serial order, pipelined
+!>    across ranks (a pass is the serial one bit for bit; ranks take turns);
+!>  - jacobi: every plastic particle from the previous sweep's field, each
+!>    rank correcting its own part, summed at shared nodes (one exchange a
+!>    sweep, all ranks at once); relaxed by 2/(2 +- b), b the sharp factor
+!>    of eq. 4.43, which centres the Jacobian's eigenvalues on 0;
+!>  - coloured: the same in two half-sweeps over blocks of cell layers.
+!> The simultaneous sweeps do not depend on the decomposition (only the
+!> order of sums at shared nodes does). 'auto' (default): gauss_seidel on
+!> one rank, jacobi on more. Why and the measurements: docs/parallel.md,
+!> "Algorithm 1 across ranks".
 !> The nodal field and the averages: wellposed_mpm_nonlocal_grid; the
 !> sweep order: wellposed_mpm_sweep_order.
 module wellposed_mpm_algorithm1
