@@ -58,6 +58,7 @@ module wellposed_mpm_plate_run
   use wellposed_plot, only: run_plot
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
   use wellposed_fs, only: shell_quote
+  use wellposed_mpm_step_keeper, only: step_keeper_t
   implicit none
   private
   public :: run_plate
@@ -72,8 +73,8 @@ contains
     type(ps_config_t) :: cfg0, cfg
     type(ps_study_t) :: study
     type(mpm_scene_t) :: sc
-    !> the scene before a step (stop_on_cutback): allocated by its first copy
-    type(mpm_scene_t), allocatable :: prev
+    !> the last complete step, for stop_on_cutback
+    type(step_keeper_t) :: keeper
     type(mpm_ranks_t) :: ranks
     type(case_out_t), allocatable :: outs(:)
     type(band_watch_t) :: bw
@@ -212,18 +213,20 @@ contains
       end if
       ended_early = .false.
       end_message = ''
+      call keeper%clear()
       do while (sc%t < cfg%t_end - 0.5_dp*sc%dt)
-        if (study%stop_on_cutback) prev = sc
+        if (study%stop_on_cutback) call keeper%keep(sc)
         call advance(sc, err)
         if (allocated(err)) then
           if (.not. (study%stop_on_cutback .and. err%status == status_cutback)) &
             call die('case '//tag//': '//err%message)
           ! the material gave out: end the case at the last complete step
-          sc = prev
-          ended_early = .true.
           end_message = err%message
+          call keeper%restore(sc, err)
+          if (allocated(err)) call die('case '//tag//': '//err%message)
+          ended_early = .true.
           if (root) write (output_unit, '(a)') '    '//tag//': ended at t = '// &
-            real_text(sc%t)//' s (&time stop_on_cutback): '//err%message
+            real_text(sc%t)//' s (&time stop_on_cutback): '//trim(end_message)
           exit
         end if
         nit = nit + 1
