@@ -61,6 +61,7 @@ module wellposed_mpm_algorithm1
                                              nl_gauss_seidel, nl_jacobi, nl_coloured
   use wellposed_mpm_nonlocal_grid, only: nonlocal_t, nonlocal_step_stats_t, nonlocal_project, &
                                          nonlocal_average, cached_average, warn_bounds, &
+                                         field_extents, field_reaches, extend_extents, &
                                          iteration_error
   use wellposed_mpm_nonlocal_ranks, only: nonlocal_ranks_t
   use wellposed_mpm_sweep_order, only: key_order, find_sorted, sweep_layer
@@ -200,9 +201,11 @@ contains
       ! Step 3: plastic diffusion to the elastic particles.
       changed = .false.
       if (par .and. .not. simul) call ranks%nodes_from_lower(self%field)
+      call field_extents(self)
       do q = 1, n
         p = order(q)
         if (self%plastic(p)) cycle
+        if (.not. field_reaches(self, x(:, p))) cycle   ! its average is 0
         call cached_average(self, p, x(:, p), avg)
         if (avg == 0.0_dp) cycle   ! the step-1 call already had this input
         call host%update(p, avg, dnew, err)
@@ -213,6 +216,7 @@ contains
           self%plastic(p) = .true.
           self%last%n_reclassified = self%last%n_reclassified + 1
           call correct_field(p, dnew - self%dl(p))
+          call extend_extents(self, node(:, p))
           self%dl(p) = dnew
         end if
       end do

@@ -25,8 +25,8 @@ module wellposed_mpm_nonlocal_grid
   implicit none
   private
   public :: nonlocal_t, nonlocal_step_stats_t, new_nonlocal, nonlocal_ghost_nodes, &
-            nonlocal_project, nonlocal_average, cached_average, warn_bounds, &
-            iteration_error
+            field_extents, extend_extents, field_reaches, nonlocal_project, &
+            nonlocal_average, cached_average, warn_bounds, iteration_error
 
   !> Measures of the last solve (one time step).
   type :: nonlocal_step_stats_t
@@ -71,6 +71,10 @@ module wellposed_mpm_nonlocal_grid
     real(dp), allocatable :: wx(:, :), wy(:, :), den(:)
     integer, allocatable :: blo(:, :), bhi(:, :)
     logical, allocatable :: cached(:)
+    !> per node row (0 .. nnode(2)-1; one row in 1D): the first and last
+    !> node column where `field` may be nonzero (row_lo > row_hi: none), so
+    !> step 3 skips the particles whose support sees only zeros
+    integer, allocatable :: row_lo(:), row_hi(:)
     real(dp), allocatable :: dl(:)          !< dlambda_p of the current iterate
     logical, allocatable :: plastic(:)
     type(nonlocal_step_stats_t) :: last
@@ -169,6 +173,9 @@ contains
     self%node_mass = 0.0_dp
     self%field = 0.0_dp
     self%own = 0.0_dp
+    allocate (self%row_lo(0:self%nnode(2) - 1), self%row_hi(0:self%nnode(2) - 1))
+    self%row_lo = huge(1)
+    self%row_hi = -1
 
     self%h_zeta = settings%h_zeta
     self%length = settings%length
@@ -344,6 +351,48 @@ contains
     end if
     avg = num/self%den(p)
   end subroutine cached_average
+
+  !> The row extents of the nonzero `field` nodes of the patch.
+  subroutine field_extents(self)
+    type(nonlocal_t), intent(inout) :: self
+    integer :: g
+    self%row_lo = huge(1)
+    self%row_hi = -1
+    do g = self%glo, self%ghi
+      if (self%field(g) /= 0.0_dp) call extend_extents(self, [g])
+    end do
+  end subroutine field_extents
+
+  !> The nodes g(:) may now hold a nonzero field.
+  pure subroutine extend_extents(self, g)
+    type(nonlocal_t), intent(inout) :: self
+    integer, intent(in) :: g(:)
+    integer :: i, j, k
+    do k = 1, size(g)
+      i = g(k)
+      j = 0
+      if (self%ndim == 2) then
+        i = mod(g(k), self%nnode(1))
+        j = g(k)/self%nnode(1)
+      end if
+      self%row_lo(j) = min(self%row_lo(j), i)
+      self%row_hi(j) = max(self%row_hi(j), i)
+    end do
+  end subroutine extend_extents
+
+  !> Whether the Gaussian's support of a particle at xp covers a node of
+  !> nonzero field: if not, its average is exactly 0 (eq. 4.47).
+  pure logical function field_reaches(self, xp) result(reaches)
+    type(nonlocal_t), intent(in) :: self
+    real(dp), intent(in) :: xp(:)
+    integer :: lo(2), hi(2), j
+    call box(self, xp, lo, hi)
+    reaches = .true.
+    do j = lo(2), hi(2)
+      if (self%row_lo(j) <= hi(1) .and. self%row_hi(j) >= lo(1)) return
+    end do
+    reaches = .false.
+  end function field_reaches
 
   !> The contraction bounds' warning and note (once per run each) to `unit`.
   subroutine warn_bounds(self, unit)
