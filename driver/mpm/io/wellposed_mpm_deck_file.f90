@@ -8,10 +8,10 @@
 !> default scene runs only when the program is given no deck at all.
 module wellposed_mpm_deck_file
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: read_deck_text, has_group, namelist_error
+  use wellposed_deck, only: read_deck_text, has_group, namelist_error, lower
   implicit none
   private
-  public :: open_deck, override_line, read_deck_groups, group_reader
+  public :: open_deck, override_line, read_deck_groups, group_reader, sets_list
 
   abstract interface
     !> One READ of namelist group `grp` from `unit` (the deck) or `line`
@@ -68,6 +68,24 @@ contains
     group = override(1:dot - 1)
     line = '&'//group//' '//trim(override(dot + 1:))//' /'
   end subroutine override_line
+
+  !> Whether override line `line` (&group key=... /) gives list key `key`
+  !> whole (not key(i)): the reader then clears the list first, so that
+  !> study.dx=0.125 means the one case 0.125 m, not the deck's list with
+  !> its first entry replaced (a namelist READ sets only the entries given).
+  pure logical function sets_list(line, key)
+    character(len=*), intent(in) :: line, key
+    character(len=len(line)) :: rest
+    integer :: b
+    sets_list = .false.
+    b = index(line, ' ')
+    if (b == 0) return
+    rest = adjustl(line(b:))
+    if (len_trim(rest) <= len(key)) return
+    if (lower(rest(1:len(key))) /= key) return
+    rest = adjustl(rest(len(key) + 1:))
+    sets_list = rest(1:1) == '='
+  end function sets_list
 
   !> Each of `groups` that deck `path` (its text `text`) holds, then each
   !> override of those groups, through `reader`; errors name the deck or the

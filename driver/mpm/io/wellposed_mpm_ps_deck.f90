@@ -36,7 +36,7 @@ module wellposed_mpm_ps_deck
   use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck, max_cases
   use wellposed_mpm_materials, only: add_material, check_regions, first_material
   use wellposed_umat_layout, only: prop_k0
-  use wellposed_mpm_deck_file, only: read_deck_groups
+  use wellposed_mpm_deck_file, only: read_deck_groups, sets_list
   use wellposed_mpm_scene_kind, only: scene_kind_plate
   use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
                                         bc_velocity, platen_names
@@ -167,10 +167,19 @@ contains
         if (present(line)) read (line, nml=boundary, iostat=ios, iomsg=msg)
       case ('stations')
         if (present(unit)) read (unit, nml=stations, iostat=ios, iomsg=msg)
-        if (present(line)) read (line, nml=stations, iostat=ios, iomsg=msg)
+        if (present(line)) then
+          if (sets_list(line, 'x')) x = unset
+          if (sets_list(line, 'y')) y = unset
+          read (line, nml=stations, iostat=ios, iomsg=msg)
+        end if
       case ('study')
         if (present(unit)) read (unit, nml=study, iostat=ios, iomsg=msg)
-        if (present(line)) read (line, nml=study, iostat=ios, iomsg=msg)
+        if (present(line)) then
+          if (sets_list(line, 'dx')) dx = unset
+          if (sets_list(line, 'scale')) scale = unset
+          if (sets_list(line, 'label')) label = ''
+          read (line, nml=study, iostat=ios, iomsg=msg)
+        end if
       end select
     end subroutine read_group
 
