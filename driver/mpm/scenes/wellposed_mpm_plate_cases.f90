@@ -196,11 +196,11 @@ contains
     close (u)
   end subroutine write_csv_iterations
 
-  !> x in at most 4 decimals without trailing zeros (0.125, 2, 0.5).
+  !> x in at most 6 decimals without trailing zeros (0.03125, 2, 0.5).
   pure function short(x) result(text)
     real(dp), intent(in) :: x
     character(len=16) :: text
-    write (text, '(f0.4)') x
+    write (text, '(f0.6)') x
     do while (len_trim(text) > 1 .and. text(len_trim(text):len_trim(text)) == '0')
       text(len_trim(text):len_trim(text)) = ' '
     end do
