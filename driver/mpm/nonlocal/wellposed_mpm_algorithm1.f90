@@ -1,54 +1,36 @@
-!> The dissertation's nonlocal Algorithm 1 for the MPM (eq. 4.46-4.50),
-!> the same code for 1D and 2D grids, talking to the material through the
-!> UMAT's nonlocal slots only (docs/umat.md): the host
-!> keeps each particle's start-of-step STRESS and STATEV, and for a given
-!> average <dlambda> it restores them, writes STATEV(3) = <dlambda>, calls
-!> the UMAT with this step's strain increment and reports STATEV(2). That
-!> one call is the fixed-point map of eq. 4.39 for one particle.
+!> The dissertation's nonlocal Algorithm 1 for the MPM (eq. 4.46-4.50), one
+!> code for 1D and 2D grids. The material is reached through the host
+!> (wellposed_mpm_nonlocal_host): for an average <dlambda> it restores a
+!> particle's start of step, writes STATEV(3) = <dlambda>, calls the UMAT and
+!> reports STATEV(2): the fixed-point map of eq. 4.39 for one particle.
 !>
-!> Steps per time step (Algorithm 1):
-!>  1. every particle once with <dlambda> = 0 (the local estimate, eq. 4.41
-!>     without the average); the plastic set is where dlambda > 0; project.
-!>     With h_zeta = 0 the algorithm stops here: no iteration, and the calls
-!>     are exactly a local host's (STATEV(3) = 0), so the answer is the local
-!>     one bit for bit.
+!> Steps per time step:
+!>  1. every particle once with <dlambda> = 0 (eq. 4.41 without the
+!>     average); the plastic set is where dlambda > 0; project. With
+!>     h_zeta = 0 it stops here, bit for bit the local update.
 !>  2. sweeps over the plastic set: average, UMAT, and the nodal field
-!>     corrected at once by (m_p/m_i) phi_ip (dlambda^{k+1} - dlambda^k)
-!>     (eq. 4.49-4.50): Gauss-Seidel. Converged when
-!>     max_p |dlambda^{k+1} - dlambda^k| <= tolerance + rel_tolerance *
-!>     max_p dlambda. Scheme 'anderson' (beyond the dissertation, section 5.2's open
-!>     problem) treats one Gauss-Seidel sweep as the map G of a fixed point
-!>     x = G(x) on the plastic particles' dlambda and accelerates it
-!>     (wellposed_anderson: Anderson type II, depth m), which converges where
-!>     the plain sweep's contraction factor exceeds 1.
-!>  3. plastic diffusion: every elastic particle with a non-zero average is
-!>     called once with it (its zeta takes h_zeta <dlambda>); one that now
-!>     yields (dlambda > 0) joins the plastic set and step 2 runs again.
+!>     corrected by (m_p/m_i) phi_ip (dlambda^{k+1} - dlambda^k) (eq.
+!>     4.49-4.50), until max_p |dlambda^{k+1} - dlambda^k| <= tolerance +
+!>     rel_tolerance max_p dlambda. 'anderson' (beyond the dissertation)
+!>     accelerates the sweep as a fixed-point map (wellposed_anderson).
+!>  3. plastic diffusion: every elastic particle with a nonzero average is
+!>     called once with it; one that now yields joins the plastic set and
+!>     step 2 runs again.
+!> A sweep that stalls for `stall_iterations` or exceeds `max_iterations`
+!> is an error value; the bounds of eq. 4.43 and 4.45 are warned about.
 !>
-!> Convergence bounds (eq. 4.43, 4.45): the dissertation's N_alpha |h_zeta/(a +
-!> h_eta)| and, the weights being normalised, the sharp |h_zeta/(a + h_eta)|
-!> that bounds a sweep's Jacobian (docs/theory.md has the measurements). A
-!> sweep that stops reducing the error for `stall_iterations` sweeps, or
-!> exceeds `max_iterations`, is an error value: the host stops.
-!>
-!> Across ranks: the nodal mass and field are patch arrays [glo, ghi]
-!> whose ghost layers cover the Gaussian's support around every particle of
-!> the patch (nonlocal_ghost_nodes). A decomposed run passes `ranks` (a
-!> nonlocal_ranks_t) and `key` (each local particle's place in the serial
-!> order) to nonlocal_solve. Step 2 has three sweeps (&nonlocal sweep):
-!>  - gauss_seidel: the dissertation's sweep in the serial order, pipelined
-!>    across ranks (a pass is the serial one bit for bit; ranks take turns);
-!>  - jacobi: every plastic particle from the previous sweep's field, each
-!>    rank correcting its own part, summed at shared nodes (one exchange a
-!>    sweep, all ranks at once); relaxed by 2/(2 +- b), b the sharp factor
-!>    of eq. 4.43, which centres the Jacobian's eigenvalues on 0;
-!>  - coloured: the same in two half-sweeps over blocks of cell layers.
-!> The simultaneous sweeps do not depend on the decomposition (only the
-!> order of sums at shared nodes does). 'auto' (default): gauss_seidel on
-!> one rank, jacobi on more. Why and the measurements: docs/parallel.md,
-!> "Algorithm 1 across ranks".
-!> The nodal field and the averages: wellposed_mpm_nonlocal_grid; the
-!> sweep order: wellposed_mpm_sweep_order.
+!> The sweeps (&nonlocal sweep; docs/parallel.md, "Algorithm 1 across
+!> ranks"): gauss_seidel, the dissertation's, in the serial order and
+!> pipelined across ranks (bitwise the serial pass); jacobi, every plastic
+!> particle from the previous sweep's field, relaxed by 2/(2 +- b) (b the
+!> sharp factor of eq. 4.43), one exchange a sweep on all ranks at once;
+!> coloured, the same in two half-sweeps over blocks of cell layers. The
+!> simultaneous sweeps (and their step 3) hand the host one list of
+!> independent calls, which it may do a block at a time. 'auto': Gauss-Seidel
+!> on one rank, Jacobi on more. A decomposed run passes `ranks` and `key`
+!> (each particle's place in the serial order); the field and the averages
+!> are patch arrays whose ghost layers cover the Gaussian's support
+!> (wellposed_mpm_nonlocal_grid); the order: wellposed_mpm_sweep_order.
 module wellposed_mpm_algorithm1
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -60,51 +42,17 @@ module wellposed_mpm_algorithm1
   use wellposed_mpm_nonlocal_settings, only: nl_anderson, nl_sweep_auto, &
                                              nl_gauss_seidel, nl_jacobi, nl_coloured
   use wellposed_mpm_nonlocal_grid, only: nonlocal_t, nonlocal_step_stats_t, nonlocal_project, &
-                                         nonlocal_average, cached_average, warn_bounds, &
+                                         support_mass, cached_average, warn_bounds, &
                                          field_extents, field_reaches, extend_extents, &
                                          iteration_error
   use wellposed_mpm_nonlocal_ranks, only: nonlocal_ranks_t
   use wellposed_mpm_sweep_order, only: key_order, find_sorted, sweep_layer
+  use wellposed_mpm_nonlocal_host, only: nonlocal_host_t
   implicit none
   private
   public :: nonlocal_host_t, nonlocal_ranks_t, nonlocal_solve
 
-  !> The host's side: one UMAT call for particle p from its start-of-step
-  !> copies with STATEV(3) = avg; dlambda = STATEV(2) afterwards; the
-  !> result becomes p's end-of-step state (overwritten by the next call).
-  !> `update_local`: step 1 (every particle with avg = 0; dl(p) out), by
-  !> default `update` per particle; a host may do it a block at a time.
-  type, abstract :: nonlocal_host_t
-  contains
-    procedure(host_update), deferred :: update
-    procedure :: update_local
-  end type nonlocal_host_t
-
-  abstract interface
-    subroutine host_update(self, p, avg, dlambda, err)
-      import :: nonlocal_host_t, dp, error_t
-      class(nonlocal_host_t), intent(inout) :: self
-      integer, intent(in) :: p
-      real(dp), intent(in) :: avg
-      real(dp), intent(out) :: dlambda
-      type(error_t), allocatable, intent(out) :: err
-    end subroutine host_update
-  end interface
-
 contains
-
-  !> Step 1 of Algorithm 1: every particle once with <dlambda> = 0, in
-  !> order, up to the first error.
-  subroutine update_local(self, dl, err)
-    class(nonlocal_host_t), intent(inout) :: self
-    real(dp), intent(out) :: dl(:)
-    type(error_t), allocatable, intent(out) :: err
-    integer :: p
-    do p = 1, size(dl)
-      call self%update(p, 0.0_dp, dl(p), err)
-      if (allocated(err)) return
-    end do
-  end subroutine update_local
 
   !> One time step of Algorithm 1 (see the module comment). `x` (ndim, n)
   !> are the particle positions (m), `mass` (kg), `node`/`phi` the shape
@@ -128,7 +76,7 @@ contains
     integer(int64), intent(in), optional :: key(:)
     integer :: n, p, q, round, sweep
     integer(int64) :: c0, c1
-    real(dp) :: avg, dnew, smass
+    real(dp) :: avg, dnew
     logical :: changed, par, simul
     integer, allocatable :: act(:), order(:)
 
@@ -186,8 +134,7 @@ contains
     ! The bounds, before iterating.
     do p = 1, n
       if (.not. self%plastic(p)) cycle
-      call nonlocal_average(self, x(:, p), avg, smass)
-      self%last%n_alpha = max(self%last%n_alpha, smass/mass(p))
+      self%last%n_alpha = max(self%last%n_alpha, support_mass(self, x(:, p))/mass(p))
     end do
     if (par) call ranks%max_real(self%last%n_alpha)
     if (self%bound_43 >= 0.0_dp) self%last%bound_printed = self%last%n_alpha*self%bound_43
@@ -202,24 +149,21 @@ contains
       changed = .false.
       if (par .and. .not. simul) call ranks%nodes_from_lower(self%field)
       call field_extents(self)
-      do q = 1, n
-        p = order(q)
-        if (self%plastic(p)) cycle
-        if (.not. field_reaches(self, x(:, p))) cycle   ! its average is 0
-        call cached_average(self, p, x(:, p), avg)
-        if (avg == 0.0_dp) cycle   ! the step-1 call already had this input
-        call host%update(p, avg, dnew, err)
-        if (allocated(err)) exit
-        self%last%umat_calls = self%last%umat_calls + 1
-        if (dnew > 0.0_dp) then
-          changed = .true.
-          self%plastic(p) = .true.
-          self%last%n_reclassified = self%last%n_reclassified + 1
-          call correct_field(p, dnew - self%dl(p))
-          call extend_extents(self, node(:, p))
-          self%dl(p) = dnew
-        end if
-      end do
+      if (simul) then
+        call diffuse_simultaneous(err)
+      else
+        do q = 1, n
+          p = order(q)
+          if (self%plastic(p)) cycle
+          if (.not. field_reaches(self, x(:, p))) cycle   ! its average is 0
+          call cached_average(self, p, x(:, p), avg)
+          if (avg == 0.0_dp) cycle   ! the step-1 call already had this input
+          call host%update(p, avg, dnew, err)
+          if (allocated(err)) exit
+          self%last%umat_calls = self%last%umat_calls + 1
+          if (dnew > 0.0_dp) call reclassify(p, dnew)
+        end do
+      end if
       if (simul) then
         call refresh()
       else if (par) then
@@ -460,12 +404,27 @@ contains
     !> One pass over `list` in its order: average, UMAT, correction (eq. 4.47,
     !> 4.39, 4.49-4.50). Gauss-Seidel corrects the field it reads as it goes;
     !> the simultaneous sweeps read the field as the pass began and correct
-    !> this rank's part `own`.
+    !> this rank's part `own`: their UMAT calls go to the host as one list.
     subroutine sweep_pass(list, err)
       integer, intent(in) :: list(:)
       type(error_t), allocatable, intent(out) :: err
       integer :: q, pp
       real(dp) :: avg, dn
+      real(dp), allocatable :: avgs(:), dns(:)
+      if (simul) then
+        allocate (avgs(size(list)), dns(size(list)))
+        do q = 1, size(list)
+          call cached_average(self, list(q), x(:, list(q)), avgs(q))
+        end do
+        call host%update_list(list, avgs, dns, err)
+        if (allocated(err)) return
+        do q = 1, size(list)
+          pp = list(q)
+          call correct_field(pp, dns(q) - self%dl(pp))
+          self%dl(pp) = dns(q)
+        end do
+        return
+      end if
       do q = 1, size(list)
         pp = list(q)
         call cached_average(self, pp, x(:, pp), avg)
@@ -475,6 +434,46 @@ contains
         self%dl(pp) = dn
       end do
     end subroutine sweep_pass
+
+    !> Step 3 with the simultaneous sweeps: the averages read the field as
+    !> the pass began (corrections go to `own`), so the elastic particles
+    !> with a nonzero average go to the host as one list.
+    subroutine diffuse_simultaneous(err)
+      type(error_t), allocatable, intent(out) :: err
+      integer :: q, p, m
+      integer, allocatable :: list(:)
+      real(dp), allocatable :: avgs(:), dns(:)
+      allocate (list(n), avgs(n), dns(n))
+      m = 0
+      do q = 1, n
+        p = order(q)
+        if (self%plastic(p)) cycle
+        if (.not. field_reaches(self, x(:, p))) cycle   ! its average is 0
+        call cached_average(self, p, x(:, p), avgs(m + 1))
+        if (avgs(m + 1) == 0.0_dp) cycle   ! the step-1 call already had this input
+        m = m + 1
+        list(m) = p
+      end do
+      call host%update_list(list(1:m), avgs(1:m), dns(1:m), err)
+      if (allocated(err)) return
+      self%last%umat_calls = self%last%umat_calls + m
+      do q = 1, m
+        if (dns(q) > 0.0_dp) call reclassify(list(q), dns(q))
+      end do
+    end subroutine diffuse_simultaneous
+
+    !> Step 3's elastic particle p yields (dlambda = dnew > 0): it joins the
+    !> plastic set and its contribution enters the field.
+    subroutine reclassify(p, dnew)
+      integer, intent(in) :: p
+      real(dp), intent(in) :: dnew
+      changed = .true.
+      self%plastic(p) = .true.
+      self%last%n_reclassified = self%last%n_reclassified + 1
+      call correct_field(p, dnew - self%dl(p))
+      call extend_extents(self, node(:, p))
+      self%dl(p) = dnew
+    end subroutine reclassify
 
     !> The field of the simultaneous sweeps: every rank's `own` added at the
     !> nodes they share (collective).

@@ -26,7 +26,7 @@ module wellposed_mpm_nonlocal_grid
   private
   public :: nonlocal_t, nonlocal_step_stats_t, new_nonlocal, nonlocal_ghost_nodes, &
             field_extents, extend_extents, field_reaches, nonlocal_project, &
-            nonlocal_average, cached_average, warn_bounds, iteration_error
+            nonlocal_average, support_mass, cached_average, warn_bounds, iteration_error
 
   !> Measures of the last solve (one time step).
   type :: nonlocal_step_stats_t
@@ -228,33 +228,25 @@ contains
     end do
   end subroutine nonlocal_project
 
-  !> <dlambda> at position xp (m) from the nodal field, eq. 4.47-4.48; also
-  !> the mass in the support (kg, optional: the dissertation's N_alpha times the
-  !> particle mass). Zero where no node with mass lies in the support.
-  pure subroutine nonlocal_average(self, xp, avg, support_mass)
+  !> <dlambda> at position xp (m) from the nodal field, eq. 4.47-4.48.
+  !> Zero where no node with mass lies in the support.
+  pure subroutine nonlocal_average(self, xp, avg)
     type(nonlocal_t), intent(in) :: self
     real(dp), intent(in) :: xp(:)
     real(dp), intent(out) :: avg
-    real(dp), intent(out), optional :: support_mass
     integer, parameter :: rmax = 256
-    real(dp) :: ax(-rmax:rmax), ay(-rmax:rmax), num, den, rowm, rowf, smass, r2
+    real(dp) :: ax(-rmax:rmax), ay(-rmax:rmax), num, den, rowm, rowf
     integer :: lo(2), hi(2), i, j, g
     call box(self, xp, lo, hi)
     num = 0.0_dp
     den = 0.0_dp
-    smass = 0.0_dp
     do i = lo(1), hi(1)
       ax(i - lo(1)) = nonlocal_weight(xp(1) - (self%origin(1) + self%dx*i), self%length)
     end do
     if (self%ndim == 1) then
-      do i = lo(1), hi(1)
-        if (i < self%glo .or. i > self%ghi) cycle
+      do i = max(lo(1), self%glo), min(hi(1), self%ghi)
         num = num + ax(i - lo(1))*self%field(i)
         den = den + ax(i - lo(1))*self%node_mass(i)
-        if (present(support_mass)) then
-          if (abs(xp(1) - (self%origin(1) + self%dx*i)) <= self%radius) &
-            smass = smass + self%node_mass(i)
-        end if
       end do
     else
       do j = lo(2), hi(2)
@@ -268,11 +260,6 @@ contains
           if (g < self%glo .or. g > self%ghi) cycle
           rowm = rowm + ax(i - lo(1))*self%node_mass(g)
           rowf = rowf + ax(i - lo(1))*self%field(g)
-          if (present(support_mass)) then
-            r2 = (xp(1) - (self%origin(1) + self%dx*i))**2 + &
-                 (xp(2) - (self%origin(2) + self%dx*j))**2
-            if (r2 <= self%radius**2) smass = smass + self%node_mass(g)
-          end if
         end do
         num = num + ay(j - lo(2))*rowf
         den = den + ay(j - lo(2))*rowm
@@ -280,8 +267,34 @@ contains
     end if
     avg = 0.0_dp
     if (den > 0.0_dp) avg = num/den
-    if (present(support_mass)) support_mass = smass
   end subroutine nonlocal_average
+
+  !> The node mass within the support radius of xp (kg): the dissertation's
+  !> N_alpha times the particle mass (eq. 4.43). Comparisons and sums only.
+  pure real(dp) function support_mass(self, xp) result(smass)
+    type(nonlocal_t), intent(in) :: self
+    real(dp), intent(in) :: xp(:)
+    integer :: lo(2), hi(2), i, j, g
+    real(dp) :: r2
+    call box(self, xp, lo, hi)
+    smass = 0.0_dp
+    if (self%ndim == 1) then
+      do i = max(lo(1), self%glo), min(hi(1), self%ghi)
+        if (abs(xp(1) - (self%origin(1) + self%dx*i)) <= self%radius) &
+          smass = smass + self%node_mass(i)
+      end do
+      return
+    end if
+    do j = lo(2), hi(2)
+      do i = lo(1), hi(1)
+        g = i + self%nnode(1)*j
+        if (g < self%glo .or. g > self%ghi) cycle
+        r2 = (xp(1) - (self%origin(1) + self%dx*i))**2 + &
+             (xp(2) - (self%origin(2) + self%dx*j))**2
+        if (r2 <= self%radius**2) smass = smass + self%node_mass(g)
+      end do
+    end do
+  end function support_mass
 
   !> <dlambda> of particle p at xp within a solve: its separable weights and
   !> M_p (eq. 4.48) are computed at the first call of the step and kept, so a

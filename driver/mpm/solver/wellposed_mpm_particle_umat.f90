@@ -83,22 +83,24 @@ contains
     if (host%ours) dlambda = sv(2)
   end subroutine umat_particle
 
-  !> Particles idx(:) of one material of ours, the local update of
-  !> Algorithm 1 (STATEV(3) = <dlambda> = 0), through the block kernel, in
-  !> place: stress, statev, stran (the particle arrays, NTENS x n, NSTATV x
-  !> n) hold the start of the step and, for every particle so updated, its
-  !> end, with dlambda; done(p) is set for those. A particle left (deferred,
-  !> not finite) is not touched. The UMAT's conversions: engineering shears
-  !> halved in the strains and doubled in the plastic strain (STATEV 8-10),
-  !> exact in binary. Nothing is done when PROPS are refused or the model
-  !> has no closed form.
-  subroutine umat_block(props, ntens, nstatv, dt, idx, de, stress, statev, stran, dlambda, done)
+  !> Particles idx(:) of one material of ours through the block kernel, in
+  !> place, with STATEV(3) = <dlambda> = avg(p) (0 when absent: the local
+  !> update of Algorithm 1's step 1): stress, statev, stran (the particle
+  !> arrays, NTENS x n, NSTATV x n) hold the start of the step and, for
+  !> every particle so updated, its end, with dlambda; done(p) is set for
+  !> those. A particle left (deferred, not finite) is not touched. The
+  !> UMAT's conversions: engineering shears halved in the strains and
+  !> doubled in the plastic strain (STATEV 8-10), exact in binary. Nothing
+  !> is done when PROPS are refused or the model has no closed form.
+  subroutine umat_block(props, ntens, nstatv, dt, idx, de, stress, statev, stran, dlambda, &
+                        done, avg)
     real(dp), intent(in), contiguous :: props(:)
     real(dp), intent(in) :: dt
     integer, intent(in) :: ntens, nstatv, idx(:)
     real(dp), intent(in) :: de(:, :)
     real(dp), intent(inout) :: stress(:, :), statev(:, :), stran(:, :), dlambda(:)
     logical, intent(inout) :: done(:)
+    real(dp), intent(in), optional :: avg(:)
     integer, parameter :: chunk = block_chunk
     real(dp) :: c_sig0(chunk, 6), c_ep0(chunk, 6), c_de(chunk, 6), c_sig(chunk, 6)
     real(dp) :: c_ep(chunk, 6), c_z0(chunk), c_zeta0(chunk), c_avg(chunk), c_z(chunk)
@@ -124,9 +126,15 @@ contains
       ! input the UMAT or the host checks is not finite (integer tests of
       ! the exponent: nothing traps); such a point enters the kernel as
       ! zeros and is left to the per-particle call.
+      if (present(avg)) then
+        do i = 1, n
+          c_avg(i) = avg(idx(k0 - 1 + i))
+        end do
+      end if
       do i = 1, n
         q = idx(k0 - 1 + i)
-        bad(i) = 0_int64
+        ! the UMAT reads the average from STATEV(3) and checks it with the rest
+        bad(i) = nonfinite(c_avg(i))
         do j = 1, nt
           bad(i) = ior(bad(i), ior(nonfinite(stress(j, q)), ior(nonfinite(de(j, q)), &
                                                                  nonfinite(stran(j, q)))))
@@ -143,6 +151,7 @@ contains
           end do
           c_z0(i) = 0.0_dp
           c_zeta0(i) = 0.0_dp
+          c_avg(i) = 0.0_dp
           cycle
         end if
         do j = 1, 3
@@ -178,7 +187,7 @@ contains
         end do
         statev(sv_z, q) = c_z(i)
         statev(sv_dlambda, q) = c_dl(i)
-        statev(sv_avg_dlambda, q) = 0.0_dp
+        statev(sv_avg_dlambda, q) = c_avg(i)
         statev(sv_zeta, q) = c_zeta(i)
         do j = 1, 3
           statev(sv_eps_p - 1 + j, q) = c_ep(i, j)

@@ -87,11 +87,13 @@ module wellposed_mpm_scene
     integer, allocatable :: block_idx(:)  !< particles of one material (block update)
     integer, allocatable :: nnz(:)        !< support nodes in use of each particle, this step
     logical, allocatable :: done(:)       !< updated by the block kernel this step
+    real(dp), allocatable :: block_avg(:), block_dl(:)  !< a list's averages, dlambda (by particle)
     type(nonlocal_t) :: nl                !< Algorithm 1 (the dissertation's chapter 4)
     type(umat_host_t) :: host             !< the UMAT host, one per scene
   contains
     procedure :: update => scene_update
     procedure :: update_local => scene_update_local
+    procedure :: update_list => scene_update_list
   end type mpm_scene_t
 
 contains
@@ -227,14 +229,15 @@ contains
       mat = self%mat(1:n)
       q = self%q(1:n)
       deallocate (self%mat, self%q, self%s0, self%sv0, self%e0, self%de, self%vol_n, &
-                  self%block_idx, self%done, self%nnz)
+                  self%block_idx, self%done, self%nnz, self%block_avg, self%block_dl)
     else
       n = 0
       allocate (mat(0), q(0))
     end if
     allocate (self%mat(cap), self%q(cap), self%s0(self%ntens, cap), self%sv0(ns, cap), &
               self%e0(self%ntens, cap), self%de(self%ntens, cap), self%vol_n(cap), &
-              self%block_idx(cap), self%done(cap), self%nnz(cap))
+              self%block_idx(cap), self%done(cap), self%nnz(cap), self%block_avg(cap), &
+              self%block_dl(cap))
     if (allocated(self%f_n)) deallocate (self%f_n)
     if (.not. umat_is_ours()) allocate (self%f_n(self%ndim, self%ndim, cap))
     self%mat(1:n) = mat
@@ -275,41 +278,89 @@ contains
   end subroutine scene_update
 
   !> Step 1 of Algorithm 1 (every particle with <dlambda> = 0): the
-  !> particles of each material of ours a block at a time (umat_block), when
-  !> the linked UMAT is wellposed's; every other particle, and any the block
-  !> kernel leaves, through scene_update one by one, in order, up to the
-  !> first error. Each particle's answer is its own UMAT call's.
+  !> particles of each material of ours a block at a time (update_blocks);
+  !> every other particle, and any the block kernel leaves, through
+  !> scene_update one by one, in order, up to the first error. Each
+  !> particle's answer is its own UMAT call's.
   subroutine scene_update_local(self, dl, err)
     class(mpm_scene_t), intent(inout) :: self
     real(dp), intent(out) :: dl(:)
     type(error_t), allocatable, intent(out) :: err
-    integer :: n, k, p, m, nt
+    integer :: n, p
     n = size(dl)
-    nt = self%ntens
     self%done(1:n) = .false.
-    if (umat_is_ours() .and. .not. associated(self%host%fn)) then
-      do k = 1, self%mats%n
-        if (.not. self%mats%ours(k)) cycle
-        m = 0
-        do p = 1, n
-          if (self%mat(p) /= k) cycle
-          m = m + 1
-          self%block_idx(m) = p
-        end do
-        if (m == 0) cycle
-        associate (pt => self%parts)
-          call umat_block(self%mats%props(1:self%mats%nprops(k), k), nt, self%host%nstatv, &
-                          self%dt, self%block_idx(1:m), self%de, pt%stress, pt%statev, &
-                          pt%stran, dl, self%done)
-        end associate
-      end do
-    end if
+    call update_blocks(self, [(p, p=1, n)], dl)
     do p = 1, n
       if (self%done(p)) cycle
       call self%update(p, 0.0_dp, dl(p), err)
       if (allocated(err)) return
     end do
   end subroutine scene_update_local
+
+  !> Particles list(q) with <dlambda> = avg(q), each from its start of step
+  !> (Algorithm 1's simultaneous sweeps and their step 3: the calls do not
+  !> depend on each other), the same way as scene_update_local: bitwise the
+  !> answers of scene_update one by one.
+  subroutine scene_update_list(self, list, avg, dl, err)
+    class(mpm_scene_t), intent(inout) :: self
+    integer, intent(in) :: list(:)
+    real(dp), intent(in) :: avg(:)
+    real(dp), intent(out) :: dl(:)
+    type(error_t), allocatable, intent(out) :: err
+    integer :: q, p, nt
+    nt = self%ntens
+    associate (pt => self%parts)
+      do q = 1, size(list)
+        p = list(q)
+        self%done(p) = .false.
+        self%block_avg(p) = avg(q)
+        if (self%nl%active) then
+          pt%stress(1:nt, p) = self%s0(:, p)
+          pt%statev(:, p) = self%sv0(:, p)
+          pt%stran(1:nt, p) = self%e0(:, p)
+        end if
+      end do
+    end associate
+    call update_blocks(self, list, self%block_dl, self%block_avg)
+    do q = 1, size(list)
+      p = list(q)
+      if (self%done(p)) then
+        dl(q) = self%block_dl(p)
+      else
+        call self%update(p, avg(q), dl(q), err)
+        if (allocated(err)) return
+      end if
+    end do
+  end subroutine scene_update_list
+
+  !> The particles list(:) of each material of ours through the block
+  !> kernel (umat_block: the UMAT's arithmetic, a chunk of points at once)
+  !> when the linked UMAT is wellposed's: done(p) is set for those it
+  !> updated, dl(p) is their dlambda; avg(p) their <dlambda> (0 if absent).
+  subroutine update_blocks(self, list, dl, avg)
+    type(mpm_scene_t), intent(inout) :: self
+    integer, intent(in) :: list(:)
+    real(dp), intent(inout) :: dl(:)
+    real(dp), intent(in), optional :: avg(:)
+    integer :: k, m, q, p
+    if (.not. umat_is_ours() .or. associated(self%host%fn)) return
+    do k = 1, self%mats%n
+      if (.not. self%mats%ours(k)) cycle
+      m = 0
+      do q = 1, size(list)
+        p = list(q)
+        if (self%mat(p) /= k) cycle
+        m = m + 1
+        self%block_idx(m) = p
+      end do
+      if (m == 0) cycle
+      associate (pt => self%parts)
+        call umat_block(self%mats%props(1:self%mats%nprops(k), k), self%ntens, &
+                        self%host%nstatv, self%dt, self%block_idx(1:m), self%de, pt%stress, &
+                        pt%statev, pt%stran, dl, self%done, avg)
+      end associate
+    end do
+  end subroutine update_blocks
 
   !> Kinetic energy of the particles on all ranks (J per m^2 of section in
   !> 1D, per m of thickness in 2D; collective).
