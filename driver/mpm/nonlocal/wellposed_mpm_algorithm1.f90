@@ -46,7 +46,7 @@ module wellposed_mpm_algorithm1
                                          field_extents, field_reaches, extend_extents, &
                                          iteration_error
   use wellposed_mpm_nonlocal_ranks, only: nonlocal_ranks_t
-  use wellposed_mpm_sweep_order, only: key_order, find_sorted, sweep_layer
+  use wellposed_mpm_sweep_order, only: key_order, find_sorted, sweep_layer, sweep_colour
   use wellposed_mpm_nonlocal_host, only: nonlocal_host_t
   implicit none
   private
@@ -295,6 +295,7 @@ contains
       real(dp) :: xk(size(act)), gx(size(act)), xn(size(act)), e, e_prev, best, limit, gmax, w
       real(dp) :: gram(self%set%anderson_depth*(self%set%anderson_depth + 1))
       integer :: k, kbest, m, c, ncol, q
+      logical :: defer
       integer, allocatable :: colour(:)
       real(dp) :: gamma(self%set%anderson_depth)
       real(dp), allocatable :: ata(:, :), atb(:)
@@ -305,8 +306,14 @@ contains
       colour = 0
       ncol = 1
       if (self%sweep == nl_coloured) then
+        ! blocks of cell layers as wide as the Gaussian's reach plus one
         ncol = 2
-        colour = colour_of(act)
+        if (present(key)) then
+          colour = sweep_colour(sweep_layer(key(act)), ceiling(self%radius/self%dx) + 1)
+        else
+          colour = sweep_colour(floor((x(self%ndim, act) - self%origin(self%ndim))/self%dx), &
+                                ceiling(self%radius/self%dx) + 1)
+        end if
       end if
       ! The sweep's Jacobian is -h_zeta/(a + h_eta) times the averaging (eq.
       ! 4.39, 4.47), eigenvalues in [-b, 0] for h_zeta > 0, [0, b] for h_zeta
@@ -324,6 +331,9 @@ contains
       ! problem singular, and the step wild
       if (self%set%scheme == nl_anderson) call new_anderson(acc, size(act), &
         min(self%set%anderson_depth, nact), w*self%set%anderson_mixing)
+      ! one colour and a step past the sweep's answer: the field is corrected
+      ! once, from x^k to x^{k+1}, not to the sweep's answer and on
+      defer = ncol == 1 .and. (self%set%scheme == nl_anderson .or. w /= 1.0_dp)
       best = huge(1.0_dp)
       e_prev = huge(1.0_dp)
       kbest = 0
@@ -334,7 +344,7 @@ contains
         call system_clock(s0)
         do c = 0, ncol - 1
           call refresh()
-          call sweep_pass(pack(act, colour == c), err)
+          call sweep_pass(pack(act, colour == c), err, defer)
           if (stopped(err)) return
         end do
         call system_clock(s1)
@@ -360,6 +370,9 @@ contains
         limit = self%set%tolerance + self%set%rel_tolerance*gmax
         if (.not. ieee_is_finite(e)) exit
         if (e <= limit) then
+          do q = 1, merge(size(act), 0, defer)
+            call correct_field(act(q), gx(q) - xk(q))
+          end do
           call refresh()
           return
         end if
@@ -394,7 +407,7 @@ contains
           cycle
         end if
         do q = 1, size(act)
-          call correct_field(act(q), xn(q) - gx(q))
+          call correct_field(act(q), xn(q) - merge(xk(q), gx(q), defer))
         end do
         self%dl(act) = xn
       end do
@@ -404,10 +417,12 @@ contains
     !> One pass over `list` in its order: average, UMAT, correction (eq. 4.47,
     !> 4.39, 4.49-4.50). Gauss-Seidel corrects the field it reads as it goes;
     !> the simultaneous sweeps read the field as the pass began and correct
-    !> this rank's part `own`: their UMAT calls go to the host as one list.
-    subroutine sweep_pass(list, err)
+    !> this rank's part `own`: their UMAT calls go to the host as one list;
+    !> with `defer` the correction is left to the caller.
+    subroutine sweep_pass(list, err, defer)
       integer, intent(in) :: list(:)
       type(error_t), allocatable, intent(out) :: err
+      logical, intent(in), optional :: defer
       integer :: q, pp
       real(dp) :: avg, dn
       real(dp), allocatable :: avgs(:), dns(:)
@@ -418,6 +433,12 @@ contains
         end do
         call host%update_list(list, avgs, dns, err)
         if (allocated(err)) return
+        if (present(defer)) then
+          if (defer) then
+            self%dl(list) = dns
+            return
+          end if
+        end if
         do q = 1, size(list)
           pp = list(q)
           call correct_field(pp, dns(q) - self%dl(pp))
@@ -486,24 +507,6 @@ contains
       call system_clock(t1)
       self%ticks_exchange = self%ticks_exchange + (t1 - t0)
     end subroutine refresh
-
-    !> Colours 0/1 of particles idx(:): the parity of their block of cell
-    !> layers along the decomposition axis, blocks as wide as the Gaussian's
-    !> reach plus one layer (the layer of the sweep key, else of x).
-    function colour_of(idx) result(c)
-      integer, intent(in) :: idx(:)
-      integer :: c(size(idx))
-      integer :: q, w, layer
-      w = ceiling(self%radius/self%dx) + 1
-      do q = 1, size(idx)
-        if (present(key)) then
-          layer = sweep_layer(key(idx(q)))
-        else
-          layer = floor((x(self%ndim, idx(q)) - self%origin(self%ndim))/self%dx)
-        end if
-        c(q) = modulo(layer/w, 2)
-      end do
-    end function colour_of
 
     !> The serial-order keys of local particles (their indices without `key`).
     function key_of(idx) result(k)

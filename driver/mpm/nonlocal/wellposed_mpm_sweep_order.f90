@@ -14,7 +14,7 @@ module wellposed_mpm_sweep_order
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: sweep_key, sweep_layer, key_order, find_sorted
+  public :: sweep_key, sweep_layer, sweep_colour, key_order, find_sorted
 
 contains
 
@@ -32,6 +32,15 @@ contains
     integer(int64), intent(in) :: k
     layer = int(k/2_int64**31)
   end function sweep_layer
+
+  !> The colour (0 or 1) of the coloured sweep of a particle in cell layer
+  !> `layer`: the parity of its block of `width` layers. Blocks wider than
+  !> the Gaussian's reach keep a colour's particles out of each other's
+  !> support.
+  elemental integer function sweep_colour(layer, width) result(c)
+    integer, intent(in) :: layer, width
+    c = modulo(layer/width, 2)
+  end function sweep_colour
 
   !> order(1:n): the indices of key(1:n) in ascending key order (stable
   !> merge sort; the identity, at the cost of one pass, when already sorted).
