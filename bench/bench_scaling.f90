@@ -7,9 +7,10 @@
 !> 2 ranks), never a pass/fail on wall time. Scene and method: docs/performance.md.
 !> Then the overlocal plate of fig. 4.4 (h = 0.125 m, Algorithm 1 with the
 !> sweep each rank count takes by default) the same way, O1 on rank 0 and OP
-!> on all ranks in the plastic phase: strong scaling and the share of a step
-!> in Algorithm 1's sweeps and in their exchanges (docs/parallel.md);
-!> --overlocal: this part alone.
+!> on all ranks in the plastic phase, and O1J on rank 0 with OP's Jacobi
+!> sweep: strong scaling against both, and the share of a step in Algorithm
+!> 1's sweeps and in their exchanges (docs/parallel.md); --overlocal: this
+!> part alone.
 program bench_scaling
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
@@ -18,7 +19,7 @@ program bench_scaling
                            allreduce_sum
   use wellposed_mpm_plane_strain, only: ps_config_t, bc_free2
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, plastic_count
-  use wellposed_mpm_nonlocal, only: ours_bounds, nl_sweep_names
+  use wellposed_mpm_nonlocal, only: ours_bounds, nl_sweep_names, nl_jacobi
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpm_restart, only: save_scene
   use wellposed_mpm_shape_2d, only: shape2d_cpdi
@@ -114,13 +115,14 @@ program bench_scaling
 
 contains
 
-  !> The overlocal plate on rank 0 alone (O1) and on all ranks (OP), timed
-  !> in interleaved rounds in the plastic phase, with the shares of a step
-  !> in Algorithm 1 (step 1: the UMAT calls of a local model too; the
-  !> sweeps of steps 2-3; of those, the exchanges and reductions).
+  !> The overlocal plate on rank 0 alone (O1; O1J with the Jacobi sweep) and
+  !> on all ranks (OP), timed in interleaved rounds in the plastic phase,
+  !> with the shares of a step in Algorithm 1 (step 1: the UMAT calls of a
+  !> local model too; the sweeps of steps 2-3; of those, the exchanges and
+  !> reductions).
   subroutine overlocal_scaling()
-    type(mpm_scene_t) :: o1, op
-    real(dp) :: to1(nrounds), top(nrounds), sh1(3), shp(3), t1, tpar
+    type(mpm_scene_t) :: o1, op, o1j
+    real(dp) :: to1(nrounds), top(nrounds), to1j(nrounds), sh1(3), shp(3), sh1j(3), t1, tpar
     integer :: r, n1
     if (world%rank == 0) then
       write (output_unit, '(a)') 'bench_scaling: the overlocal plate of fig. 4.4 (4 m x 5 m, '// &
@@ -129,13 +131,16 @@ contains
         int_text(nl_steps)//' steps'
       flush (output_unit)
       call build_overlocal(o1, comm_self())
+      call build_overlocal(o1j, comm_self(), nl_jacobi)
     end if
     if (world%size > 1) call build_overlocal(op, world)
     to1 = 0.0_dp
     top = 0.0_dp
+    to1j = 0.0_dp
     do r = 1, nrounds
       call barrier(world)
       if (world%rank == 0) to1(r) = timed_nl(o1, comm_self(), sh1)
+      if (world%rank == 0) to1j(r) = timed_nl(o1j, comm_self(), sh1j)
       call barrier(world)
       if (world%size > 1) top(r) = timed_nl(op, world, shp)
     end do
@@ -146,6 +151,10 @@ contains
       ' particles, ', t1, median(to1), ' s/step (fastest, median; ', n1, ' plastic); '// &
       trim(nl_sweep_names(o1%nl%sweep))//': step 1 ', 100*sh1(1), ' %, sweeps ', &
       100*sh1(2), ' %, their exchanges ', 100*sh1(3), ' % of a step'
+    write (output_unit, '(a,2f9.4,a,2(f5.1,a))') '  O1J 1 rank : the same with '// &
+      trim(nl_sweep_names(o1j%nl%sweep))//' sweeps, ', minval(to1j), median(to1j), &
+      ' s/step (fastest, median); step 1 ', 100*sh1j(1), ' %, sweeps ', 100*sh1j(2), &
+      ' % of a step'
     if (world%size == 1) return
     tpar = minval(top)
     write (output_unit, '(a,i0,a,2f9.4,a,3(f5.1,a))') '  OP  '//int_text(world%size)// &
@@ -155,13 +164,18 @@ contains
     write (output_unit, '(a,f6.1,a,f6.3,a,f6.3,a)') '  overlocal strong scaling 1 -> '// &
       int_text(world%size)//' ranks: efficiency ', 100.0_dp*t1/(world%size*tpar), &
       ' % (time ratio ', tpar/t1, '; from the medians ', median(top)/median(to1), ')'
+    write (output_unit, '(a,f6.1,a,f6.3,a,f6.3,a)') '  the same sweep on both (OP against '// &
+      'O1J): efficiency ', 100.0_dp*minval(to1j)/(world%size*tpar), ' % (time ratio ', &
+      tpar/minval(to1j), '; from the medians ', median(top)/median(to1j), ')'
     flush (output_unit)
   end subroutine overlocal_scaling
 
-  !> The overlocal plate on `comm`, advanced to t_plastic.
-  subroutine build_overlocal(sc, comm)
+  !> The overlocal plate on `comm`, advanced to t_plastic (`sweep`: the
+  !> &nonlocal sweep, else 'auto').
+  subroutine build_overlocal(sc, comm, sweep)
     type(mpm_scene_t), intent(out) :: sc
     type(comm_t), intent(in) :: comm
+    integer, intent(in), optional :: sweep
     type(error_t), allocatable :: e
     type(mpm_ranks_t) :: ranks
     type(ps_config_t) :: c
@@ -177,6 +191,7 @@ contains
     c%nonlocal%length = 0.5_dp
     c%nonlocal%h_zeta = -4.0e9_dp
     c%nonlocal%rel_tolerance = 1.0e-6_dp
+    if (present(sweep)) c%nonlocal%sweep = sweep
     call ours_bounds(c%props, c%nonlocal%bound_43, c%nonlocal%bound_45)
     call new_mpm_ranks(ranks, comm)
     call new_scene(sc, c, e, ranks)
