@@ -35,7 +35,7 @@ module wellposed_mpm_decomposition
   use wellposed_nonlocal, only: weight_support
   use wellposed_mpm_grid, only: grid_t, cell_layer
   use wellposed_mpm_particles, only: particles_t, copy_particle, particle_record_length, &
-                                     pack_particle, unpack_particle, ensure_capacity
+                                     pack_particle, unpack_particle, ensure_capacity, first_outside
   implicit none
   private
   public :: decomposition_t, new_decomposition, owner_of_layer, owner_of_position, &
@@ -302,15 +302,12 @@ contains
     type(grid_t), intent(in) :: grid
     type(error_t), allocatable, intent(out) :: err
     integer :: p
-    do p = 1, parts%n
-      if (minval(parts%node(:, p)) < grid%glo .or. maxval(parts%node(:, p)) > grid%ghi) then
-        call new_error(err, status_invalid, 'ghost', 'particle '//int_text(parts%gid(p))// &
-          ' at '//real_text(parts%x(self%axis, p))//' m reaches nodes outside the patch ['// &
-          int_text(grid%glo)//', '//int_text(grid%ghi)//'] of rank '//int_text(self%rank)// &
-          ': the ghost width '//int_text(self%ghost)//' is below the shape support')
-        return
-      end if
-    end do
+    p = first_outside(parts%node, parts%n, grid%glo, grid%ghi)
+    if (p == 0) return
+    call new_error(err, status_invalid, 'ghost', 'particle '//int_text(parts%gid(p))// &
+      ' at '//real_text(parts%x(self%axis, p))//' m reaches nodes outside the patch ['// &
+      int_text(grid%glo)//', '//int_text(grid%ghi)//'] of rank '//int_text(self%rank)// &
+      ': the ghost width '//int_text(self%ghost)//' is below the shape support')
   end subroutine check_support
 
   !> values(:, glo:ghi) holds this rank's partial sums at its patch nodes;

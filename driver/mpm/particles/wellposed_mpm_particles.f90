@@ -12,7 +12,7 @@ module wellposed_mpm_particles
   implicit none
   private
   public :: particles_t, new_particles, particle_bytes, copy_particle, particle_record_length, &
-            pack_particle, unpack_particle, ensure_capacity
+            pack_particle, unpack_particle, ensure_capacity, first_outside
 
   type :: particles_t
     integer :: n = 0                 !< particles in use
@@ -204,5 +204,29 @@ contains
       call move_alloc(b, a)
     end subroutine grow_r3
   end subroutine ensure_capacity
+
+  !> The first of particles 1 .. n whose support nodes (node(:, p)) leave
+  !> [lo, hi], 0 when none does: the support check of every step, one pass
+  !> over the nodes (their extremes) and a second only to name the particle.
+  pure integer function first_outside(node, n, lo, hi) result(p_out)
+    integer, intent(in) :: node(:, :), n, lo, hi
+    integer :: p, k, nmin, nmax
+    nmin = huge(1)
+    nmax = -huge(1)
+    do p = 1, n
+      do k = 1, size(node, 1)
+        nmin = min(nmin, node(k, p))
+        nmax = max(nmax, node(k, p))
+      end do
+    end do
+    p_out = 0
+    if (nmin >= lo .and. nmax <= hi) return
+    do p = 1, n
+      if (any(node(:, p) < lo) .or. any(node(:, p) > hi)) then
+        p_out = p
+        return
+      end if
+    end do
+  end function first_outside
 
 end module wellposed_mpm_particles

@@ -16,7 +16,7 @@ module wellposed_mpm_exchange
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_mpm_grid, only: grid_t
-  use wellposed_mpm_particles, only: particles_t
+  use wellposed_mpm_particles, only: particles_t, first_outside
   use wellposed_mpm_nonlocal, only: nonlocal_ranks_t
   implicit none
   private
@@ -210,12 +210,8 @@ contains
     type(grid_t), intent(in) :: grid
     type(error_t), allocatable, intent(out) :: err
     integer :: p
-    if (parts%n == 0) return
-    if (minval(parts%node(:, 1:parts%n)) >= grid%glo .and. &
-        maxval(parts%node(:, 1:parts%n)) <= grid%ghi) return
-    do p = 1, parts%n
-      if (minval(parts%node(:, p)) < grid%glo .or. maxval(parts%node(:, p)) > grid%ghi) exit
-    end do
+    p = first_outside(parts%node, parts%n, grid%glo, grid%ghi)
+    if (p == 0) return
     call left_grid_error(parts%gid(p), parts%x(:, p), grid%origin + grid%glo*grid%dx, &
                          grid%origin + grid%ghi*grid%dx, err)
   end subroutine serial_check
