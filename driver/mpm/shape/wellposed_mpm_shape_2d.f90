@@ -69,8 +69,8 @@ contains
   pure subroutine shape_2d(kind, xp, lp, f, origin, h, nx, nodes, phi, grad, nused)
     integer, intent(in) :: kind, nx
     real(dp), intent(in) :: xp(2), lp(2), f(2, 2), origin(2), h
-    integer, intent(out) :: nodes(:)
-    real(dp), intent(out) :: phi(:), grad(:, :)
+    integer, intent(out), contiguous :: nodes(:)
+    real(dp), intent(out), contiguous :: phi(:), grad(:, :)
     integer, intent(out), optional :: nused
     real(dp) :: sx(3), sy(3), dsx(3), dsy(3), s(2)
     integer :: i0(2), a, b, k, m
@@ -122,8 +122,8 @@ contains
   pure subroutine cpdi_2d(xp, r1, r2, origin, h, nx, nodes, phi, grad, nused)
     real(dp), intent(in) :: xp(2), r1(2), r2(2), origin(2), h
     integer, intent(in) :: nx
-    integer, intent(out) :: nodes(:)
-    real(dp), intent(out) :: phi(:), grad(:, :)
+    integer, intent(out), contiguous :: nodes(:)
+    real(dp), intent(out), contiguous :: phi(:), grad(:, :)
     integer, intent(out) :: nused
     real(dp) :: c(2, 4), sc(4, 4), vol, w(4, 16), v13(2), v24(2)
     integer :: cell(2, 4), slot(4, 4), lo(2), a, k, m, i, j, node
@@ -164,7 +164,8 @@ contains
     v13 = [r1(2) - r2(2), r2(1) - r1(1)]
     v24 = [r1(2) + r2(2), -r1(1) - r2(1)]
     do k = 1, nused
-      phi(k) = 0.25_dp*sum(w(:, k))
+      ! sum(w(:, k)) in its order, written out (no weight is -0)
+      phi(k) = 0.25_dp*(((w(1, k) + w(2, k)) + w(3, k)) + w(4, k))
       grad(:, k) = ((w(1, k) - w(3, k))*v13 + (w(2, k) - w(4, k))*v24)/vol
     end do
     phi(nused + 1:) = 0.0_dp
