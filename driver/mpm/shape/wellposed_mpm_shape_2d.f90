@@ -159,7 +159,6 @@ contains
         w(a, k) = w(a, k) + sc(m, a)
       end do
     end do
-    nodes(nused + 1:) = nodes(1)
     vol = 4.0_dp*abs(r1(1)*r2(2) - r1(2)*r2(1))
     v13 = [r1(2) - r2(2), r2(1) - r1(1)]
     v24 = [r1(2) + r2(2), -r1(1) - r2(1)]
@@ -168,8 +167,14 @@ contains
       phi(k) = 0.25_dp*(((w(1, k) + w(2, k)) + w(3, k)) + w(4, k))
       grad(:, k) = ((w(1, k) - w(3, k))*v13 + (w(2, k) - w(4, k))*v24)/vol
     end do
-    phi(nused + 1:) = 0.0_dp
-    grad(:, nused + 1:) = 0.0_dp
+    ! the unused entries, in one loop (an array fill here cost a library
+    ! call per column)
+    do k = nused + 1, size(phi)
+      nodes(k) = nodes(1)
+      phi(k) = 0.0_dp
+      grad(1, k) = 0.0_dp
+      grad(2, k) = 0.0_dp
+    end do
   end subroutine cpdi_2d
 
   !> The cell (i, j) holding x and the bilinear weights of its four nodes

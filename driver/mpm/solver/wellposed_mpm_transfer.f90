@@ -91,16 +91,25 @@ contains
     type(particles_t), intent(in) :: pt
     integer, intent(in) :: n
     integer, intent(in), optional :: nnz(:)
-    integer :: p, k, i, d
+    integer :: p, k, i
     real(dp) :: w
     g%momentum = 0.0_dp
+    if (g%ndim == 1) then
+      do p = 1, n
+        do k = 1, nodes_of(pt, p, nnz)
+          i = pt%node(k, p)
+          w = pt%phi(k, p)*pt%mass(p)
+          g%momentum(1, i) = g%momentum(1, i) + w*pt%v(1, p)
+        end do
+      end do
+      return
+    end if
     do p = 1, n
       do k = 1, nodes_of(pt, p, nnz)
         i = pt%node(k, p)
         w = pt%phi(k, p)*pt%mass(p)
-        do d = 1, g%ndim
-          g%momentum(d, i) = g%momentum(d, i) + w*pt%v(d, p)
-        end do
+        g%momentum(1, i) = g%momentum(1, i) + w*pt%v(1, p)
+        g%momentum(2, i) = g%momentum(2, i) + w*pt%v(2, p)
       end do
     end do
   end subroutine p2g_momentum
