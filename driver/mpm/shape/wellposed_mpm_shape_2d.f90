@@ -127,6 +127,7 @@ contains
     integer, intent(out) :: nused
     real(dp) :: c(2, 4), sc(4, 4), vol, w(4, 16), v13(2), v24(2)
     integer :: cell(2, 4), slot(4, 4), lo(2), a, k, m, i, j, node
+    integer, parameter :: di(4) = [0, 1, 0, 1], dj(4) = [0, 0, 1, 1]
     logical :: boxed
     c = cpdi_corners(xp, r1, r2)
     do a = 1, 4
@@ -141,8 +142,8 @@ contains
     do a = 1, 4
       do m = 1, 4
         ! node m of corner a: the order of bilinear's loops (x fastest)
-        i = cell(1, a) + mod(m - 1, 2)
-        j = cell(2, a) + (m - 1)/2
+        i = cell(1, a) + di(m)
+        j = cell(2, a) + dj(m)
         node = i + nx*j
         if (boxed) then
           k = slot(i - lo(1) + 1, j - lo(2) + 1)

@@ -178,7 +178,7 @@ contains
     real(dp), intent(in) :: dt
     integer, intent(in), optional :: nnz(:)
     integer :: p, k, i
-    real(dp) :: vs, ds, w
+    real(dp) :: vs, ds, w, v1, v2, x1, x2
     if (g%ndim == 1) then
       do p = 1, n
         vs = 0.0_dp
@@ -194,14 +194,23 @@ contains
       return
     end if
     do p = 1, n
+      ! node by node into scalars (the same sums, in registers)
+      v1 = pt%v(1, p)
+      v2 = pt%v(2, p)
+      x1 = pt%x(1, p)
+      x2 = pt%x(2, p)
       do k = 1, nodes_of(pt, p, nnz)
         i = pt%node(k, p)
         w = dt*pt%phi(k, p)
-        pt%v(1, p) = pt%v(1, p) + w*g%accel(1, i)
-        pt%v(2, p) = pt%v(2, p) + w*g%accel(2, i)
-        pt%x(1, p) = pt%x(1, p) + w*g%velocity(1, i)
-        pt%x(2, p) = pt%x(2, p) + w*g%velocity(2, i)
+        v1 = v1 + w*g%accel(1, i)
+        v2 = v2 + w*g%accel(2, i)
+        x1 = x1 + w*g%velocity(1, i)
+        x2 = x2 + w*g%velocity(2, i)
       end do
+      pt%v(1, p) = v1
+      pt%v(2, p) = v2
+      pt%x(1, p) = x1
+      pt%x(2, p) = x2
     end do
   end subroutine g2p
 
