@@ -209,16 +209,10 @@ contains
   !> [lo, hi], 0 when none does: the support check of every step, one pass
   !> over the nodes (their extremes) and a second only to name the particle.
   pure integer function first_outside(node, n, lo, hi) result(p_out)
-    integer, intent(in) :: node(:, :), n, lo, hi
-    integer :: p, k, nmin, nmax
-    nmin = huge(1)
-    nmax = -huge(1)
-    do p = 1, n
-      do k = 1, size(node, 1)
-        nmin = min(nmin, node(k, p))
-        nmax = max(nmax, node(k, p))
-      end do
-    end do
+    integer, intent(in), contiguous :: node(:, :)
+    integer, intent(in) :: n, lo, hi
+    integer :: p, nmin, nmax
+    call extremes(node, size(node, 1)*n, nmin, nmax)
     p_out = 0
     if (nmin >= lo .and. nmax <= hi) return
     do p = 1, n
@@ -228,5 +222,20 @@ contains
       end if
     end do
   end function first_outside
+
+  !> The smallest and largest of flat(1:m) (the node columns as one run, so
+  !> the loop vectorises).
+  pure subroutine extremes(flat, m, nmin, nmax)
+    integer, intent(in) :: m
+    integer, intent(in) :: flat(m)
+    integer, intent(out) :: nmin, nmax
+    integer :: k
+    nmin = huge(1)
+    nmax = -huge(1)
+    do k = 1, m
+      nmin = min(nmin, flat(k))
+      nmax = max(nmax, flat(k))
+    end do
+  end subroutine extremes
 
 end module wellposed_mpm_particles
