@@ -126,8 +126,10 @@ contains
     real(dp), intent(out), contiguous :: phi(:), grad(:, :)
     integer, intent(out) :: nused
     real(dp) :: c(2, 4), sc(4, 4), vol, w(4, 16), v13(2), v24(2)
-    integer :: cell(2, 4), slot(4, 4), lo(2), a, k, m, i, j, node
-    integer, parameter :: di(4) = [0, 1, 0, 1], dj(4) = [0, 0, 1, 1]
+    integer :: cell(2, 4), slot(16), lo(2), a, k, m, node, base, corner_node, node_off(4)
+    ! node m of a corner, in the order of bilinear's loops (x fastest): its
+    ! offset in the 4 x 4 box of slots and in the grid's numbering
+    integer, parameter :: box_off(4) = [0, 1, 4, 5]
     logical :: boxed
     c = cpdi_corners(xp, r1, r2)
     do a = 1, 4
@@ -139,14 +141,14 @@ contains
             max(cell(2, 1), cell(2, 2), cell(2, 3), cell(2, 4)) - lo(2) <= 2
     slot = 0
     nused = 0
+    node_off = [0, 1, nx, nx + 1]
     do a = 1, 4
+      corner_node = cell(1, a) + nx*cell(2, a)
+      base = (cell(1, a) - lo(1)) + 4*(cell(2, a) - lo(2)) + 1
       do m = 1, 4
-        ! node m of corner a: the order of bilinear's loops (x fastest)
-        i = cell(1, a) + di(m)
-        j = cell(2, a) + dj(m)
-        node = i + nx*j
+        node = corner_node + node_off(m)
         if (boxed) then
-          k = slot(i - lo(1) + 1, j - lo(2) + 1)
+          k = slot(base + box_off(m))
         else
           k = findloc(nodes(1:nused), node, dim=1)
         end if
@@ -155,7 +157,7 @@ contains
           nodes(nused) = node
           w(:, nused) = 0.0_dp
           k = nused
-          if (boxed) slot(i - lo(1) + 1, j - lo(2) + 1) = k
+          if (boxed) slot(base + box_off(m)) = k
         end if
         w(a, k) = w(a, k) + sc(m, a)
       end do
