@@ -125,7 +125,7 @@ contains
     integer, intent(out), contiguous :: nodes(:)
     real(dp), intent(out), contiguous :: phi(:), grad(:, :)
     integer, intent(out) :: nused
-    real(dp) :: c(2, 4), sc(4, 4), vol, w(4, 16), v13(2), v24(2)
+    real(dp) :: c(2, 4), sc(4, 4), vol, w(16, 4), v13(2), v24(2)
     integer :: cell(2, 4), slot(16), lo(2), a, k, m, node, base, corner_node, node_off(4)
     ! node m of a corner, in the order of bilinear's loops (x fastest): its
     ! offset in the 4 x 4 box of slots and in the grid's numbering
@@ -155,20 +155,20 @@ contains
         if (k == 0) then
           nused = nused + 1
           nodes(nused) = node
-          w(:, nused) = 0.0_dp
+          w(nused, :) = 0.0_dp
           k = nused
           if (boxed) slot(base + box_off(m)) = k
         end if
-        w(a, k) = w(a, k) + sc(m, a)
+        w(k, a) = w(k, a) + sc(m, a)
       end do
     end do
     vol = 4.0_dp*abs(r1(1)*r2(2) - r1(2)*r2(1))
     v13 = [r1(2) - r2(2), r2(1) - r1(1)]
     v24 = [r1(2) + r2(2), -r1(1) - r2(1)]
     do k = 1, nused
-      ! sum(w(:, k)) in its order, written out (no weight is -0)
-      phi(k) = 0.25_dp*(((w(1, k) + w(2, k)) + w(3, k)) + w(4, k))
-      grad(:, k) = ((w(1, k) - w(3, k))*v13 + (w(2, k) - w(4, k))*v24)/vol
+      ! the corners summed in their order, as sum() did (no weight is -0)
+      phi(k) = 0.25_dp*(((w(k, 1) + w(k, 2)) + w(k, 3)) + w(k, 4))
+      grad(:, k) = ((w(k, 1) - w(k, 3))*v13 + (w(k, 2) - w(k, 4))*v24)/vol
     end do
     ! the unused entries, in one loop (an array fill here cost a library
     ! call per column)
