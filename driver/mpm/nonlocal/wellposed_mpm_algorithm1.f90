@@ -33,7 +33,6 @@
 !> (wellposed_mpm_nonlocal_grid); the order: wellposed_mpm_sweep_order.
 module wellposed_mpm_algorithm1
   use, intrinsic :: iso_fortran_env, only: int64
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_text, only: int_text, real_text
@@ -44,7 +43,7 @@ module wellposed_mpm_algorithm1
   use wellposed_mpm_nonlocal_grid, only: nonlocal_t, nonlocal_step_stats_t, nonlocal_project, &
                                          support_mass, cached_average, warn_bounds, &
                                          field_extents, field_reaches, extend_extents, &
-                                         iteration_error
+                                         iteration_error, sweep_verdict, sweep_converged, sweep_stop
   use wellposed_mpm_nonlocal_ranks, only: nonlocal_ranks_t
   use wellposed_mpm_sweep_order, only: key_order, find_sorted, sweep_layer, sweep_colour
   use wellposed_mpm_nonlocal_host, only: nonlocal_host_t
@@ -201,7 +200,7 @@ contains
       real(dp) :: xk(size(act)), gx(size(act)), e, best, limit, gmax
       real(dp), allocatable :: xn(:), xall(:), gall(:), kall(:)
       integer, allocatable :: perm(:), pos(:)
-      integer :: k, kbest, q, nact
+      integer :: k, kbest, q, nact, verdict
       integer(int64) :: s0, s1, s2, s3
       type(anderson_t) :: acc
 
@@ -260,16 +259,9 @@ contains
           call ranks%max_real(e)
           call ranks%max_real(gmax)
         end if
-        self%last%error = e
-        limit = self%set%tolerance + self%set%rel_tolerance*gmax
-        if (.not. ieee_is_finite(e)) exit
-        if (e <= limit) return
-        if (e < best) then
-          best = e
-          kbest = k
-        else if (k - kbest >= self%set%stall_iterations) then
-          exit
-        end if
+        call sweep_verdict(self, k, e, gmax, best, kbest, limit, verdict)
+        if (verdict == sweep_converged) return
+        if (verdict == sweep_stop) exit
         if (self%set%scheme == nl_anderson) then
           if (par) then
             call ranks%gather_all(xk, xall)
@@ -294,7 +286,7 @@ contains
       type(error_t), allocatable, intent(out) :: err
       real(dp) :: xk(size(act)), gx(size(act)), xn(size(act)), e, e_prev, best, limit, gmax, w
       real(dp) :: gram(self%set%anderson_depth*(self%set%anderson_depth + 1))
-      integer :: k, kbest, m, c, ncol, q
+      integer :: k, kbest, m, c, ncol, q, verdict
       logical :: defer
       integer, allocatable :: colour(:)
       real(dp) :: gamma(self%set%anderson_depth)
@@ -366,22 +358,15 @@ contains
           call system_clock(s1)
           self%ticks_exchange = self%ticks_exchange + (s1 - s0)
         end if
-        self%last%error = e
-        limit = self%set%tolerance + self%set%rel_tolerance*gmax
-        if (.not. ieee_is_finite(e)) exit
-        if (e <= limit) then
+        call sweep_verdict(self, k, e, gmax, best, kbest, limit, verdict)
+        if (verdict == sweep_converged) then
           do q = 1, merge(size(act), 0, defer)
             call correct_field(act(q), gx(q) - xk(q))
           end do
           call refresh()
           return
         end if
-        if (e < best) then
-          best = e
-          kbest = k
-        else if (k - kbest >= self%set%stall_iterations) then
-          exit
-        end if
+        if (verdict == sweep_stop) exit
         if (self%set%scheme == nl_anderson) then
           ! anderson_step with the Gram system dR^T [dR r] summed over the ranks;
           ! a residual that grew (the clamp dlambda >= 0 changed the map) starts

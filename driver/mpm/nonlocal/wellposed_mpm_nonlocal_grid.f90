@@ -26,7 +26,11 @@ module wellposed_mpm_nonlocal_grid
   private
   public :: nonlocal_t, nonlocal_step_stats_t, new_nonlocal, nonlocal_ghost_nodes, &
             field_extents, extend_extents, field_reaches, nonlocal_project, &
-            nonlocal_average, support_mass, cached_average, warn_bounds, iteration_error
+            nonlocal_average, support_mass, cached_average, warn_bounds, iteration_error, &
+            sweep_verdict, sweep_go, sweep_converged, sweep_stop
+
+  !> sweep_verdict's answers.
+  integer, parameter :: sweep_go = 0, sweep_converged = 1, sweep_stop = 2
 
   !> Measures of the last solve (one time step).
   type :: nonlocal_step_stats_t
@@ -427,6 +431,34 @@ contains
       self%warned_printed = .true.
     end if
   end subroutine warn_bounds
+
+  !> After sweep k of step 2 (error e, largest |dlambda| gmax): the error is
+  !> recorded and `verdict` is sweep_converged when e <= limit (tolerance +
+  !> rel_tolerance gmax), sweep_stop when e is not finite or no new smallest
+  !> error came for stall_iterations sweeps (then iteration_error), else
+  !> sweep_go. The one test of every sweep scheme.
+  subroutine sweep_verdict(self, k, e, gmax, best, kbest, limit, verdict)
+    type(nonlocal_t), intent(inout) :: self
+    integer, intent(in) :: k
+    real(dp), intent(in) :: e, gmax
+    real(dp), intent(inout) :: best
+    integer, intent(inout) :: kbest
+    real(dp), intent(out) :: limit
+    integer, intent(out) :: verdict
+    self%last%error = e
+    limit = self%set%tolerance + self%set%rel_tolerance*gmax
+    verdict = sweep_stop
+    if (.not. ieee_is_finite(e)) return
+    verdict = sweep_converged
+    if (e <= limit) return
+    verdict = sweep_go
+    if (e < best) then
+      best = e
+      kbest = k
+    else if (k - kbest >= self%set%stall_iterations) then
+      verdict = sweep_stop
+    end if
+  end subroutine sweep_verdict
 
   !> The error value of a step-2 iteration that did not converge
   !> (`exhausted`: in max_iterations sweeps) or diverged.
