@@ -256,8 +256,11 @@ contains
         e = maxval(abs(gx - xk))
         gmax = maxval(abs(gx))
         if (par) then
+          call system_clock(s0)
           call ranks%max_real(e)
           call ranks%max_real(gmax)
+          call system_clock(s1)
+          self%ticks_exchange = self%ticks_exchange + (s1 - s0)
         end if
         call sweep_verdict(self, k, e, gmax, best, kbest, limit, verdict)
         if (verdict == sweep_converged) return
