@@ -153,10 +153,7 @@ contains
       else
         do q = 1, n
           p = order(q)
-          if (self%plastic(p)) cycle
-          if (.not. field_reaches(self, x(:, p))) cycle   ! its average is 0
-          call cached_average(self, p, x(:, p), avg)
-          if (avg == 0.0_dp) cycle   ! the step-1 call already had this input
+          if (.not. diffuses_to(p, avg)) cycle
           call host%update(p, avg, dnew, err)
           if (allocated(err)) exit
           self%last%umat_calls = self%last%umat_calls + 1
@@ -238,7 +235,7 @@ contains
         if (par) call ranks%nodes_from_lower(self%field)
         call system_clock(s1)
         self%ticks_exchange = self%ticks_exchange + (s1 - s0)
-        call sweep_pass(act, err)
+        call sweep_pass(act, err, .false.)
         if (par) then
           call system_clock(s2)
           call ranks%nodes_to_higher(self%field)
@@ -363,9 +360,11 @@ contains
         end if
         call sweep_verdict(self, k, e, gmax, best, kbest, limit, verdict)
         if (verdict == sweep_converged) then
-          do q = 1, merge(size(act), 0, defer)
-            call correct_field(act(q), gx(q) - xk(q))
-          end do
+          if (defer) then
+            do q = 1, size(act)
+              call correct_field(act(q), gx(q) - xk(q))
+            end do
+          end if
           call refresh()
           return
         end if
@@ -410,7 +409,7 @@ contains
     subroutine sweep_pass(list, err, defer)
       integer, intent(in) :: list(:)
       type(error_t), allocatable, intent(out) :: err
-      logical, intent(in), optional :: defer
+      logical, intent(in) :: defer
       integer :: q, pp
       real(dp) :: avg, dn
       real(dp), allocatable :: avgs(:), dns(:)
@@ -421,11 +420,9 @@ contains
         end do
         call host%update_list(list, avgs, dns, err)
         if (allocated(err)) return
-        if (present(defer)) then
-          if (defer) then
-            self%dl(list) = dns
-            return
-          end if
+        if (defer) then
+          self%dl(list) = dns
+          return
         end if
         do q = 1, size(list)
           pp = list(q)
@@ -456,10 +453,7 @@ contains
       m = 0
       do q = 1, n
         p = order(q)
-        if (self%plastic(p)) cycle
-        if (.not. field_reaches(self, x(:, p))) cycle   ! its average is 0
-        call cached_average(self, p, x(:, p), avgs(m + 1))
-        if (avgs(m + 1) == 0.0_dp) cycle   ! the step-1 call already had this input
+        if (.not. diffuses_to(p, avgs(m + 1))) cycle
         m = m + 1
         list(m) = p
       end do
@@ -470,6 +464,20 @@ contains
         if (dns(q) > 0.0_dp) call reclassify(list(q), dns(q))
       end do
     end subroutine diffuse_simultaneous
+
+    !> Whether step 3 calls particle p: elastic, with a nonzero average
+    !> `avg` (zero when its support holds no nonzero field node; with a zero
+    !> average the step-1 call already had this input).
+    logical function diffuses_to(p, avg)
+      integer, intent(in) :: p
+      real(dp), intent(out) :: avg
+      avg = 0.0_dp
+      diffuses_to = .false.
+      if (self%plastic(p)) return
+      if (.not. field_reaches(self, x(:, p))) return
+      call cached_average(self, p, x(:, p), avg)
+      diffuses_to = avg /= 0.0_dp
+    end function diffuses_to
 
     !> Step 3's elastic particle p yields (dlambda = dnew > 0): it joins the
     !> plastic set and its contribution enters the field.

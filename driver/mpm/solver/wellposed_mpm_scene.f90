@@ -257,12 +257,8 @@ contains
     type(error_t), allocatable, intent(out) :: err
     integer :: nsub, k, nt
     nt = self%ntens
+    call restore_start(self, p)
     associate (pt => self%parts)
-      if (self%nl%active) then
-        pt%stress(1:nt, p) = self%s0(:, p)
-        pt%statev(:, p) = self%sv0(:, p)
-        pt%stran(1:nt, p) = self%e0(:, p)
-      end if
       k = self%mat(p)
       self%host%ours = self%mats%contract(k)
       self%host%kinematics_given = .true.
@@ -307,20 +303,13 @@ contains
     real(dp), intent(in) :: avg(:)
     real(dp), intent(out) :: dl(:)
     type(error_t), allocatable, intent(out) :: err
-    integer :: q, p, nt
-    nt = self%ntens
-    associate (pt => self%parts)
-      do q = 1, size(list)
-        p = list(q)
-        self%done(p) = .false.
-        self%block_avg(p) = avg(q)
-        if (self%nl%active) then
-          pt%stress(1:nt, p) = self%s0(:, p)
-          pt%statev(:, p) = self%sv0(:, p)
-          pt%stran(1:nt, p) = self%e0(:, p)
-        end if
-      end do
-    end associate
+    integer :: q, p
+    do q = 1, size(list)
+      p = list(q)
+      self%done(p) = .false.
+      self%block_avg(p) = avg(q)
+      call restore_start(self, p)
+    end do
     call update_blocks(self, list, self%block_dl, self%block_avg)
     do q = 1, size(list)
       p = list(q)
@@ -332,6 +321,19 @@ contains
       end if
     end do
   end subroutine scene_update_list
+
+  !> Particle p back at its start of step when Algorithm 1 iterates (the
+  !> copies s0, sv0, e0); a local model updates each particle once, in place.
+  subroutine restore_start(self, p)
+    type(mpm_scene_t), intent(inout) :: self
+    integer, intent(in) :: p
+    integer :: nt
+    if (.not. self%nl%active) return
+    nt = self%ntens
+    self%parts%stress(1:nt, p) = self%s0(:, p)
+    self%parts%statev(:, p) = self%sv0(:, p)
+    self%parts%stran(1:nt, p) = self%e0(:, p)
+  end subroutine restore_start
 
   !> The particles list(:) of each material of ours through the block
   !> kernel (umat_block: the UMAT's arithmetic, a chunk of points at once)
