@@ -97,18 +97,19 @@ contains
     real(dp), intent(in), contiguous :: props(:)
     real(dp), intent(in) :: dt
     integer, intent(in) :: ntens, nstatv, idx(:)
-    real(dp), intent(in) :: de(:, :)
-    real(dp), intent(inout) :: stress(:, :), statev(:, :), stran(:, :), dlambda(:)
+    real(dp), intent(in), contiguous :: de(:, :)
+    real(dp), intent(inout), contiguous :: stress(:, :), statev(:, :), stran(:, :)
+    real(dp), intent(inout) :: dlambda(:)
     logical, intent(inout) :: done(:)
     real(dp), intent(in), optional :: avg(:)
     integer, parameter :: chunk = block_chunk
     real(dp) :: c_sig0(chunk, 6), c_ep0(chunk, 6), c_de(chunk, 6), c_sig(chunk, 6)
     real(dp) :: c_ep(chunk, 6), c_z0(chunk), c_zeta0(chunk), c_avg(chunk), c_z(chunk)
     real(dp) :: c_zeta(chunk), c_dl(chunk), c_f(chunk), c_st(chunk), c_trial(chunk, 6)
-    integer(int64) :: bad(chunk), bad_out
-    logical :: want_tangent
+    integer(int64) :: bad(chunk), b
+    logical :: want_tangent, keep
     type(dp_params_t) :: par
-    integer :: fault, k0, n, i, j, q, nt
+    integer :: fault, k0, n, i, j, q, q0, q1, nt
     nt = ntens
     if (nt /= 6 .and. nt /= 4) return
     call check_props(3, nt - 3, nt, nstatv, size(props), props, dt, par, want_tangent, fault)
@@ -122,65 +123,82 @@ contains
     end do
     do k0 = 1, size(idx), chunk
       n = min(chunk, size(idx) - k0 + 1)
-      ! Gather in the model's order with tensor shears. bad(i) < 0 when an
-      ! input the UMAT or the host checks is not finite (integer tests of
-      ! the exponent: nothing traps); such a point enters the kernel as
-      ! zeros and is left to the per-particle call.
       if (present(avg)) then
         do i = 1, n
           c_avg(i) = avg(idx(k0 - 1 + i))
         end do
       end if
+      ! bad(i) < 0 when an input the UMAT or the host checks is not finite:
+      ! the average (the UMAT reads it from STATEV(3)), STRESS, DSTRAN, STRAN
+      ! and every STATEV slot (the UMAT reads 1-12, the host checks all after).
+      ! Consecutive particles (a local update) are tested as one run of
+      ! memory per array, which vectorises; a run that fails, or a list, is
+      ! tested point by point.
+      b = -1_int64
+      if (idx(k0 - 1 + n) - idx(k0) == n - 1) then
+        q0 = idx(k0)
+        q1 = q0 + n - 1
+        b = ior(ior(nonfinite_run(size(stress, 1)*n, stress(:, q0:q1)), &
+                    nonfinite_run(size(de, 1)*n, de(:, q0:q1))), &
+                ior(ior(nonfinite_run(size(stran, 1)*n, stran(:, q0:q1)), &
+                        nonfinite_run(size(statev, 1)*n, statev(:, q0:q1))), &
+                    nonfinite_run(n, c_avg)))
+        do i = 2, n
+          if (idx(k0 - 1 + i) /= q0 + i - 1) b = -1_int64
+        end do
+      end if
+      if (b >= 0) then
+        bad(1:n) = 0
+      else
+        do i = 1, n
+          q = idx(k0 - 1 + i)
+          b = nonfinite(c_avg(i))
+          do j = 1, nt
+            b = ior(b, ior(nonfinite(stress(j, q)), ior(nonfinite(de(j, q)), nonfinite(stran(j, q)))))
+          end do
+          do j = 1, nstatv
+            b = ior(b, nonfinite(statev(j, q)))
+          end do
+          bad(i) = b
+        end do
+      end if
+      ! Gather in the model's order with tensor shears; a point with a bad
+      ! input enters the kernel as zeros (selected, not computed on) and is
+      ! left to the per-particle call.
       do i = 1, n
         q = idx(k0 - 1 + i)
-        ! the UMAT reads the average from STATEV(3) and checks it with the rest
-        bad(i) = nonfinite(c_avg(i))
-        do j = 1, nt
-          bad(i) = ior(bad(i), ior(nonfinite(stress(j, q)), ior(nonfinite(de(j, q)), &
-                                                                 nonfinite(stran(j, q)))))
-        end do
-        ! every STATEV slot: the UMAT reads 1-12, the host checks all after
-        do j = 1, nstatv
-          bad(i) = ior(bad(i), nonfinite(statev(j, q)))
-        end do
-        if (bad(i) < 0) then
-          do j = 1, 6
-            c_sig0(i, j) = 0.0_dp
-            c_de(i, j) = 0.0_dp
-            c_ep0(i, j) = 0.0_dp
-          end do
-          c_z0(i) = 0.0_dp
-          c_zeta0(i) = 0.0_dp
-          c_avg(i) = 0.0_dp
-          cycle
-        end if
+        keep = bad(i) >= 0
         do j = 1, 3
-          c_sig0(i, j) = stress(j, q)
-          c_de(i, j) = de(j, q)
+          c_sig0(i, j) = merge(stress(j, q), 0.0_dp, keep)
+          c_de(i, j) = merge(de(j, q), 0.0_dp, keep)
+          c_ep0(i, j) = merge(statev(sv_eps_p - 1 + j, q), 0.0_dp, keep)
+          c_ep0(i, j + 3) = 0.5_dp*merge(statev(sv_eps_p + 2 + j, q), 0.0_dp, keep)
         end do
         do j = 4, nt
-          c_sig0(i, j) = stress(j, q)
-          c_de(i, j) = 0.5_dp*de(j, q)
+          c_sig0(i, j) = merge(stress(j, q), 0.0_dp, keep)
+          c_de(i, j) = 0.5_dp*merge(de(j, q), 0.0_dp, keep)
         end do
-        do j = 1, 3
-          c_ep0(i, j) = statev(sv_eps_p - 1 + j, q)
-          c_ep0(i, j + 3) = 0.5_dp*statev(sv_eps_p + 2 + j, q)
-        end do
-        c_z0(i) = statev(sv_z, q)
-        c_zeta0(i) = statev(sv_zeta, q)
+        c_z0(i) = merge(statev(sv_z, q), 0.0_dp, keep)
+        c_zeta0(i) = merge(statev(sv_zeta, q), 0.0_dp, keep)
+        c_avg(i) = merge(c_avg(i), 0.0_dp, keep)
       end do
       call closed_form_block(par, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
                              c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
+      ! The outputs the host checks (STRESS and STATEV finite), a column at
+      ! a time; a deferred point (status < 0) or a bad input counts as bad.
       do i = 1, n
-        if (bad(i) < 0 .or. c_st(i) < 0.0_dp) cycle
-        q = idx(k0 - 1 + i)
-        ! the outputs the host checks: STRESS and STATEV finite
-        bad_out = ior(ior(nonfinite(c_z(i)), nonfinite(c_dl(i))), &
-                      ior(nonfinite(c_zeta(i)), nonfinite(c_f(i))))
-        do j = 1, 6
-          bad_out = ior(bad_out, ior(nonfinite(c_sig(i, j)), nonfinite(c_ep(i, j))))
+        bad(i) = ior(ior(bad(i), transfer(c_st(i), 0_int64)), &
+                     ior(ior(nonfinite(c_z(i)), nonfinite(c_dl(i))), &
+                         ior(nonfinite(c_zeta(i)), nonfinite(c_f(i)))))
+      end do
+      do j = 1, 6
+        do i = 1, n
+          bad(i) = ior(bad(i), ior(nonfinite(c_sig(i, j)), nonfinite(c_ep(i, j))))
         end do
-        if (bad_out < 0) cycle
+      end do
+      do i = 1, n
+        if (bad(i) < 0) cycle
+        q = idx(k0 - 1 + i)
         do j = 1, nt
           stress(j, q) = c_sig(i, j)
           stran(j, q) = stran(j, q) + de(j, q)
@@ -202,11 +220,24 @@ contains
   end subroutine umat_block
 
   !> Negative when x is NaN or Inf (its exponent bits all set), else >= 0:
-  !> integer arithmetic, so no floating-point exception is raised.
+  !> integer arithmetic, so no floating-point exception is raised, and no
+  !> overflow; an OR of such values is negative when one of them is.
   elemental integer(int64) function nonfinite(x)
     real(dp), intent(in) :: x
     integer(int64), parameter :: exponent_mask = int(z'7FF0000000000000', int64)
     nonfinite = iand(not(transfer(x, 0_int64)), exponent_mask) - 1_int64
   end function nonfinite
+
+  !> Negative when one of x(1:m) is NaN or Inf (nonfinite, OR-ed over a
+  !> run of memory: no branch, so the loop vectorises).
+  pure integer(int64) function nonfinite_run(m, x) result(b)
+    integer, intent(in) :: m
+    real(dp), intent(in) :: x(m)
+    integer :: k
+    b = 0
+    do k = 1, m
+      b = ior(b, nonfinite(x(k)))
+    end do
+  end function nonfinite_run
 
 end module wellposed_mpm_particle_umat
