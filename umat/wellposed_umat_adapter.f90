@@ -14,6 +14,7 @@ module wellposed_umat_adapter
                                  n_params
   use wellposed_dp_point, only: point_update, voigt_stiffness, elastic_energy
   use wellposed_generalized_dl, only: gdl_update
+  use wellposed_return_mapping, only: state_elastic
   use wellposed_text, only: int_text, real_text
   use wellposed_umat_layout
   implicit none
@@ -118,12 +119,16 @@ contains
       statev(sv_over:sv_over + 5) = over
       statev(sv_over_z) = z_over
     end if
-    ! Elastic energy density and plastic dissipation (trapezoidal rule).
+    ! Elastic energy density and plastic dissipation (trapezoidal rule;
+    ! an elastic increment leaves eps_p, so SPD, as it is, except where a
+    ! generalized Duvaut-Lions overstress relaxes).
     sse = elastic_energy(p%el%bulk, p%el%shear, sig)
-    dep = eps_p - eps_p_n
-    sig_n = sig_n + sig
-    spd = spd + 0.5_dp*(sig_n(1)*dep(1) + sig_n(2)*dep(2) + sig_n(3)*dep(3) + &
-                        2.0_dp*(sig_n(4)*dep(4) + sig_n(5)*dep(5) + sig_n(6)*dep(6)))
+    if (status /= state_elastic .or. p%gdl) then
+      dep = eps_p - eps_p_n
+      sig_n = sig_n + sig
+      spd = spd + 0.5_dp*(sig_n(1)*dep(1) + sig_n(2)*dep(2) + sig_n(3)*dep(3) + &
+                          2.0_dp*(sig_n(4)*dep(4) + sig_n(5)*dep(5) + sig_n(6)*dep(6)))
+    end if
 
   contains
 
@@ -160,27 +165,33 @@ contains
     type(dp_params_t), intent(out) :: p
     logical, intent(out) :: want_tangent
     integer, intent(out) :: fault
-    real(dp) :: pr(nprops_known)
+    real(dp) :: pr(n_params), explicit, dl_form
     integer :: param_fault
     logical :: valid
 
     want_tangent = .false.
     fault = layout_fault(ndi, nshr, ntens, nstatv, nprops, props)
     if (fault /= 0) return
-    if (nprops >= nprops_known) then
-      pr = props(1:nprops_known)
+    ! PROPS read in place; a short PROPS padded with the zeros of the
+    ! features it leaves off (the copy only then).
+    if (nprops >= n_params) then
+      call fill_dp_params(p, props(1:n_params), param_fault)
     else
       pr = 0.0_dp
       pr(1:nprops) = props
+      call fill_dp_params(p, pr, param_fault)
     end if
-    call fill_dp_params(p, pr(1:n_params), param_fault)
+    explicit = 0.0_dp
+    if (nprops >= prop_explicit) explicit = props(prop_explicit)
+    dl_form = 0.0_dp
+    if (nprops >= prop_dl_form) dl_form = props(prop_dl_form)
     fault = fault_params
     if (param_fault /= 0) return
     fault = fault_explicit
-    want_tangent = pr(prop_explicit) == 0.0_dp
-    if (.not. want_tangent .and. pr(prop_explicit) /= 1.0_dp) return
+    want_tangent = explicit == 0.0_dp
+    if (.not. want_tangent .and. explicit /= 1.0_dp) return
     fault = fault_dl_form
-    call set_dl_form(p, pr(prop_dl_form), valid)
+    call set_dl_form(p, dl_form, valid)
     if (.not. valid) return
     fault = fault_nstatv_gdl
     if (p%gdl .and. nstatv < nstatv_gdl) return
