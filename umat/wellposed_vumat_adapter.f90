@@ -12,7 +12,8 @@
 !> by (sigma_old + sigma_new) : d eps^p/(2 rho). Contract: docs/umat.md.
 module wellposed_vumat_adapter
   use wellposed_kinds, only: dp
-  use wellposed_finite, only: all_finite, is_finite
+  use, intrinsic :: iso_fortran_env, only: int64
+  use wellposed_finite, only: all_finite, is_finite, nonfinite_bits
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_text, only: int_text, real_text
   use wellposed_tensor, only: ntens6
@@ -32,6 +33,11 @@ module wellposed_vumat_adapter
   !> Model component i (11, 22, 33, 12, 13, 23) is VUMAT component comp(i):
   !> the model is isotropic, the order only keeps its arithmetic the UMAT's.
   integer, parameter :: comp(ntens6) = [1, 2, 3, 4, 6, 5]
+  !> Blocks of fewer points go point by point (point_update, the same
+  !> arithmetic): below four points the chunk's copies and the vectorised
+  !> pass cost more than they save (callgrind: 1,657 against 2,608
+  !> instructions for one elastic point, 969 against 1,011 per point of four).
+  integer, parameter :: min_chunk_block = 4
 
 contains
 
@@ -94,7 +100,7 @@ contains
       p%efr = .false.
       p%gdl = .false.
     end if
-    closed = has_closed_form(p) .and. .not. p%gdl
+    closed = has_closed_form(p) .and. .not. p%gdl .and. nblock >= min_chunk_block
     if (closed) then
       ! Chunks of up to `chunk` points: one vectorised pass (closed_form_block),
       ! then the rare deferred points one by one.
@@ -274,20 +280,27 @@ contains
     type(error_t), allocatable, intent(out) :: err
     integer, intent(out) :: point
     character(len=*), parameter :: name = 'non-finite stressOld, strainInc, stateOld or energy '
-    logical :: finite
-    integer :: j
-    ! Column by column (contiguous, no temporaries): the usual all-valid
-    ! block costs a few vectorised passes.
-    finite = all_finite(density) .and. all_finite(ener_intern_old) .and. &
-             all_finite(ener_inelas_old)
+    integer(int64) :: carry
+    integer :: j, k
+    ! Column by column (contiguous, no temporaries) into one carry: the
+    ! usual all-valid block costs a few vectorised passes and one branch.
+    carry = 0
+    do k = 1, nblock
+      carry = ior(carry, ior(nonfinite_bits(density(k)), ior(nonfinite_bits(ener_intern_old(k)), &
+                                                          nonfinite_bits(ener_inelas_old(k)))))
+    end do
     do j = 1, ntens
-      finite = finite .and. all_finite(strain_inc(:, j)) .and. all_finite(stress_old(:, j))
+      do k = 1, nblock
+        carry = ior(carry, ior(nonfinite_bits(strain_inc(k, j)), nonfinite_bits(stress_old(k, j))))
+      end do
     end do
     do j = 1, nsv
-      finite = finite .and. all_finite(state_old(:, j))
+      do k = 1, nblock
+        carry = ior(carry, nonfinite_bits(state_old(k, j)))
+      end do
     end do
     point = 0
-    if (finite) then
+    if (carry >= 0) then
       if (all(density > 0.0_dp)) return
     end if
     do point = 1, nblock

@@ -9,7 +9,7 @@ module wellposed_finite
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: is_finite, all_finite
+  public :: is_finite, all_finite, nonfinite_bits
 
   integer(int64), parameter :: exponent_mask = int(z'7FF0000000000000', int64)
 
@@ -33,9 +33,17 @@ contains
     integer :: i
     carry = 0
     do i = 1, size(x)
-      carry = ior(carry, iand(not(transfer(x(i), 0_int64)), exponent_mask) - 1)
+      carry = ior(carry, nonfinite_bits(x(i)))
     end do
     finite = carry >= 0
   end function all_finite
+
+  !> Negative when x is NaN or +-Inf, else >= 0 (the complement of the
+  !> exponent field minus 1): an OR of such values is negative exactly when
+  !> one of them is, so many arrays can be tested with one branch.
+  elemental integer(int64) function nonfinite_bits(x)
+    real(dp), intent(in) :: x
+    nonfinite_bits = iand(not(transfer(x, 0_int64)), exponent_mask) - 1_int64
+  end function nonfinite_bits
 
 end module wellposed_finite

@@ -16,6 +16,7 @@
 module wellposed_mpm_particle_umat
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
+  use wellposed_finite, only: nonfinite_bits
   use wellposed_error, only: error_t
   use wellposed_umat_host, only: umat_host_t, host_update
   use wellposed_umat_adapter, only: check_props
@@ -152,12 +153,13 @@ contains
       else
         do i = 1, n
           q = idx(k0 - 1 + i)
-          b = nonfinite(c_avg(i))
+          b = nonfinite_bits(c_avg(i))
           do j = 1, nt
-            b = ior(b, ior(nonfinite(stress(j, q)), ior(nonfinite(de(j, q)), nonfinite(stran(j, q)))))
+            b = ior(b, ior(nonfinite_bits(stress(j, q)), &
+                           ior(nonfinite_bits(de(j, q)), nonfinite_bits(stran(j, q)))))
           end do
           do j = 1, nstatv
-            b = ior(b, nonfinite(statev(j, q)))
+            b = ior(b, nonfinite_bits(statev(j, q)))
           end do
           bad(i) = b
         end do
@@ -188,12 +190,12 @@ contains
       ! a time; a deferred point (status < 0) or a bad input counts as bad.
       do i = 1, n
         bad(i) = ior(ior(bad(i), transfer(c_st(i), 0_int64)), &
-                     ior(ior(nonfinite(c_z(i)), nonfinite(c_dl(i))), &
-                         ior(nonfinite(c_zeta(i)), nonfinite(c_f(i)))))
+                     ior(ior(nonfinite_bits(c_z(i)), nonfinite_bits(c_dl(i))), &
+                         ior(nonfinite_bits(c_zeta(i)), nonfinite_bits(c_f(i)))))
       end do
       do j = 1, 6
         do i = 1, n
-          bad(i) = ior(bad(i), ior(nonfinite(c_sig(i, j)), nonfinite(c_ep(i, j))))
+          bad(i) = ior(bad(i), ior(nonfinite_bits(c_sig(i, j)), nonfinite_bits(c_ep(i, j))))
         end do
       end do
       do i = 1, n
@@ -219,16 +221,7 @@ contains
     end do
   end subroutine umat_block
 
-  !> Negative when x is NaN or Inf (its exponent bits all set), else >= 0:
-  !> integer arithmetic, so no floating-point exception is raised, and no
-  !> overflow; an OR of such values is negative when one of them is.
-  elemental integer(int64) function nonfinite(x)
-    real(dp), intent(in) :: x
-    integer(int64), parameter :: exponent_mask = int(z'7FF0000000000000', int64)
-    nonfinite = iand(not(transfer(x, 0_int64)), exponent_mask) - 1_int64
-  end function nonfinite
-
-  !> Negative when one of x(1:m) is NaN or Inf (nonfinite, OR-ed over a
+  !> Negative when one of x(1:m) is NaN or Inf (nonfinite_bits OR-ed over a
   !> run of memory: no branch, so the loop vectorises).
   pure integer(int64) function nonfinite_run(m, x) result(b)
     integer, intent(in) :: m
@@ -236,7 +229,7 @@ contains
     integer :: k
     b = 0
     do k = 1, m
-      b = ior(b, nonfinite(x(k)))
+      b = ior(b, nonfinite_bits(x(k)))
     end do
   end function nonfinite_run
 
