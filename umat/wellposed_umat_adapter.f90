@@ -7,7 +7,8 @@
 !> message as a value call umat_update directly.
 module wellposed_umat_adapter
   use wellposed_kinds, only: dp
-  use wellposed_finite, only: is_finite, all_finite
+  use, intrinsic :: iso_fortran_env, only: int64
+  use wellposed_finite, only: is_finite, all_finite, finite_carry
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_tensor, only: ntens6
   use wellposed_dp_params, only: dp_params_t, new_dp_params, fill_dp_params, set_dl_form, &
@@ -47,6 +48,7 @@ contains
     type(dp_params_t) :: p
     real(dp) :: sig(ntens6), sig_n(ntens6), de(ntens6), eps_p(ntens6), eps_p_n(ntens6)
     real(dp) :: z, zeta, dlambda, f, dep(ntens6), over(ntens6), z_over
+    integer(int64) :: carry
     integer :: fault, status
     logical :: want_tangent
 
@@ -54,20 +56,21 @@ contains
     if (fault == 0) then
       ! Abaqus order 11, 22, 33, 12, 13, 23. NTENS is 6 or 4 here: literal
       ! bounds let the compiler unroll the copies.
+      ! Every value checked OR-ed into one carry: one branch for all.
       if (ntens == ntens6) then
         sig = stress(1:6)
         de = dstran(1:6)
-        fault = merge(0, fault_non_finite, all_finite(stran(1:6)))
+        carry = finite_carry(stran(1:6))
       else
         sig(1:4) = stress(1:4)
         sig(5:6) = 0.0_dp
         de(1:4) = dstran(1:4)
         de(5:6) = 0.0_dp
-        fault = merge(0, fault_non_finite, all_finite(stran(1:4)))
+        carry = finite_carry(stran(1:4))
       end if
-      if (.not. (all_finite(sig) .and. all_finite(de) .and. &
-                 all_finite(statev(1:merge(nstatv_gdl, nstatv_min, p%gdl))))) &
-        fault = fault_non_finite
+      carry = ior(ior(carry, finite_carry(statev(1:merge(nstatv_gdl, nstatv_min, p%gdl)))), &
+                  ior(finite_carry(sig), finite_carry(de)))
+      if (carry < 0) fault = fault_non_finite
     end if
     if (fault /= 0) then
       call explain(fault, ndi, nshr, ntens, nstatv, nprops, props, dtime, err)

@@ -9,7 +9,7 @@ module wellposed_finite
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: is_finite, all_finite, nonfinite_bits
+  public :: is_finite, all_finite, nonfinite_bits, finite_carry
 
   integer(int64), parameter :: exponent_mask = int(z'7FF0000000000000', int64)
 
@@ -29,14 +29,20 @@ contains
   pure function all_finite(x) result(finite)
     real(dp), intent(in) :: x(:)
     logical :: finite
+    finite = finite_carry(x) >= 0
+  end function all_finite
+
+  !> nonfinite_bits of every entry of `x` OR-ed: negative when one of them
+  !> is NaN or +-Inf. Several arrays' carries OR-ed need one branch.
+  pure function finite_carry(x) result(carry)
+    real(dp), intent(in) :: x(:)
     integer(int64) :: carry
     integer :: i
     carry = 0
     do i = 1, size(x)
       carry = ior(carry, nonfinite_bits(x(i)))
     end do
-    finite = carry >= 0
-  end function all_finite
+  end function finite_carry
 
   !> Negative when x is NaN or +-Inf, else >= 0 (the complement of the
   !> exponent field minus 1): an OR of such values is negative exactly when
