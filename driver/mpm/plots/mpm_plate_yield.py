@@ -14,6 +14,11 @@ ratio r = sqrt(J2)/k of
   - the weak zone: the largest over its particles (x < WEAK_X, y < WEAK_Y
     initially), k = K_WEAK;
   - mid-height: the mean over the particle row(s) nearest y = H/2;
+  - the row under the platen, middle: the mean over the particles of the
+    cell row under the platen's layer (H - 2h <= y < H - h initially) in
+    the middle third of the width, against which the corner particle shows
+    whether the platen layer loads the row's ends more than its middle (a
+    platen with friction would);
 and prints one markdown row per case: r at time T (default 4 ms), corner
 over weak, and the time at which each first reaches r = 1 (linear between
 snapshots): where the plastic plate's first yield is predicted to be
@@ -57,15 +62,18 @@ def case_yield(group, h, nu, t_at):
     corners = [int(np.argmin(np.where(below, np.hypot(xy0[:, 0] - x, xy0[:, 1] - (height - h)),
                                       np.inf))) for x in (0.0, width)]
     mid = np.abs(xy0[:, 1] - 0.5 * height) < 0.5 * h
-    ts, rc, rw, rm = [], [], [], []
+    row = ((xy0[:, 1] >= height - 2.0 * h) & below & (np.abs(xy0[:, 0] - 0.5 * width)
+                                                     < width / 6.0))
+    ts, rc, rw, rm, rr = [], [], [], [], []
     for s in names:
         r = sqrt_j2(group[s], nu) / k
         ts.append(float(group[s]["time"][0]))
         rc.append(max(r[i] for i in corners))
         rw.append(float(np.max(r[weak])))
         rm.append(float(np.mean(r[mid])))
+        rr.append(float(np.mean(r[row])))
     j = int(np.argmin(np.abs(np.array(ts) - t_at)))
-    return {"h": h, "t": ts[j], "corner": rc[j], "weak": rw[j], "mid": rm[j],
+    return {"h": h, "t": ts[j], "corner": rc[j], "weak": rw[j], "mid": rm[j], "row": rr[j],
             "distance": float(np.hypot(xy0[corners[1], 0] - width,
                                        xy0[corners[1], 1] - (height - h))),
             "t_corner": first_reach(ts, rc), "t_weak": first_reach(ts, rw)}
@@ -85,12 +93,13 @@ def main(argv):
     t_at = float(argv[2]) if len(argv) > 2 else 4.0e-3
     ms = lambda v: "never" if v is None else "%.2f" % (1e3 * v)
     print("| h (m) | corner particle's distance (m) | sqrt(J2)/k at %.2f ms: corner, weak max, "
-          "mid-height | corner / weak | yield reached (ms): corner, weak |" % (1e3 * t_at))
+          "mid-height, row under the platen (middle) | corner / weak | yield reached (ms): "
+          "corner, weak |" % (1e3 * t_at))
     print("|---|---|---|---|---|")
     for c in yield_table(argv[1], t_at):
-        print("| %g | %.3f | %.3f, %.3f, %.3f | %.2f | %s, %s |" % (
-            c["h"], c["distance"], c["corner"], c["weak"], c["mid"], c["corner"] / c["weak"],
-            ms(c["t_corner"]), ms(c["t_weak"])))
+        print("| %g | %.3f | %.3f, %.3f, %.3f, %.3f | %.2f | %s, %s |" % (
+            c["h"], c["distance"], c["corner"], c["weak"], c["mid"], c["row"],
+            c["corner"] / c["weak"], ms(c["t_corner"]), ms(c["t_weak"])))
     return 0
 
 
