@@ -16,7 +16,8 @@ module wellposed_deck
   implicit none
   private
   public :: read_text_file, read_deck_text, check_deck_text, namelist_error, check_required, &
-            check_finite, check_range, unset, is_set, real_str, has_group, lower, check_word
+            check_finite, check_range, unset, is_set, real_str, has_group, lower, check_word, &
+            deck_essence
 
   !> Sentinel for "not given in the deck": a required real key is set to
   !> `unset` before the READ and tested with `is_set` after it.
@@ -157,6 +158,53 @@ contains
         'or comments only)'//need)
     end if
   end subroutine check_deck_text
+
+  !> What a namelist READ sees of a deck's text: comments ("!" to the end of
+  !> a line outside quotes) dropped, every run of blanks, tabs and line ends
+  !> outside quotes one blank (none beside "=", "," and "/"), letters outside
+  !> quotes in lower case, quoted strings as written. Decks with equal
+  !> essences set the same keys to the same values; a restart compares them,
+  !> so that editing a comment does not orphan a run's checkpoints.
+  pure function deck_essence(text) result(essence)
+    character(len=*), intent(in) :: text
+    character(len=:), allocatable :: essence
+    character(len=len(text)) :: buf
+    character(len=1) :: ch, quote
+    integer :: i, n
+    logical :: comment, gap
+    n = 0
+    quote = ' '
+    comment = .false.
+    gap = .false.
+    do i = 1, len(text)
+      ch = text(i:i)
+      if (quote /= ' ') then
+        n = n + 1
+        buf(n:n) = ch
+        if (ch == quote) quote = ' '
+        cycle
+      end if
+      if (ch == new_line('a')) comment = .false.
+      if (comment) cycle
+      if (ch == '!') then
+        comment = .true.
+      else if (index(' '//achar(9)//achar(10)//achar(12)//achar(13), ch) > 0) then
+        gap = .true.
+      else
+        if (gap .and. n > 0 .and. index('=,/', ch) == 0) then
+          if (index('=,/', buf(n:n)) == 0) then
+            n = n + 1
+            buf(n:n) = ' '
+          end if
+        end if
+        gap = .false.
+        if (ch == '"' .or. ch == "'") quote = ch
+        n = n + 1
+        buf(n:n) = lower(ch)
+      end if
+    end do
+    essence = buf(1:n)
+  end function deck_essence
 
   !> True when the text of a deck holds the namelist group `&group`
   !> (case-insensitive, outside comments), so an optional group can be

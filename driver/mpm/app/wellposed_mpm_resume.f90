@@ -6,6 +6,7 @@ module wellposed_mpm_resume
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_checkpoint, only: checkpoint_t, read_checkpoint, latest_checkpoint
   use wellposed_mpm_snapshots, only: check_snapshots_format
+  use wellposed_deck, only: deck_essence
   implicit none
   private
   public :: open_restart_checkpoint
@@ -14,7 +15,8 @@ contains
 
   !> Read into ck the checkpoint ck_file (when '' on entry: the newest of
   !> ck_dir, whose path ck_file is on return) and check that it was written
-  !> for deck_text (the deck deck_path as read, overrides aside).
+  !> for deck_text (the deck deck_path as read, overrides aside), compared
+  !> as their namelists read them (deck_essence: comments do not count).
   subroutine open_restart_checkpoint(ck_dir, deck_path, deck_text, ck_file, ck, err)
     character(len=*), intent(in) :: ck_dir, deck_path, deck_text
     character(len=:), allocatable, intent(inout) :: ck_file
@@ -41,8 +43,10 @@ contains
     if (allocated(e)) then
       call fail(ck_file//': '//e%message); return
     end if
-    if (saved /= deck_text .or. len(saved) /= len(deck_text)) &
-      call fail(ck_file//' was written for another deck than '//deck_path)
+    if (deck_essence(saved) /= deck_essence(deck_text)) &
+      call fail(ck_file//' was written for another deck than '//deck_path//': their '// &
+                'namelist values differ (comments, spacing and letter case outside quotes '// &
+                'do not count)')
   contains
     subroutine fail(text)
       character(len=*), intent(in) :: text

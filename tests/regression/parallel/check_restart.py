@@ -14,6 +14,11 @@ that it continued from such a checkpoint, and compares every run.h5 dataset (bit
 tolerance is given; then relative to the dataset's largest value, with the
 conservation residual energy/momentum_minus_impulse exempt) and summary.txt
 (wall-clock lines excepted), and run.xdmf byte for byte. Exit status 0 when equal.
+
+--edit-deck: the restart reads a copy of DECK edited after the kill (a comment
+added, the blanks around "=" removed), which must be accepted (a checkpoint's
+deck is compared as its namelists read it); a copy with its cfl value changed
+is tried first and must be refused, naming the deck, with no finished folder.
 """
 import argparse, glob, os, re, shlex, signal, subprocess, sys, time
 
@@ -32,6 +37,7 @@ ap.add_argument('--name', default='short_wave')
 ap.add_argument('--every', default='500')
 ap.add_argument('--tolerance', type=float, default=0.0)
 ap.add_argument('--kill-at', type=int, default=0)
+ap.add_argument('--edit-deck', action='store_true')
 ap.add_argument('args', nargs='*')
 a = ap.parse_args()
 launch = shlex.split(a.launcher)
@@ -61,6 +67,27 @@ kill_session(proc.pid)
 proc.wait()
 if os.path.exists(os.path.join(out, a.name)):
     sys.exit('FAIL: the killed run left a finished-looking folder')
+if a.edit_deck:
+    deck_text = open(a.deck).read()
+    if not re.search(r'cfl\s*=\s*0\.2\b', deck_text):
+        sys.exit('FAIL: --edit-deck needs a deck with cfl = 0.2')
+    edited = os.path.join(a.out, 'edited_' + os.path.basename(a.deck))
+    changed = os.path.join(a.out, 'changed_' + os.path.basename(a.deck))
+    with open(changed, 'w') as f:
+        f.write(re.sub(r'cfl\s*=\s*0\.2\b', 'cfl = 0.19', deck_text, count=1))
+    r = subprocess.run(relaunch + [a.program, '--out', out, '--restart'] + common[:3] +
+                       [changed] + a.args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                       text=True)
+    if r.returncode == 0 or 'was written for another deck than ' + changed not in r.stdout:
+        sys.exit('FAIL: a restart with a changed cfl was not refused as another deck:\n' +
+                 r.stdout[-2000:])
+    if os.path.exists(os.path.join(out, a.name)):
+        sys.exit('FAIL: the refused restart left a finished-looking folder')
+    print('refused as it should: ' + [l for l in r.stdout.splitlines() if 'another deck' in l][0])
+    with open(edited, 'w') as f:
+        f.write('! edited after the run began: a comment and spacing do not count\n' +
+                deck_text.replace(' = ', '='))
+    common = common[:3] + [edited] + a.args
 text = run(relaunch + [a.program, '--out', out, '--restart'] + common)
 resumed = re.search(r'restarted from .* \(step (\d+),.*', text)
 print(resumed.group(0).strip() if resumed else text.strip().splitlines()[-1])
