@@ -116,8 +116,8 @@ program bench_umat
   end do
   write (output_unit, '(a)') '    (mixed: elastic and cone points in turn, every 16th an apex '// &
     'point.) Where a point goes: elastic and cone points are one vectorised pass, apex '// &
-    'points a scalar pass (point_update); a block of 1 point pays the per-block PROPS '// &
-    'and finiteness checks and the copies into the kernel''s chunk layout alone'
+    'points a scalar pass (point_update); a block of 1 to 3 points goes point by point '// &
+    '(point_update) and pays the per-block PROPS and finiteness checks alone'
   write (output_unit, '(a)') '  extended flow rule (beta_p = beta), cone case:'// &
     ' DDSDDE ns  /regular  explicit ns  /regular'
   do i = 1, 3
