@@ -346,6 +346,7 @@ contains
     subroutine finish_case(nsub)
       integer, intent(in) :: nsub
       integer :: j
+      character(len=:), allocatable :: band_text
       associate (o => outs(ic))
         j = maxloc(o%curve(3, :), dim=1)
         o%scal(5:6) = [o%curve(2, j), o%curve(3, j)]
@@ -381,9 +382,12 @@ contains
                         'time per particle of one sweep (average + UMAT + eq. 4.49-4.50) '// &
                         'over one local UMAT update')
         end if
+        band_text = 'no band: NSTATV = '//int_text(sc%parts%nstatv)//' has no plastic strain'
+        if (sc%parts%nstatv >= slot_plastic_strain) band_text = 'band FWHM '// &
+          real_text(fwhm)//' m along the line at '//real_text(yline)//' m'
         write (output_unit, '(a)') '    done in '//real_text(wall)//' s: peak '// &
-          real_text(o%scal(6)*1.0e-6_dp)//' MPa at strain '//real_text(o%scal(5))// &
-          ', band FWHM '//real_text(fwhm)//' m along the line at '//real_text(yline)//' m'
+          real_text(o%scal(6)*1.0e-6_dp)//' MPa at strain '//real_text(o%scal(5))//', '// &
+          band_text
         if (sc%nl%active) write (output_unit, '(a)') '    nonlocal iterations per step: '// &
           'mean '//real_text(real(sc%nl%iterations_total, dp)/max(sc%nl%steps_iterated, 1))// &
           ', max '//int_text(sc%nl%iterations_max)//' over '// &

@@ -8,7 +8,8 @@
       hold no run.h5 dataset whose last name is an --absent NAME (a snapshot
       field that would read past NSTATV), still hold snapshots (some dataset
       under a snap_ group), and its .xdmf files name only datasets run.h5
-      holds (tests/regression/xdmf_check.py).
+      holds (tests/regression/xdmf_check.py); a plate's console line says
+      "no band: NSTATV = N ...", not a band width.
 Exit 0 when every check holds.
 """
 import os, re, shutil, subprocess, sys
@@ -58,6 +59,11 @@ def main(argv):
     if not any('snap_' in n for n in names):
         bad.append('run.h5 holds no snapshot')
     bad += xdmf_check.problems(folder)
+    # a plate's console line says there is no band, not a width of zero
+    if 'band FWHM' in p.stdout or ('&plate' in open(deck).read()
+                                   and 'no band: NSTATV = ' + nstatv not in p.stdout):
+        bad.append('the console line of a case gives a band width: ' +
+                   [line for line in p.stdout.splitlines() if 'done in' in line][0])
     for b in bad:
         print('FAIL ' + b)
     if not bad:
