@@ -304,11 +304,17 @@ contains
     real(dp), intent(out) :: dl(:)
     type(error_t), allocatable, intent(out) :: err
     integer :: q, p
+    logical :: blocks
+    ! The block kernel updates in place: restore its particles here; one
+    ! it cannot take (a user's UMAT, another material) scene_update restores.
+    blocks = umat_is_ours() .and. .not. associated(self%host%fn)
     do q = 1, size(list)
       p = list(q)
       self%done(p) = .false.
       self%block_avg(p) = avg(q)
-      call restore_start(self, p)
+      if (blocks) then
+        if (self%mats%ours(self%mat(p))) call restore_start(self, p)
+      end if
     end do
     call update_blocks(self, list, self%block_dl, self%block_avg)
     do q = 1, size(list)
