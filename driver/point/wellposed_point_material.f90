@@ -3,8 +3,9 @@
 !> UMAT host (driver/host: wellposed_umat_host), so a user's own UMAT linked
 !> instead of ours is driven the same way. The element is a unit cube at the
 !> origin (CELENT = 1, COORDS = 0), strained homogeneously without rotation
-!> (DROT = I, F = I + eps); KSTEP is the leg, KINC the increment within it,
-!> TIME(1) the time since the leg began and TIME(2) the total time.
+!> (DROT = I, F = I + eps: the host's default kinematics); KSTEP is the leg,
+!> KINC the increment within it, TIME(1) the time since the leg began and
+!> TIME(2) the total time.
 !> Vectors are in Abaqus order (11, 22, 33, 12, 13, 23) with engineering
 !> shear strains; NDI = 3, NSHR = 3, NTENS = 6; tension positive.
 module wellposed_point_material
@@ -63,8 +64,6 @@ contains
     h%kinc = s0%kinc + 1
     h%time = [s0%time - s0%step_start, s0%time]
     h%dtime = dtime
-    h%dfgrd0 = small_strain_f(s0%strain)
-    h%dfgrd1 = small_strain_f(s0%strain + dstran)
     s1 = s0
     call host_call(h, mat%props, s1%stress, s1%statev, s0%strain, dstran, verdict, s1%energy)
     ddsdde = host_tangent(h)
@@ -78,14 +77,5 @@ contains
     s1%time = s0%time + dtime
     s1%kinc = s0%kinc + 1
   end subroutine umat_increment
-
-  !> F = I + eps of a homogeneous small strain without rotation
-  !> (engineering shears halved).
-  pure function small_strain_f(e) result(f)
-    real(dp), intent(in) :: e(ntens)
-    real(dp) :: f(3, 3)
-    f = reshape([1.0_dp + e(1), 0.5_dp*e(4), 0.5_dp*e(5), 0.5_dp*e(4), 1.0_dp + e(2), &
-                 0.5_dp*e(6), 0.5_dp*e(5), 0.5_dp*e(6), 1.0_dp + e(3)], [3, 3])
-  end function small_strain_f
 
 end module wellposed_point_material
