@@ -284,6 +284,8 @@ contains
     integer :: j, k
     ! Column by column (contiguous, no temporaries) into one carry: the
     ! usual all-valid block costs a few vectorised passes and one branch.
+    ! Plain loops, not finite_carry per column: its vector prologue per
+    ! column cost 5 % more on small blocks (1,571 against 1,490 per point).
     carry = 0
     do k = 1, nblock
       carry = ior(carry, ior(nonfinite_bits(density(k)), ior(nonfinite_bits(ener_intern_old(k)), &

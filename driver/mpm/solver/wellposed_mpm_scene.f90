@@ -307,7 +307,7 @@ contains
     logical :: blocks
     ! The block kernel updates in place: restore its particles here; one
     ! it cannot take (a user's UMAT, another material) scene_update restores.
-    blocks = umat_is_ours() .and. .not. associated(self%host%fn)
+    blocks = block_kernel_on(self)
     do q = 1, size(list)
       p = list(q)
       self%done(p) = .false.
@@ -351,7 +351,7 @@ contains
     real(dp), intent(inout) :: dl(:)
     real(dp), intent(in), optional :: avg(:)
     integer :: k, m, q, p
-    if (.not. umat_is_ours() .or. associated(self%host%fn)) return
+    if (.not. block_kernel_on(self)) return
     do k = 1, self%mats%n
       if (.not. self%mats%ours(k)) cycle
       m = 0
@@ -369,6 +369,13 @@ contains
       end associate
     end do
   end subroutine update_blocks
+
+  !> True when our materials go through the block kernel: the linked UMAT
+  !> is wellposed's and no user UMAT procedure is set on the host.
+  logical function block_kernel_on(self)
+    type(mpm_scene_t), intent(in) :: self
+    block_kernel_on = umat_is_ours() .and. .not. associated(self%host%fn)
+  end function block_kernel_on
 
   !> Kinetic energy of the particles on all ranks (J per m^2 of section in
   !> 1D, per m of thickness in 2D; collective).
