@@ -160,12 +160,13 @@ contains
   !> layout, PROPS (fill_dp_params) and DTIME. `fault` is 0 when all hold
   !> (`p` then holds the validated parameters and `want_tangent` says
   !> whether DDSDDE is wanted), else the first check that fails (a fault_*
-  !> code): comparisons only, no text.
+  !> code): comparisons only, no text. `p` is intent(inout) so that it is
+  !> not default-initialised on every call (fill_dp_params assigns it all).
   pure subroutine check_props(ndi, nshr, ntens, nstatv, nprops, props, dtime, p, want_tangent, &
                               fault)
     integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops
     real(dp), intent(in) :: props(nprops), dtime
-    type(dp_params_t), intent(out) :: p
+    type(dp_params_t), intent(inout) :: p
     logical, intent(out) :: want_tangent
     integer, intent(out) :: fault
     real(dp) :: pr(n_params), explicit, dl_form

@@ -65,9 +65,12 @@ contains
   !> Store the 13 parameters (order of PROPS 1-13) with their derived
   !> constants, and check every range: `fault` is 0 when all hold, else the
   !> first check that fails (fault_error turns it into a message). No text
-  !> and no allocation, so a host may call it on every increment.
+  !> and no allocation, so a host may call it on every increment. Every
+  !> component is assigned (gdl .false.; set_dl_form sets it), so `self` is
+  !> intent(inout): intent(out) would default-initialise it first on every
+  !> call. On a fault `self` holds no meaning.
   pure subroutine fill_dp_params(self, v, fault)
-    type(dp_params_t), intent(out) :: self
+    type(dp_params_t), intent(inout) :: self
     real(dp), intent(in) :: v(n_params)
     integer, intent(out) :: fault
     real(dp) :: slope
@@ -105,6 +108,7 @@ contains
     self%p_v = v(9)
     self%p_d = v(10)
     self%tau = v(11)
+    self%gdl = .false.
     self%h_zeta = v(12)
     self%length = v(13)
     self%n_m = normal_norm(v(4))
