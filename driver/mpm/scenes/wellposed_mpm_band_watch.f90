@@ -21,6 +21,7 @@ module wellposed_mpm_band_watch
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_summary, only: summary_t
   use wellposed_mpm_solver, only: mpm_scene_t, plastic_strain
+  use wellposed_mpm_scene, only: platen_base
   use wellposed_mpm_decomposition, only: gather_by_gid
   use wellposed_mpm_band, only: band_fit_t, fit_band, in_grown_box, line_meets_box
   implicit none
@@ -119,7 +120,7 @@ contains
   end subroutine watch_step
 
   !> The mean sigma_yy of the particles in the cell row under the platen's
-  !> lowest node row (by their centres now) over that of the particle
+  !> lowest node row, or its plane with platen = 'contact' (by their centres now) over that of the particle
   !> row(s) within lp of mid-height (by their initial centres), now.
   subroutine top_row_ratio(self, sc, comm)
     type(band_watch_t), intent(inout) :: self
@@ -128,7 +129,7 @@ contains
     real(dp) :: a(4), lp, yg, y
     integer :: p
     lp = 0.5_dp*sc%dx/sc%plate%ppc
-    yg = sc%origin(2) + sc%dx*sc%platen_row
+    yg = platen_base(sc)
     a = 0.0_dp
     do p = 1, sc%parts%n
       y = sc%parts%x(2, p)

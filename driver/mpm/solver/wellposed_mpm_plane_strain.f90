@@ -10,7 +10,8 @@
 !> current top, or at y >= height with platen = 'grid', get (0, v_top),
 !> ramped over ramp_time, for 0 <= x <= width: the platen covers the top
 !> face and no more; with top_lateral_fixed = .false. only v_y; see
-!> platen_nodes) or 'free'; sides
+!> platen_nodes; platen = 'contact': no node, a frictionless plane pushing
+!> on the particles, platen_push) or 'free'; sides
 !> 'free' or 'roller' (v_x = 0 on nodes at x <= 0 and x >= width). Nodes
 !> beyond a boundary line share its condition, so GIMP/CPDI supports
 !> reaching past it see the same velocity.
@@ -28,16 +29,17 @@ module wellposed_mpm_plane_strain
   use wellposed_umat_host, only: host_call, host_error, verdict_ok, verdict_cutback
   use wellposed_mpm_materials, only: single_material
   use wellposed_mpm_exchange, only: mpm_exchange_t
-  use wellposed_mpm_shape_2d, only: support_size_2d, shape2d_reach
+  use wellposed_mpm_particles, only: particles_t
+  use wellposed_mpm_shape_2d, only: support_size_2d, shape2d_reach, shape_2d, shape2d_linear
   use wellposed_mpm_plate_config, only: ps_config_t, check_plate_config, bc_roller, &
                                         bc_fixed2, bc_free2, bc_velocity, bc2_names, &
-                                        platen_surface, platen_names
-  use wellposed_mpm_scene, only: mpm_scene_t, start_scene, setup_ranks, scene_particles, &
-                                 assign_materials, init_particles
+                                        platen_surface, platen_contact, platen_names
+  use wellposed_mpm_scene, only: mpm_scene_t, platen_base, start_scene, setup_ranks, &
+                                 scene_particles, assign_materials, init_particles
   implicit none
   private
-  public :: ps_config_t, new_plate_scene, platen_velocity, platen_nodes, apparent_strain, bc_roller, bc_fixed2, &
-            bc_free2, bc_velocity, bc2_names, platen_names
+  public :: ps_config_t, new_plate_scene, platen_velocity, platen_nodes, platen_push, &
+            apparent_strain, bc_roller, bc_fixed2, bc_free2, bc_velocity, bc2_names, platen_names
 
 contains
 
@@ -170,7 +172,9 @@ contains
       tol = 1.0e-6_dp*cfg%dx
       jtop = self%ny
       if (cfg%top == bc_velocity) then
-        if (cfg%platen == platen_surface) then
+        if (cfg%platen == platen_contact) then
+          jtop = self%ny + 1
+        else if (cfg%platen == platen_surface) then
           jtop = floor((cfg%height + self%top_disp - self%origin(2))/cfg%dx + 1.0e-6_dp)
         else
           jtop = nint((cfg%height - self%origin(2))/cfg%dx)
@@ -203,14 +207,81 @@ contains
     end associate
   end subroutine platen_nodes
 
+  !> The frictionless platen (platen = 'contact'): a rigid plane at
+  !> y = height + top_disp moving at v_top pushes, normal to itself only, on
+  !> every particle whose top edge (the side of its domain, x_p + r2 +- r1,
+  !> r1 = lp_x F e_x, r2 = lp_y F e_y) has passed it by g > 0 (at the edge's
+  !> middle): f = -(k g + c (v_y - v_top)), never a pull, k = M w/lp_y (the
+  !> constrained modulus M over half a particle, w the edge's width) but at
+  !> most m_p/dt^2 (so omega dt <= 1 whatever cfl and ppc), c = sqrt(k m_p)
+  !> (damping ratio 1/2). The force acts where a traction
+  !> does, on the edge: half at each end, with the grid's bilinear weights,
+  !> so a uniform stress is in equilibrium with it on any mesh (a node's
+  !> eq. 4.5 integrates the stress over the body, whose top is that edge).
+  !> Before the ghost sum. docs/mpm.md, "The platen".
+  subroutine platen_push(self, vtop)
+    type(mpm_scene_t), intent(inout) :: self
+    real(dp), intent(in) :: vtop
+    integer :: p, k, e, nodes(4)
+    real(dp) :: y_pl, r1(2), r2(2), edge(2), gap, stiff, force, phi(4), grad(2, 4)
+    associate (cfg => self%plate, pt => self%parts, g => self%grid)
+      if (cfg%top /= bc_velocity .or. cfg%platen /= platen_contact) return
+      y_pl = cfg%height + self%top_disp
+      do p = 1, pt%n
+        call top_edge(pt, p, y_pl, r1, r2, gap)
+        if (.not. gap > 0.0_dp) cycle
+        stiff = min(self%modulus_elastic*2.0_dp*abs(r1(1))/pt%lp(2, p), &
+                    pt%mass(p)/self%dt**2)
+        force = -(stiff*gap + sqrt(stiff*pt%mass(p))*(pt%v(2, p) - vtop))
+        force = 0.5_dp*min(force, 0.0_dp)
+        do e = -1, 1, 2
+          edge = pt%x(:, p) + r2 + e*r1
+          call shape_2d(shape2d_linear, edge, pt%lp(:, p), pt%defgrad(1:2, 1:2, p), &
+                        self%origin, self%dx, self%nx, nodes, phi, grad)
+          do k = 1, 4
+            if (nodes(k) >= g%glo .and. nodes(k) <= g%ghi) &
+              g%fext(2, nodes(k)) = g%fext(2, nodes(k)) + phi(k)*force
+          end do
+        end do
+      end do
+    end associate
+  end subroutine platen_push
+
+  !> Particle p's domain, half side vectors r1 = lp_x F e_x, r2 = lp_y F e_y,
+  !> and the height `gap` of its top edge's middle x_p + r2 above y_pl.
+  pure subroutine top_edge(pt, p, y_pl, r1, r2, gap)
+    type(particles_t), intent(in) :: pt
+    integer, intent(in) :: p
+    real(dp), intent(in) :: y_pl
+    real(dp), intent(out) :: r1(2), r2(2), gap
+    r1 = pt%lp(1, p)*pt%defgrad(1:2, 1, p)
+    r2 = pt%lp(2, p)*pt%defgrad(1:2, 2, p)
+    gap = pt%x(2, p) + r2(2) - y_pl
+  end subroutine top_edge
+
   !> The apparent axial strain (compression +) of the body under the
   !> platen's lowest node row y_g, the body applied_stress averages over:
   !> -top_disp/height while that row lies above the body ('grid'), else
   !> -top_disp/(y_g - top_disp) (the layer above y_g moves with the platen).
-  pure real(dp) function apparent_strain(self) result(e)
+  !> With platen = 'contact' the body's top is the platen's plane less the
+  !> mean penetration of the edges it pushes (weighted by their width).
+  !> Collective.
+  real(dp) function apparent_strain(self) result(e)
     type(mpm_scene_t), intent(in) :: self
-    real(dp) :: yg
-    yg = self%origin(2) + self%dx*self%platen_row
+    real(dp) :: yg, a(2), r1(2), r2(2), gap
+    integer :: p
+    if (self%plate%platen == platen_contact) then
+      a = 0.0_dp
+      do p = 1, self%parts%n
+        call top_edge(self%parts, p, self%plate%height + self%top_disp, r1, r2, gap)
+        if (gap > 0.0_dp) a = a + [gap*abs(r1(1)), abs(r1(1))]
+      end do
+      call self%exchange%sum_reals(a)
+      if (a(2) > 0.0_dp) a(1) = a(1)/a(2)
+      e = -(self%top_disp + a(1))/self%plate%height
+      return
+    end if
+    yg = platen_base(self)
     if (yg >= self%plate%height + self%top_disp) then
       e = -self%top_disp/self%plate%height
     else

@@ -12,7 +12,7 @@ module wellposed_mpm_plate_config
   implicit none
   private
   public :: ps_config_t, check_plate_config, bc_roller, bc_fixed2, bc_free2, bc_velocity, bc2_names
-  public :: platen_surface, platen_grid, platen_names
+  public :: platen_surface, platen_grid, platen_contact, platen_names
 
   !> Boundary kinds in 2D.
   integer, parameter :: bc_roller = 1, bc_fixed2 = 2, bc_free2 = 3, bc_velocity = 4
@@ -21,9 +21,11 @@ module wellposed_mpm_plate_config
   integer, parameter :: max_props2 = 40
   !> Where the platen acts (docs/mpm.md, "The platen"): 'surface', on the
   !> nodes at and above the highest node row at or below the body's current
-  !> top; 'grid', on the fixed node row y = height and above.
-  integer, parameter :: platen_surface = 1, platen_grid = 2
-  character(len=8), parameter :: platen_names(2) = [character(len=8) :: 'surface', 'grid']
+  !> top; 'grid', on the fixed node row y = height and above; 'contact', a
+  !> frictionless rigid plane pressing on the particles (no node condition).
+  integer, parameter :: platen_surface = 1, platen_grid = 2, platen_contact = 3
+  character(len=8), parameter :: platen_names(3) = [character(len=8) :: 'surface', 'grid', &
+                                                    'contact']
 
   !> One plane-strain scene (defaults: the 4 m x 5 m plate of fig. 4.1 with
   !> the local softening material of section 4.7.1, h = 0.5 m).
@@ -97,6 +99,12 @@ contains
     end if
     if (cfg%ramp_time < 0.0_dp) then
       call bad('boundary', 'ramp_time', 'must be >= 0 s'); return
+    end if
+    if (cfg%top == bc_velocity .and. cfg%platen == platen_contact .and. &
+        cfg%top_lateral_fixed) then
+      call bad('boundary', 'platen', "= 'contact' is frictionless (it pushes normal to the "// &
+        "top only) and cannot hold the top laterally: set top_lateral = 'free', or use "// &
+        "platen = 'surface' for a clamped top"); return
     end if
   contains
     subroutine bad(group, key, what)

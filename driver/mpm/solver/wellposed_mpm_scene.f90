@@ -14,7 +14,7 @@ module wellposed_mpm_scene
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_mpm_config, only: mpm_config_t
-  use wellposed_mpm_plate_config, only: ps_config_t
+  use wellposed_mpm_plate_config, only: ps_config_t, platen_contact
   use wellposed_mpm_grid, only: grid_t, new_grid
   use wellposed_mpm_particles, only: particles_t, new_particles
   use wellposed_mpm_exchange, only: mpm_exchange_t, mpm_serial_t
@@ -26,8 +26,9 @@ module wellposed_mpm_scene
                                     new_nonlocal, nonlocal_ghost_nodes
   implicit none
   private
-  public :: mpm_scene_t, start_scene, init_particles, size_workspace, setup_ranks, kinetic_energy, total_momentum, &
-            applied_stress, plastic_strain, max_substeps, plastic_count, scene_particles, &
+  public :: mpm_scene_t, start_scene, init_particles, size_workspace, setup_ranks, &
+            kinetic_energy, total_momentum, applied_stress, platen_base, plastic_strain, &
+            max_substeps, plastic_count, scene_particles, &
             assign_materials, timer_transfer, timer_grid, timer_umat, ntimers
 
   integer, parameter :: timer_transfer = 1, timer_grid = 2, timer_umat = 3, ntimers = 3
@@ -418,11 +419,23 @@ contains
     integer :: n
     real(dp) :: a(1), yg
     n = self%parts%n
-    yg = self%origin(2) + self%dx*self%platen_row
+    yg = platen_base(self)
     a(1) = sum(self%parts%stress(2, 1:n)*self%parts%vol(1:n), mask=self%parts%x(2, 1:n) < yg)
     call self%exchange%sum_reals(a)
     s = -a(1)/(self%plate%width*min(yg, self%plate%height + self%top_disp))
   end function applied_stress
+
+  !> The height y_g under which the plate's body is measured (applied_stress,
+  !> the top cell row's stress ratio): the platen's lowest node row, or the
+  !> platen's plane with platen = 'contact' (no node row; docs/mpm.md).
+  pure real(dp) function platen_base(self) result(yg)
+    type(mpm_scene_t), intent(in) :: self
+    if (self%plate%platen == platen_contact) then
+      yg = self%plate%height + self%top_disp
+    else
+      yg = self%origin(2) + self%dx*self%platen_row
+    end if
+  end function platen_base
 
   !> Magnitude of the plastic strain tensor ||eps^p|| of each particle
   !> (STATEV 5-10, engineering shears halved), as in fig. 4.2 and 4.4;

@@ -58,7 +58,8 @@ module wellposed_mpm_solver
                                  timer_transfer, timer_grid, timer_umat, ntimers
   use wellposed_mpm_bar, only: new_bar_scene, probe_moduli, bar_load_t, bar_traction, &
                                bar_impulse, bar_external_work
-  use wellposed_mpm_plane_strain, only: new_plate_scene, platen_velocity, platen_nodes
+  use wellposed_mpm_plane_strain, only: new_plate_scene, platen_velocity, platen_nodes, &
+                                        platen_push
   implicit none
   private
   public :: mpm_scene_t, new_scene, advance, kinetic_energy, total_momentum, applied_stress, &
@@ -110,6 +111,7 @@ contains
       if (allocated(err)) return
       ! --- particle to grid: eq. 4.4, momentum, eq. 4.5 (sigma - q I)
       call p2g(g, pt, n, self%q, self%nnz)
+      if (d == 2) call platen_push(self, platen_velocity(self%plate, self%t, dt))
       call ex%sum_grid(g, .false.)
       ! --- the load: the bar's surface traction, the plate's platen
       given = 0.0_dp
