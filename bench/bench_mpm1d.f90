@@ -8,7 +8,9 @@
 !> velocity gradient, F) and the grid update; bytes per particle. Target:
 !> GIMP <= 6x the trial. Never a pass/fail on wall time. A third row runs
 !> the GIMP scene with every particle through its own UMAT call (the path
-!> a user's UMAT takes; ours goes a block of particles at a time).
+!> a user's UMAT takes; ours goes a block of particles at a time), and a
+!> fourth with &time mass = 'blended' (the particles' mass matrix solved in
+!> the grid update: its cost against the lumped row).
 !>
 !> After `nwarm` warm-up steps (the pulse is then inside the body), `nrounds`
 !> rounds each time the trial and nsteps/nrounds steps; the fastest round of
@@ -18,7 +20,8 @@ program bench_mpm1d
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
-  use wellposed_mpm_config, only: mpm_config_t, shape_gimp, shape_linear, shape_names
+  use wellposed_mpm_config, only: mpm_config_t, shape_gimp, shape_linear, shape_names, &
+                                  mass_lumped, mass_blended
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, timer_umat, &
                                   timer_transfer, timer_grid, plastic_count
   use wellposed_mpm_particles, only: particle_bytes
@@ -49,7 +52,7 @@ program bench_mpm1d
     per_round, ' steps; the trial timed in every round'
   write (output_unit, '(a)') '  shape   ns/particle/step  trial ns  /trial  target  plastic'// &
     '  stress-update share  transfer share  grid share  bytes/particle'
-  do row = 1, 3
+  do row = 1, 4
     kind = merge(shape_linear, shape_gimp, row == 1)
     cfg%name = 'bench'
     cfg%title = 'bench'
@@ -62,6 +65,7 @@ program bench_mpm1d
     cfg%props(prop_k0) = 5.066e6_dp
     cfg%props(prop_explicit) = 1.0_dp
     cfg%nprops = prop_explicit
+    cfg%mass = merge(mass_blended, mass_lumped, row == 4)
     call new_scene(sc, cfg, err)
     if (allocated(err)) error stop 'bench_mpm1d: scene'
     label = shape_names(kind)
@@ -69,6 +73,7 @@ program bench_mpm1d
       sc%host%fn => umat     ! the per-particle path of a user's UMAT
       label = 'gimp*'
     end if
+    if (row == 4) label = 'gimp+M'
     do k = 1, nwarm
       call advance(sc, err)
       if (allocated(err)) error stop 'bench_mpm1d: warm-up'
@@ -95,7 +100,8 @@ program bench_mpm1d
       real(sc%ticks(timer_grid), dp)/tot, particle_bytes(1, sc%parts%nsup, cfg%nstatv)
   end do
   write (output_unit, '(a)') '  (target: GIMP <= 6x the trial; gimp*: one UMAT call per '// &
-    'particle, as for a user''s UMAT; plastic: the most particles plastic in one timed step; '// &
-    'shares of the step''s wall ticks)'
+    'particle, as for a user''s UMAT; gimp+M: &time mass = ''blended'', counted in the grid '// &
+    'share; plastic: the most particles plastic in one timed step; shares of the step''s '// &
+    'wall ticks)'
   if (sink == 0.0_dp) write (output_unit, '(a)') ''
 end program bench_mpm1d

@@ -1,15 +1,16 @@
 !> The one adapter to LAPACK for wellposed: explicit interfaces to DSYEV,
-!> DGEEV and DGESVD, and three small wrappers with errors as values:
+!> DGEEV, DGESVD and DPBSV, and small wrappers with errors as values:
 !> symmetric eigenpairs, eigenvalues of a general matrix (real and
-!> imaginary parts), and the Moore-Penrose pseudo-inverse by the SVD (the
-!> best-fit map L = R S^+ of section 3.5). Work arrays are queried
+!> imaginary parts), the Moore-Penrose pseudo-inverse by the SVD (the
+!> best-fit map L = R S^+ of section 3.5), and a banded symmetric positive
+!> definite solve (the MPM's mass matrix of a bar). Work arrays are queried
 !> from LAPACK and allocated per call (no saved state).
 module wellposed_lapack
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   implicit none
   private
-  public :: sym_eigen, general_eigenvalues, pseudo_inverse
+  public :: sym_eigen, general_eigenvalues, pseudo_inverse, spd_band_solve
 
   interface
     subroutine dsyev(jobz, uplo, n, a, lda, w, work, lwork, info)
@@ -36,6 +37,13 @@ module wellposed_lapack
       real(dp), intent(out) :: s(*), u(ldu, *), vt(ldvt, *), work(*)
       integer, intent(out) :: info
     end subroutine dgesvd
+    subroutine dpbsv(uplo, n, kd, nrhs, ab, ldab, b, ldb, info)
+      import :: dp
+      character(len=1), intent(in) :: uplo
+      integer, intent(in) :: n, kd, nrhs, ldab, ldb
+      real(dp), intent(inout) :: ab(ldab, *), b(ldb, *)
+      integer, intent(out) :: info
+    end subroutine dpbsv
   end interface
 
 contains
@@ -108,5 +116,17 @@ contains
     end do
     if (present(sv)) sv(1:k) = s
   end subroutine pseudo_inverse
+
+  !> Solve A x = b for a symmetric positive definite band matrix A held in
+  !> `ab` (kd + 1, n) as its lower band, ab(1 + i - j, j) = A(i, j) (DPBSV);
+  !> `b` becomes x and `ab` its Cholesky factor. `ok` is false when A is not
+  !> positive definite (b is then not a solution).
+  subroutine spd_band_solve(ab, b, ok)
+    real(dp), intent(inout) :: ab(:, :), b(:)
+    logical, intent(out) :: ok
+    integer :: info
+    call dpbsv('L', size(ab, 2), size(ab, 1) - 1, 1, ab, size(ab, 1), b, size(b), info)
+    ok = info == 0
+  end subroutine spd_band_solve
 
 end module wellposed_lapack

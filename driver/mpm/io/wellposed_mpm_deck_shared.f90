@@ -3,7 +3,8 @@
 !> group and key):
 !>   &scene    name, title, kind (wellposed_mpm_scene_kind)
 !>   &grid     dx (m), ppc, pad_cells, shape; bars: length (m), far_end
-!>   &time     t_end (s), cfl, scheme ('musl'|'usl'); plates: stop_on_cutback
+!>   &time     t_end (s), cfl, scheme ('musl'|'usl'); plates: stop_on_cutback;
+!>             bars: mass ('lumped'|'consistent'|'blended')
 !>   &material one or more groups (wellposed_mpm_material_deck)
 !>   &viscosity a1, a2: the bulk artificial viscosity of the step
 !>             (wellposed_mpm_solver), q = rho (a1 c |D_kk| dx + a2 D_kk^2
@@ -35,7 +36,7 @@ module wellposed_mpm_deck_shared
   use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_scheme_names, &
                                              nl_scheme_id, nl_sweep_names, nl_sweep_id
   use wellposed_mpm_nonlocal_deck, only: resolve_nonlocal
-  use wellposed_mpm_config, only: scheme_names
+  use wellposed_mpm_config, only: scheme_names, mass_names
   implicit none
   private
   public :: shared_deck_t, read_shared_deck, max_cases, shared_groups
@@ -53,8 +54,8 @@ module wellposed_mpm_deck_shared
     real(dp) :: length = 0.0_dp                 !< bar length (m)
     real(dp) :: dx = 0.25_dp                    !< cell size (m)
     integer :: ppc = 2, pad_cells = 2
-    character(len=16) :: shape = 'gimp', far_end = 'fixed', scheme = 'musl'
-    integer :: shape_id = 0, far_end_id = 0, scheme_id = 0
+    character(len=16) :: shape = 'gimp', far_end = 'fixed', scheme = 'musl', mass = 'lumped'
+    integer :: shape_id = 0, far_end_id = 0, scheme_id = 0, mass_id = 0
     real(dp) :: t_end = 0.0_dp, cfl = 0.2_dp
     logical :: stop_on_cutback = .false.
     real(dp) :: visc_a1 = 0.0_dp, visc_a2 = 0.0_dp  !< &viscosity a1, a2
@@ -146,7 +147,11 @@ contains
           call note('grid', 'far_end')
       case ('time')
         call read_time(given, ios, msg, unit, line)
-        if (ios /= 0 .or. kind /= scene_kind_bar) return
+        if (ios /= 0) return
+        if (kind /= scene_kind_bar) then
+          if (len_trim(given%mass) > 0) call note('time', 'mass')
+          return
+        end if
         ! a logical has no unset value: read again from the opposite value;
         ! the key was given when both reads agree
         soc = given%stop_on_cutback
@@ -189,7 +194,7 @@ contains
     type(shared_deck_t), intent(out) :: sh
     sh%name = achar(0); sh%title = achar(0)
     sh%length = unset; sh%dx = unset; sh%ppc = -huge(1); sh%pad_cells = -huge(1)
-    sh%shape = ''; sh%far_end = ''; sh%scheme = ''
+    sh%shape = ''; sh%far_end = ''; sh%scheme = ''; sh%mass = ''
     sh%t_end = unset; sh%cfl = unset; sh%stop_on_cutback = .false.
     sh%visc_a1 = unset; sh%visc_a2 = unset
     sh%sample_dt = unset; sh%snapshot_dt = unset
@@ -210,6 +215,7 @@ contains
     if (len_trim(g%shape) > 0) sh%shape = g%shape
     if (len_trim(g%far_end) > 0) sh%far_end = g%far_end
     if (len_trim(g%scheme) > 0) sh%scheme = g%scheme
+    if (len_trim(g%mass) > 0) sh%mass = g%mass
     if (is_set(g%t_end)) sh%t_end = g%t_end
     if (is_set(g%cfl)) sh%cfl = g%cfl
     if (is_set(g%visc_a1)) sh%visc_a1 = g%visc_a1
@@ -240,6 +246,8 @@ contains
     if (allocated(err)) return
     if (kind == scene_kind_bar) then
       call check_word(path, 'grid', 'far_end', sh%far_end, far_ends, sh%far_end_id, err)
+      if (allocated(err)) return
+      call check_word(path, 'time', 'mass', sh%mass, mass_names, sh%mass_id, err)
       if (allocated(err)) return
     end if
     call check_word(path, 'time', 'scheme', sh%scheme, scheme_names, sh%scheme_id, err)
@@ -326,14 +334,16 @@ contains
     integer, intent(in), optional :: unit
     character(len=*), intent(in), optional :: line
     real(dp) :: t_end, cfl
-    character(len=16) :: scheme
+    character(len=16) :: scheme, mass
     logical :: stop_on_cutback
-    namelist /time/ t_end, cfl, scheme, stop_on_cutback
+    namelist /time/ t_end, cfl, scheme, stop_on_cutback, mass
     t_end = g%t_end; cfl = g%cfl; scheme = g%scheme; stop_on_cutback = g%stop_on_cutback
+    mass = g%mass
     ios = 0
     if (present(unit)) read (unit, nml=time, iostat=ios, iomsg=msg)
     if (present(line)) read (line, nml=time, iostat=ios, iomsg=msg)
     g%t_end = t_end; g%cfl = cfl; g%scheme = scheme; g%stop_on_cutback = stop_on_cutback
+    g%mass = mass
   end subroutine read_time
 
   subroutine read_output(g, ios, msg, unit, line)

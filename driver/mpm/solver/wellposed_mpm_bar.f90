@@ -63,6 +63,11 @@ contains
     call setup_ranks(self, cfg%nonlocal, ncells + 1, &
                      merge(0, 1, cfg%shape == shape_linear), err, exchange)
     if (allocated(err)) return
+    if (cfg%mass /= mass_lumped .and. self%exchange%nranks() > 1) then
+      call new_error(err, status_invalid, 'mass', '&time mass = '''// &
+        trim(mass_names(cfg%mass))//''' solves the mass matrix on one rank only; run it '// &
+        'without mpirun, or with mass = ''lumped'''); return
+    end if
     self%node_surface = cfg%pad_cells
     self%node_far = cfg%pad_cells + ncell_body
     select case (cfg%bc_far)
@@ -179,6 +184,11 @@ contains
     end if
     if (.not. (cfg%sample_dt > 0.0_dp)) then
       call bad('output', 'sample_dt', 'must be > 0 s', err); return
+    end if
+    if (cfg%mass /= mass_lumped .and. cfg%shape == shape_linear .and. cfg%ppc == 1) then
+      call bad('time', 'mass', '= '''//trim(mass_names(cfg%mass))//''' needs ppc >= 2 or '// &
+        'GIMP weights: with one particle per cell and linear weights the particles'' '// &
+        'mass matrix is singular (a node-to-node alternation no particle sees)', err); return
     end if
   contains
     pure subroutine bad(group, key, what, e)

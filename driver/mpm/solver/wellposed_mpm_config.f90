@@ -10,7 +10,8 @@ module wellposed_mpm_config
   private
   public :: mpm_config_t, shape_linear, shape_gimp, shape_names, scheme_usl, scheme_musl, &
             scheme_names, bc_fixed, bc_symmetric, bc_free, bc_names, pulse_triangle, &
-            pulse_cosine, pulse_ramp_sine, pulse_names, max_props
+            pulse_cosine, pulse_ramp_sine, pulse_names, max_props, mass_lumped, &
+            mass_consistent, mass_blended, mass_names
 
   !> Shape function families (eq. 4.6-4.8): standard MPM (Dirac chi_p)
   !> and uGIMP (undeforming particle domain). CPDI comes with 2D.
@@ -21,6 +22,13 @@ module wellposed_mpm_config
   !> rebuilt from the updated particle velocities before the strain rate).
   integer, parameter :: scheme_usl = 1, scheme_musl = 2
   character(len=4), parameter :: scheme_names(2) = [character(len=4) :: 'usl', 'musl']
+  !> The mass matrix of a bar's grid acceleration (wellposed_mpm_mass_matrix):
+  !> 'lumped' (eq. 4.9), 'consistent' (the particles' M_P: the rebuilt grid
+  !> velocity follows the lumped-mass finite-element update) or 'blended'
+  !> (it follows the average of the lumped and consistent masses).
+  integer, parameter :: mass_lumped = 1, mass_consistent = 2, mass_blended = 3
+  character(len=10), parameter :: mass_names(3) = [character(len=10) :: 'lumped', &
+                                                   'consistent', 'blended']
   !> Far-end conditions. In uniaxial strain a symmetry plane and a fixed end
   !> both hold v_x = 0; they are kept apart because 2D distinguishes them.
   integer, parameter :: bc_fixed = 1, bc_symmetric = 2, bc_free = 3
@@ -47,6 +55,7 @@ module wellposed_mpm_config
     integer :: pad_cells = 3            !< empty cells beyond each end of the body
     integer :: shape = shape_gimp
     integer :: scheme = scheme_musl
+    integer :: mass = mass_lumped       !< the grid acceleration's mass matrix
     integer :: bc_far = bc_fixed        !< condition at x = length
     ! time (s)
     real(dp) :: t_end = 0.3_dp

@@ -43,7 +43,8 @@ module wellposed_mpm_solver
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_cutback
   use wellposed_text, only: int_text, real_text
-  use wellposed_mpm_config, only: mpm_config_t, scheme_musl
+  use wellposed_mpm_config, only: mpm_config_t, scheme_musl, mass_lumped
+  use wellposed_mpm_mass_matrix, only: mass_matrix_update
   use wellposed_mpm_plate_config, only: ps_config_t, bc_velocity
   use wellposed_mpm_grid, only: cell_layer
   use wellposed_mpm_shape, only: shape_1d
@@ -126,6 +127,10 @@ contains
       ! whole patch: ghost nodes hold the same sums as their owners
       mmin = self%mass_floor
       call grid_update(g, dt, mmin, given, reaction)
+      if (d == 1 .and. self%bar%mass /= mass_lumped) then
+        call mass_matrix_update(self%bar%mass, g, pt, n, self%nnz, dt, mmin, err)
+        if (allocated(err)) return
+      end if
       if (d == 1) call bar_impulse(self, load, reaction(1))
       call tick(timer_grid)
       ! --- grid to particle: FLIP velocity (eq. 4.13), position (eq. 4.12)
