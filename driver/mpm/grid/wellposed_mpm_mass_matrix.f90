@@ -38,7 +38,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     real(dp), allocatable :: mp(:, :), h(:, :), a(:)
     logical, allocatable :: free(:), lumped(:)
-    integer :: i, j, kd, nn
+    integer :: i, j, k, kd, nn
     logical :: ok
 
     kd = max(1, pt%nsup - 1)
@@ -52,10 +52,16 @@ contains
     ! row: M_P alone would give it an acceleration of order f/(phi m_p)
     ! for a weight phi -> 0 (an edge node, a particle leaving its cell).
     lumped = free .and. mp(1, :) < 0.25_dp*g%mass
-    if (any(lumped)) then
-      free = free .and. .not. lumped
-      call particle_mass(g%glo, kd, free, pt, n, nnz, mp)
-    end if
+    do i = g%glo, g%ghi
+      if (.not. lumped(i)) cycle
+      j = i - g%glo + 1
+      ! its row and column out of the band: A(j + k, j) and A(j, j - k)
+      mp(:, j) = 0.0_dp
+      do k = 1, min(kd, j - 1)
+        mp(1 + k, j - k) = 0.0_dp
+      end do
+    end do
+    free = free .and. .not. lumped
     do i = g%glo, g%ghi
       j = i - g%glo + 1
       a(j) = merge(g%fint(1, i) + g%fext(1, i), 0.0_dp, free(i) .or. lumped(i))
