@@ -43,9 +43,8 @@ contains
 
     kd = max(1, pt%nsup - 1)
     nn = g%ghi - g%glo + 1
-    allocate (free(g%glo:g%ghi), a(nn))
+    allocate (free(g%glo:g%ghi), lumped(g%glo:g%ghi), a(nn))
     free = g%mass > mmin .and. .not. (g%fixed(1, :) .or. g%given(1, :))
-    allocate (lumped(g%glo:g%ghi))
     call particle_mass(g%glo, kd, free, pt, n, nnz, mp)
     ! A node its particles see only faintly (M_P's diagonal below a quarter
     ! of its lumped mass; 5/8 for a full node at ppc 2) keeps the lumped
@@ -53,21 +52,19 @@ contains
     ! for a weight phi -> 0 (an edge node, a particle leaving its cell).
     lumped = free .and. mp(1, :) < 0.25_dp*g%mass
     do i = g%glo, g%ghi
-      if (.not. lumped(i)) cycle
       j = i - g%glo + 1
-      ! its row and column out of the band: A(j + k, j) and A(j, j - k)
-      mp(:, j) = 0.0_dp
-      do k = 1, min(kd, j - 1)
-        mp(1 + k, j - k) = 0.0_dp
-      end do
+      a(j) = merge(g%fint(1, i) + g%fext(1, i), 0.0_dp, free(i))
+      if (lumped(i)) then
+        ! its row and column out of the band (A(j + k, j), A(j, j - k)), m_i on it
+        mp(:, j) = 0.0_dp
+        do k = 1, min(kd, j - 1)
+          mp(1 + k, j - k) = 0.0_dp
+        end do
+        mp(1, j) = g%mass(i)
+      else if (.not. free(i)) then
+        mp(1, j) = 1.0_dp    ! x_i = 0: an identity row (assembled empty)
+      end if
     end do
-    free = free .and. .not. lumped
-    do i = g%glo, g%ghi
-      j = i - g%glo + 1
-      a(j) = merge(g%fint(1, i) + g%fext(1, i), 0.0_dp, free(i) .or. lumped(i))
-      if (.not. free(i)) mp(1, j) = merge(g%mass(i), 1.0_dp, lumped(i))  ! else x_i = 0
-    end do
-    free = free .or. lumped
     if (kind == mass_blended) then
       h = 0.5_dp*mp
       do i = g%glo, g%ghi

@@ -120,8 +120,9 @@ contains
   end subroutine watch_step
 
   !> The mean sigma_yy of the particles in the cell row under the platen's
-  !> lowest node row, or its plane with platen = 'contact' (by their centres now) over that of the particle
-  !> row(s) within lp of mid-height (by their initial centres), now.
+  !> lowest node row, or its plane with platen = 'contact' (by their
+  !> centres now), over that of the particle row(s) within lp of mid-height
+  !> (by their initial centres), now.
   subroutine top_row_ratio(self, sc, comm)
     type(band_watch_t), intent(inout) :: self
     type(mpm_scene_t), intent(in) :: sc
