@@ -47,17 +47,27 @@ contains
     free = g%mass > mmin .and. .not. (g%fixed(1, :) .or. g%given(1, :))
     call particle_mass(g%glo, kd, free, pt, n, nnz, mp)
     ! A node its particles see only faintly (M_P's diagonal below a quarter
-    ! of its lumped mass; 5/8 for a full node at ppc 2) keeps the lumped
-    ! row: M_P alone would give it an acceleration of order f/(phi m_p)
-    ! for a weight phi -> 0 (an edge node, a particle leaving its cell).
+    ! of its lumped mass; 5/8 for a full node at ppc 2) keeps the lumped row:
+    ! M_P alone would give it an acceleration of order f/(phi m_p) for a
+    ! weight phi -> 0 (an edge node, a particle leaving its cell; solved so
+    ! down to 1/10 or 1/20 of it, the loaded end of a fine bar went
+    ! unstable). Its couplings move onto its neighbours' diagonals, so every
+    ! row still sums to its lumped mass and a uniform acceleration stays
+    ! exact: dropped, they left the neighbour's equation short, and a surface
+    ! drifting past a node pumped a grid-scale oscillation into the bar
+    ! (docs/verification.md, "Against the continuum").
     lumped = free .and. mp(1, :) < 0.25_dp*g%mass
     do i = g%glo, g%ghi
       j = i - g%glo + 1
       a(j) = merge(g%fint(1, i) + g%fext(1, i), 0.0_dp, free(i))
       if (lumped(i)) then
-        ! its row and column out of the band (A(j + k, j), A(j, j - k)), m_i on it
-        mp(:, j) = 0.0_dp
+        ! A(j + k, j) and A(j, j - k) onto A(j + k, j + k) and A(j - k, j - k)
+        do k = 1, min(kd, size(mp, 2) - j)
+          mp(1, j + k) = mp(1, j + k) + mp(1 + k, j)
+          mp(1 + k, j) = 0.0_dp
+        end do
         do k = 1, min(kd, j - 1)
+          mp(1, j - k) = mp(1, j - k) + mp(1 + k, j - k)
           mp(1 + k, j - k) = 0.0_dp
         end do
         mp(1, j) = g%mass(i)
