@@ -15,7 +15,8 @@
 !> After `nwarm` warm-up steps (the pulse is then inside the body), `nrounds`
 !> rounds each time the trial and nsteps/nrounds steps; the fastest round of
 !> each is kept, so that other users of a shared machine inflate neither.
-!> Usage: bench_mpm1d [NSTEPS] (default 2000; 50 is enough under callgrind).
+!> Usage: bench_mpm1d [NSTEPS [ROW]] (NSTEPS default 2000, 50 is enough under
+!> callgrind; ROW 1-4 runs that row alone, for an instruction profile of one).
 program bench_mpm1d
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
@@ -36,13 +37,21 @@ program bench_mpm1d
   type(mpm_config_t) :: cfg
   type(mpm_scene_t) :: sc
   type(error_t), allocatable :: err
-  integer :: kind, k, round, per_round, nplastic, row
+  integer :: kind, k, round, per_round, nplastic, row, row_first, row_last
   character(len=6) :: label
   real(dp) :: ns, trial, t0, t1, tot, sink
 
   if (command_argument_count() >= 1) then
     call get_command_argument(1, arg)
     read (arg, *) nsteps
+  end if
+  row_first = 1
+  row_last = 4
+  if (command_argument_count() >= 2) then
+    call get_command_argument(2, arg)
+    read (arg, *) row_first
+    if (row_first < 1 .or. row_first > 4) error stop 'bench_mpm1d: ROW is 1 to 4'
+    row_last = row_first
   end if
   per_round = max(1, nsteps/nrounds)
   sink = 0.0_dp
@@ -52,7 +61,7 @@ program bench_mpm1d
     per_round, ' steps; the trial timed in every round'
   write (output_unit, '(a)') '  shape   ns/particle/step  trial ns  /trial  target  plastic'// &
     '  stress-update share  transfer share  grid share  bytes/particle'
-  do row = 1, 4
+  do row = row_first, row_last
     kind = merge(shape_linear, shape_gimp, row == 1)
     cfg%name = 'bench'
     cfg%title = 'bench'
