@@ -1,4 +1,4 @@
-!> The wake behind a 1D pulse at a station (docs/verification.md, "The wake
+!> The wake behind a 1D pulse at a station (docs/waves.md, "The wake
 !> oscillation"): once the pulse has passed, the continuum's stress at the
 !> station is at or near its initial value (the surface load is back at its
 !> base; behind a plastic pulse a smooth signal remains), so what remains is

@@ -1,5 +1,5 @@
 !> The grid acceleration of a bar with the particles' mass matrix instead of
-!> the lumped one (&time mass; docs/verification.md, "The wake oscillation").
+!> the lumped one (&time mass; docs/waves.md, "The wake oscillation").
 !>
 !> Each step the MPM rebuilds the grid velocity from the particles'
 !> momentum, m_i v_i = sum_p phi_ip m_p v_p, and FLIP moves the particles by
@@ -55,7 +55,7 @@ contains
     ! row still sums to its lumped mass and a uniform acceleration stays
     ! exact: dropped, they left the neighbour's equation short, and a surface
     ! drifting past a node pumped a grid-scale oscillation into the bar
-    ! (docs/verification.md, "Against the continuum").
+    ! (docs/waves.md, "Against the continuum").
     lumped = free .and. mp(1, :) < 0.25_dp*g%mass
     do i = g%glo, g%ghi
       j = i - g%glo + 1
