@@ -13,7 +13,7 @@ module wellposed_mpm_shape
   use wellposed_mpm_config, only: shape_linear, shape_gimp
   implicit none
   private
-  public :: support_size, shape_1d, gimp_weight, linear_weight
+  public :: support_size, shape_1d, gimp_weight, linear_weight, nearest_node
 
 contains
 
@@ -27,6 +27,22 @@ contains
       support_size = 2
     end select
   end function support_size
+
+  !> nint(s), the node nearest a particle at s cells from node 0 (halves
+  !> away from zero), without the libm call (lround) gfortran makes for
+  !> nint: truncate, then round the fraction s - int(s), which is exact for
+  !> |s| < 2**31. A fifth of a 1D GIMP particle's shape-weight instructions.
+  elemental integer function nearest_node(s) result(i)
+    real(dp), intent(in) :: s
+    real(dp) :: r
+    i = int(s)
+    r = s - real(i, dp)
+    if (r >= 0.5_dp) then
+      i = i + 1
+    else if (r <= -0.5_dp) then
+      i = i - 1
+    end if
+  end function nearest_node
 
   !> Weights of one particle at x (m), half-width lp (m), on a grid with node
   !> 0 at `origin` and cell size h: nodes(k) global node numbers, phi(k)
@@ -42,7 +58,7 @@ contains
     s = (x - origin)/h
     select case (kind)
     case (shape_gimp)
-      i0 = nint(s) - 1
+      i0 = nearest_node(s) - 1
       do k = 1, 3
         nodes(k) = i0 + k - 1
         call gimp_weight(x - (origin + real(nodes(k), dp)*h), lp, h, phi(k), grad(k))

@@ -17,7 +17,7 @@
 !> weight, so loops over nsup entries need no test. Units: m, 1/m.
 module wellposed_mpm_shape_2d
   use wellposed_kinds, only: dp
-  use wellposed_mpm_shape, only: gimp_weight
+  use wellposed_mpm_shape, only: gimp_weight, nearest_node
   implicit none
   private
   public :: shape2d_linear, shape2d_gimp, shape2d_cpdi, shape2d_names, support_size_2d, &
@@ -78,7 +78,7 @@ contains
     select case (kind)
     case (shape2d_gimp)
       s = (xp - origin)/h
-      i0 = nint(s) - 1
+      i0 = nearest_node(s) - 1
       do a = 1, 3
         call gimp_weight(xp(1) - (origin(1) + (i0(1) + a - 1)*h), lp(1), h, sx(a), dsx(a))
         call gimp_weight(xp(2) - (origin(2) + (i0(2) + a - 1)*h), lp(2), h, sy(a), dsy(a))

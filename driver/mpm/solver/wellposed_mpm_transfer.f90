@@ -50,17 +50,8 @@ contains
     real(dp) :: w, qp, s11, s22, s12, vol, f1, f2
     call grid_reset(g)
     if (g%ndim == 1) then
-      do p = 1, n
-        qp = 0.0_dp
-        if (present(q)) qp = q(p)
-        do k = 1, nodes_of(pt, p, nnz)
-          i = pt%node(k, p)
-          w = pt%phi(k, p)*pt%mass(p)
-          g%mass(i) = g%mass(i) + w
-          g%momentum(1, i) = g%momentum(1, i) + w*pt%v(1, p)
-          g%fint(1, i) = g%fint(1, i) - pt%vol(p)*(pt%stress(1, p) - qp)*pt%grad(1, k, p)
-        end do
-      end do
+      call p2g_bar(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
+                   size(pt%stress, 1), g%glo, g%ghi, g%mass, g%momentum, g%fint, q, nnz)
       return
     end if
     do p = 1, n
@@ -85,6 +76,36 @@ contains
     end do
   end subroutine p2g
 
+  !> p2g of a bar on plain arrays: explicit shapes carry no descriptors to
+  !> reload after each store to the grid, and dummies are distinct, so the
+  !> particle's factors stay in registers. The arithmetic is p2g's.
+  pure subroutine p2g_bar(n, m, node, phi, grad, mass, v, vol, stress, ns, glo, ghi, gm, gp, &
+                          gf, q, nnz)
+    integer, intent(in) :: n, m, ns, glo, ghi, node(m, *)
+    real(dp), intent(in) :: phi(m, *), grad(m, *), mass(*), v(*), vol(*), stress(ns, *)
+    real(dp), intent(inout) :: gm(glo:ghi), gp(glo:ghi), gf(glo:ghi)
+    real(dp), intent(in), optional :: q(*)
+    integer, intent(in), optional :: nnz(*)
+    integer :: p, k, i, mk
+    real(dp) :: w, qp, mp, v1, vs
+    mk = m
+    do p = 1, n
+      qp = 0.0_dp
+      if (present(q)) qp = q(p)
+      if (present(nnz)) mk = nnz(p)
+      mp = mass(p)
+      v1 = v(p)
+      vs = vol(p)*(stress(1, p) - qp)
+      do k = 1, mk
+        i = node(k, p)
+        w = phi(k, p)*mp
+        gm(i) = gm(i) + w
+        gp(i) = gp(i) + w*v1
+        gf(i) = gf(i) - vs*grad(k, p)
+      end do
+    end do
+  end subroutine p2g_bar
+
   !> The momentum of particles 1 .. n alone on the grid (MUSL's rebuild).
   subroutine p2g_momentum(g, pt, n, nnz)
     type(grid_t), intent(inout) :: g
@@ -95,13 +116,8 @@ contains
     real(dp) :: w
     g%momentum = 0.0_dp
     if (g%ndim == 1) then
-      do p = 1, n
-        do k = 1, nodes_of(pt, p, nnz)
-          i = pt%node(k, p)
-          w = pt%phi(k, p)*pt%mass(p)
-          g%momentum(1, i) = g%momentum(1, i) + w*pt%v(1, p)
-        end do
-      end do
+      call momentum_bar(n, pt%nsup, pt%node, pt%phi, pt%mass, pt%v, g%glo, g%ghi, g%momentum, &
+                        nnz)
       return
     end if
     do p = 1, n
@@ -113,6 +129,27 @@ contains
       end do
     end do
   end subroutine p2g_momentum
+
+  !> p2g_momentum of a bar on plain arrays (as p2g_bar).
+  pure subroutine momentum_bar(n, m, node, phi, mass, v, glo, ghi, gp, nnz)
+    integer, intent(in) :: n, m, glo, ghi, node(m, *)
+    real(dp), intent(in) :: phi(m, *), mass(*), v(*)
+    real(dp), intent(inout) :: gp(glo:ghi)
+    integer, intent(in), optional :: nnz(*)
+    integer :: p, k, i, mk
+    real(dp) :: w, mp, v1
+    mk = m
+    do p = 1, n
+      if (present(nnz)) mk = nnz(p)
+      mp = mass(p)
+      v1 = v(p)
+      do k = 1, mk
+        i = node(k, p)
+        w = phi(k, p)*mp
+        gp(i) = gp(i) + w*v1
+      end do
+    end do
+  end subroutine momentum_bar
 
   !> Acceleration and velocity of every patch node, eq. 4.9-4.10 (nodes at
   !> or below `mmin` count as empty), then the boundary conditions: a
@@ -153,13 +190,13 @@ contains
     type(grid_t), intent(inout) :: g
     real(dp), intent(in) :: mmin, given(:)
     integer :: i, d
+    g%accel(:, g%glo:g%ghi) = 0.0_dp    ! one fill, not one per node
     do i = g%glo, g%ghi
       if (g%mass(i) > mmin) then
         g%velocity(:, i) = g%momentum(:, i)/g%mass(i)
       else
         g%velocity(:, i) = 0.0_dp
       end if
-      g%accel(:, i) = 0.0_dp
       do d = 1, g%ndim
         if (g%fixed(d, i)) then
           g%velocity(d, i) = 0.0_dp
@@ -178,19 +215,10 @@ contains
     real(dp), intent(in) :: dt
     integer, intent(in), optional :: nnz(:)
     integer :: p, k, i
-    real(dp) :: vs, ds, w, v1, v2, x1, x2
+    real(dp) :: w, v1, v2, x1, x2
     if (g%ndim == 1) then
-      do p = 1, n
-        vs = 0.0_dp
-        ds = 0.0_dp
-        do k = 1, nodes_of(pt, p, nnz)
-          i = pt%node(k, p)
-          vs = vs + pt%phi(k, p)*g%accel(1, i)
-          ds = ds + pt%phi(k, p)*g%velocity(1, i)
-        end do
-        pt%v(1, p) = pt%v(1, p) + dt*vs
-        pt%x(1, p) = pt%x(1, p) + dt*ds
-      end do
+      call g2p_bar(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
+                   pt%x, nnz)
       return
     end if
     do p = 1, n
@@ -213,6 +241,30 @@ contains
       pt%x(2, p) = x2
     end do
   end subroutine g2p
+
+  !> g2p of a bar on plain arrays (as p2g_bar): the weighted nodal sums,
+  !> then the step.
+  pure subroutine g2p_bar(n, m, node, phi, glo, ghi, ga, gv, dt, v, x, nnz)
+    integer, intent(in) :: n, m, glo, ghi, node(m, *)
+    real(dp), intent(in) :: phi(m, *), ga(glo:ghi), gv(glo:ghi), dt
+    real(dp), intent(inout) :: v(*), x(*)
+    integer, intent(in), optional :: nnz(*)
+    integer :: p, k, i, mk
+    real(dp) :: vs, ds
+    mk = m
+    do p = 1, n
+      if (present(nnz)) mk = nnz(p)
+      vs = 0.0_dp
+      ds = 0.0_dp
+      do k = 1, mk
+        i = node(k, p)
+        vs = vs + phi(k, p)*ga(i)
+        ds = ds + phi(k, p)*gv(i)
+      end do
+      v(p) = v(p) + dt*vs
+      x(p) = x(p) + dt*ds
+    end do
+  end subroutine g2p_bar
 
   !> Velocity gradient of particle p, eq. 4.11: lg(a, b) = d v_a / d x_b
   !> (ndim x ndim) from the grid velocity.
