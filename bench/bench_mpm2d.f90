@@ -16,6 +16,8 @@
 !> 20 warm-up steps and rounds of 10 steps, before the free plate has
 !> moved far). After the warm-up, `nrounds` rounds each time the trial and
 !> the round's steps; the fastest round of each is kept.
+!> Usage: bench_mpm2d [ROW] (ROW 1-3 the loaded plates, 4 the sheared one,
+!> 5 the nonlocal sweep: that row alone, for an instruction profile of it).
 program bench_mpm2d
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
@@ -34,10 +36,17 @@ program bench_mpm2d
   type(ps_config_t) :: cfg
   type(mpm_scene_t) :: sc
   type(error_t), allocatable :: err
-  integer :: kind, k
+  integer :: kind, k, row
   real(dp) :: ratio, sink
+  character(len=32) :: arg
 
   sink = 0.0_dp
+  row = 0
+  if (command_argument_count() >= 1) then
+    call get_command_argument(1, arg)
+    read (arg, *) row
+    if (row < 1 .or. row > 5) error stop 'bench_mpm2d: ROW is 1 to 5'
+  end if
   write (output_unit, '(a)') 'bench_mpm2d: plane-strain plate 4 m x 5 m, h = 0.25 m, 2 x 2 '// &
     'particles per cell, von Mises (k0 = 40 MPa)'
   write (output_unit, '(a,i0,a,i0,a)') '  CPU time, fastest of ', nrounds, ' rounds of ', &
@@ -45,16 +54,20 @@ program bench_mpm2d
   write (output_unit, '(a)') '  scene           ns/particle/step  trial ns  /trial  target'// &
     '  plastic  stress-update share  transfer share  grid share'
   do kind = shape2d_linear, shape2d_cpdi
+    if (row /= 0 .and. row /= kind - shape2d_linear + 1) cycle
     cfg = plate(kind, 0.0_dp)
     call measure('loaded '//shape2d_names(kind), 0.0_dp, nwarm, per_round)
   end do
-  cfg = plate(shape2d_cpdi, 0.0_dp)
-  cfg%bottom = bc_free2
-  cfg%top = bc_free2
-  cfg%velocity_gradient0 = reshape([-100.0_dp, 0.0_dp, 0.0_dp, 100.0_dp], [2, 2])
-  call measure('sheared cpdi', target_ratio, 20, 10)
+  if (row == 0 .or. row == 4) then
+    cfg = plate(shape2d_cpdi, 0.0_dp)
+    cfg%bottom = bc_free2
+    cfg%top = bc_free2
+    cfg%velocity_gradient0 = reshape([-100.0_dp, 0.0_dp, 0.0_dp, 100.0_dp], [2, 2])
+    call measure('sheared cpdi', target_ratio, 20, 10)
+  end if
   write (output_unit, '(a)') '  (target: CPDI with every particle plastic <= 20x the trial; '// &
     'plastic: the fewest plastic in one timed step / particles; shares of the wall ticks)'
+  if (row /= 0 .and. row /= 5) stop
 
   ! one nonlocal sweep against one local update (CPDI, overlocal, L = 0.5 m)
   cfg = plate(shape2d_cpdi, 0.5_dp)

@@ -46,62 +46,46 @@ contains
     integer, intent(in) :: n
     real(dp), intent(in), optional :: q(:)
     integer, intent(in), optional :: nnz(:)
-    integer :: p, k, i
-    real(dp) :: w, qp, s11, s22, s12, vol, f1, f2
     call grid_reset(g)
     if (g%ndim == 1) then
       call p2g_bar(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
-                   size(pt%stress, 1), g%glo, g%ghi, g%mass, g%momentum, g%fint, q, nnz)
-      return
+                   size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q, nnz)
+    else
+      call p2g_plate(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
+                     size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q, nnz)
     end if
-    do p = 1, n
-      qp = 0.0_dp
-      if (present(q)) qp = q(p)
-      s11 = pt%stress(1, p) - qp
-      s22 = pt%stress(2, p) - qp
-      s12 = pt%stress(4, p)
-      vol = pt%vol(p)
-      do k = 1, nodes_of(pt, p, nnz)
-        i = pt%node(k, p)
-        w = pt%phi(k, p)*pt%mass(p)
-        g%mass(i) = g%mass(i) + w
-        g%momentum(1, i) = g%momentum(1, i) + w*pt%v(1, p)
-        g%momentum(2, i) = g%momentum(2, i) + w*pt%v(2, p)
-        ! V (sigma G), eq. 4.5
-        f1 = s11*pt%grad(1, k, p) + s12*pt%grad(2, k, p)
-        f2 = s12*pt%grad(1, k, p) + s22*pt%grad(2, k, p)
-        g%fint(1, i) = g%fint(1, i) - vol*f1
-        g%fint(2, i) = g%fint(2, i) - vol*f2
-      end do
-    end do
   end subroutine p2g
 
   !> p2g of a bar on plain arrays: explicit shapes carry no descriptors to
   !> reload after each store to the grid, and dummies are distinct, so the
-  !> particle's factors stay in registers. The arithmetic is p2g's.
-  pure subroutine p2g_bar(n, m, node, phi, grad, mass, v, vol, stress, ns, glo, ghi, gm, gp, &
+  !> particle's factors stay in registers. The arithmetic is p2g's. Without
+  !> gm and gf, the momentum alone (MUSL's rebuild; the compiler unswitches
+  !> the tests of present out of the loop).
+  pure subroutine p2g_bar(n, m, node, phi, grad, mass, v, vol, stress, ns, glo, ghi, gp, gm, &
                           gf, q, nnz)
     integer, intent(in) :: n, m, ns, glo, ghi, node(m, *)
     real(dp), intent(in) :: phi(m, *), grad(m, *), mass(*), v(*), vol(*), stress(ns, *)
-    real(dp), intent(inout) :: gm(glo:ghi), gp(glo:ghi), gf(glo:ghi)
+    real(dp), intent(inout) :: gp(glo:ghi)
+    real(dp), intent(inout), optional :: gm(glo:ghi), gf(glo:ghi)
     real(dp), intent(in), optional :: q(*)
     integer, intent(in), optional :: nnz(*)
     integer :: p, k, i, mk
     real(dp) :: w, qp, mp, v1, vs
     mk = m
+    vs = 0.0_dp
     do p = 1, n
       qp = 0.0_dp
       if (present(q)) qp = q(p)
       if (present(nnz)) mk = nnz(p)
       mp = mass(p)
       v1 = v(p)
-      vs = vol(p)*(stress(1, p) - qp)
+      if (present(gf)) vs = vol(p)*(stress(1, p) - qp)
       do k = 1, mk
         i = node(k, p)
         w = phi(k, p)*mp
-        gm(i) = gm(i) + w
+        if (present(gm)) gm(i) = gm(i) + w
         gp(i) = gp(i) + w*v1
-        gf(i) = gf(i) - vs*grad(k, p)
+        if (present(gf)) gf(i) = gf(i) - vs*grad(k, p)
       end do
     end do
   end subroutine p2g_bar
@@ -112,44 +96,62 @@ contains
     type(particles_t), intent(in) :: pt
     integer, intent(in) :: n
     integer, intent(in), optional :: nnz(:)
-    integer :: p, k, i
-    real(dp) :: w
     g%momentum = 0.0_dp
     if (g%ndim == 1) then
-      call momentum_bar(n, pt%nsup, pt%node, pt%phi, pt%mass, pt%v, g%glo, g%ghi, g%momentum, &
-                        nnz)
-      return
+      call p2g_bar(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
+                   size(pt%stress, 1), g%glo, g%ghi, g%momentum, nnz=nnz)
+    else
+      call p2g_plate(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
+                     size(pt%stress, 1), g%glo, g%ghi, g%momentum, nnz=nnz)
     end if
-    do p = 1, n
-      do k = 1, nodes_of(pt, p, nnz)
-        i = pt%node(k, p)
-        w = pt%phi(k, p)*pt%mass(p)
-        g%momentum(1, i) = g%momentum(1, i) + w*pt%v(1, p)
-        g%momentum(2, i) = g%momentum(2, i) + w*pt%v(2, p)
-      end do
-    end do
   end subroutine p2g_momentum
 
-  !> p2g_momentum of a bar on plain arrays (as p2g_bar).
-  pure subroutine momentum_bar(n, m, node, phi, mass, v, glo, ghi, gp, nnz)
-    integer, intent(in) :: n, m, glo, ghi, node(m, *)
-    real(dp), intent(in) :: phi(m, *), mass(*), v(*)
-    real(dp), intent(inout) :: gp(glo:ghi)
+  !> p2g of a plate on plain arrays (as p2g_bar, also without gm and gf);
+  !> the force V (sigma G), eq. 4.5.
+  pure subroutine p2g_plate(n, m, node, phi, grad, mass, v, vol, stress, ns, glo, ghi, gp, gm, &
+                            gf, q, nnz)
+    integer, intent(in) :: n, m, ns, glo, ghi, node(m, *)
+    real(dp), intent(in) :: phi(m, *), grad(2, m, *), mass(*), v(2, *), vol(*), stress(ns, *)
+    real(dp), intent(inout) :: gp(2, glo:ghi)
+    real(dp), intent(inout), optional :: gm(glo:ghi), gf(2, glo:ghi)
+    real(dp), intent(in), optional :: q(*)
     integer, intent(in), optional :: nnz(*)
     integer :: p, k, i, mk
-    real(dp) :: w, mp, v1
+    real(dp) :: w, qp, s11, s22, s12, vl, f1, f2, mp, v1, v2
     mk = m
+    s11 = 0.0_dp
+    s22 = 0.0_dp
+    s12 = 0.0_dp
+    vl = 0.0_dp
     do p = 1, n
+      qp = 0.0_dp
+      if (present(q)) qp = q(p)
       if (present(nnz)) mk = nnz(p)
+      if (present(gf)) then
+        s11 = stress(1, p) - qp
+        s22 = stress(2, p) - qp
+        s12 = stress(4, p)
+        vl = vol(p)
+      end if
       mp = mass(p)
-      v1 = v(p)
+      v1 = v(1, p)
+      v2 = v(2, p)
       do k = 1, mk
         i = node(k, p)
         w = phi(k, p)*mp
-        gp(i) = gp(i) + w*v1
+        if (present(gm)) gm(i) = gm(i) + w
+        gp(1, i) = gp(1, i) + w*v1
+        gp(2, i) = gp(2, i) + w*v2
+        if (present(gf)) then
+          f1 = s11*grad(1, k, p) + s12*grad(2, k, p)
+          f2 = s12*grad(1, k, p) + s22*grad(2, k, p)
+          gf(1, i) = gf(1, i) - vl*f1
+          gf(2, i) = gf(2, i) - vl*f2
+        end if
       end do
     end do
-  end subroutine momentum_bar
+  end subroutine p2g_plate
+
 
   !> Acceleration and velocity of every patch node, eq. 4.9-4.10 (nodes at
   !> or below `mmin` count as empty), then the boundary conditions: a
