@@ -48,14 +48,10 @@ contains
     call particle_mass(g%glo, kd, free, pt, n, nnz, mp)
     ! A node its particles see only faintly (M_P's diagonal below a quarter
     ! of its lumped mass; 5/8 for a full node at ppc 2) keeps the lumped row:
-    ! M_P alone would give it an acceleration of order f/(phi m_p) for a
-    ! weight phi -> 0 (an edge node, a particle leaving its cell; solved so
-    ! down to 1/10 or 1/20 of it, the loaded end of a fine bar went
-    ! unstable). Its couplings move onto its neighbours' diagonals, so every
-    ! row still sums to its lumped mass and a uniform acceleration stays
-    ! exact: dropped, they left the neighbour's equation short, and a surface
-    ! drifting past a node pumped a grid-scale oscillation into the bar
-    ! (docs/waves.md, "Against the continuum").
+    ! M_P would give it an acceleration of order f/(phi m_p), phi -> 0. Its
+    ! couplings move onto its neighbours' diagonals, so every row still sums
+    ! to its lumped mass (dropped, they pumped a grid-scale oscillation in
+    ! from a drifting surface; docs/waves.md, "Against the continuum").
     lumped = free .and. mp(1, :) < 0.25_dp*g%mass
     do i = g%glo, g%ghi
       j = i - g%glo + 1

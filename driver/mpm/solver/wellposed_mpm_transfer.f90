@@ -152,7 +152,6 @@ contains
     end do
   end subroutine p2g_plate
 
-
   !> Acceleration and velocity of every patch node, eq. 4.9-4.10 (nodes at
   !> or below `mmin` count as empty), then the boundary conditions: a
   !> fixed component is held at rest and its nodal force enters `reaction`
