@@ -50,7 +50,7 @@ module wellposed_mpm_solver
   use wellposed_mpm_shape, only: shape_1d
   use wellposed_mpm_shape_2d, only: shape_2d
   use wellposed_mpm_transfer, only: p2g, p2g_momentum, grid_update, velocity_from_momentum, &
-                                    g2p, velocity_gradient
+                                    g2p, velocity_gradient, bar_velocity_gradients
   use wellposed_mpm_particle_umat, only: strain_increment
   use wellposed_mpm_exchange, only: mpm_exchange_t
   use wellposed_mpm_nonlocal, only: nonlocal_solve, sweep_key
@@ -82,6 +82,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     integer(int64) :: t0, t1
     integer(int64), allocatable :: skey(:)
+    real(dp), allocatable :: l11(:)
     integer :: p, n, d, nt
     real(dp) :: dt, mmin, lg(self%ndim, self%ndim), reaction(self%ndim), given(self%ndim)
     type(bar_load_t) :: load
@@ -143,8 +144,16 @@ contains
       end if
       ! --- velocity gradient (eq. 4.11), strain increment, F and volume,
       ! viscosity, rotation
+      if (d == 1) then
+        allocate (l11(n))
+        call bar_velocity_gradients(g, pt, n, l11, self%nnz)
+      end if
       do p = 1, n
-        call velocity_gradient(g, pt, p, lg, self%nnz)
+        if (d == 1) then
+          lg(1, 1) = l11(p)
+        else
+          call velocity_gradient(g, pt, p, lg, self%nnz)
+        end if
         call strain_increment(lg, dt, self%de(:, p))
         self%vol_n(p) = pt%vol(p)
         if (allocated(self%f_n)) self%f_n(:, :, p) = pt%defgrad(1:d, 1:d, p)

@@ -23,7 +23,8 @@ module wellposed_mpm_transfer
   use wellposed_mpm_particles, only: particles_t
   implicit none
   private
-  public :: p2g, p2g_momentum, grid_update, velocity_from_momentum, g2p, velocity_gradient
+  public :: p2g, p2g_momentum, grid_update, velocity_from_momentum, g2p, velocity_gradient, &
+            bar_velocity_gradients
 
 contains
 
@@ -277,16 +278,15 @@ contains
     integer, intent(in), optional :: nnz(:)
     integer :: k, i
     real(dp) :: l11, l21, l12, l22
-    ! sums in scalars from zero, as the nodes come (no fill of lg)
-    l11 = 0.0_dp
+    real(dp) :: l1(1)
     if (g%ndim == 1) then
-      do k = 1, nodes_of(pt, p, nnz)
-        i = pt%node(k, p)
-        l11 = l11 + g%velocity(1, i)*pt%grad(1, k, p)
-      end do
-      lg(1, 1) = l11
+      call gradient_bar(1, nodes_of(pt, p, nnz), pt%node(:, p), pt%grad(:, :, p), g%glo, &
+                        g%ghi, g%velocity, l1)
+      lg(1, 1) = l1(1)
       return
     end if
+    ! sums in scalars from zero, as the nodes come (no fill of lg)
+    l11 = 0.0_dp
     l21 = 0.0_dp
     l12 = 0.0_dp
     l22 = 0.0_dp
@@ -302,5 +302,36 @@ contains
     lg(1, 2) = l12
     lg(2, 2) = l22
   end subroutine velocity_gradient
+
+  !> d v/d x of particles 1 .. n of a bar at once, l11(p) (eq. 4.11): one
+  !> call for all instead of velocity_gradient's one per particle.
+  subroutine bar_velocity_gradients(g, pt, n, l11, nnz)
+    type(grid_t), intent(in) :: g
+    type(particles_t), intent(in) :: pt
+    integer, intent(in) :: n
+    real(dp), intent(out) :: l11(:)
+    integer, intent(in), optional :: nnz(:)
+    call gradient_bar(n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, l11, nnz)
+  end subroutine bar_velocity_gradients
+
+  !> The bar's velocity gradients on plain arrays (as p2g_bar): each a sum
+  !> from zero over the particle's nodes, in their order.
+  pure subroutine gradient_bar(n, m, node, grad, glo, ghi, gv, l11, nnz)
+    integer, intent(in) :: n, m, glo, ghi, node(m, *)
+    real(dp), intent(in) :: grad(m, *), gv(glo:ghi)
+    real(dp), intent(out) :: l11(*)
+    integer, intent(in), optional :: nnz(*)
+    integer :: p, k, mk
+    real(dp) :: l
+    mk = m
+    do p = 1, n
+      if (present(nnz)) mk = nnz(p)
+      l = 0.0_dp
+      do k = 1, mk
+        l = l + gv(node(k, p))*grad(k, p)
+      end do
+      l11(p) = l
+    end do
+  end subroutine gradient_bar
 
 end module wellposed_mpm_transfer
