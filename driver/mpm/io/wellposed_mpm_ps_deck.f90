@@ -11,7 +11,7 @@
 !>              platen ('surface': on the body's current top; 'grid': on the
 !>              fixed node row y = height; 'contact': a frictionless plane
 !>              pushing on the particles, with top_lateral 'free';
-!>              docs/mpm.md, "The platen")
+!>              docs/bands.md, "The platen")
 !>   &stations  x(:), y(:) (m, up to max_stations points of the unscaled plate,
 !>              scaled with it): stress and velocity histories of the particle
 !>              nearest each point, sampled every &output sample_dt (> 0)

@@ -1,5 +1,5 @@
 !> Where a plate's band starts and how wide it is at an equal stage of the
-!> post-peak response (docs/mpm.md, "Where bands start", "The band normal to
+!> post-peak response (docs/bands.md, "Where bands start", "The band normal to
 !> itself"), watched step by step through a case:
 !> - onset: the first particle whose ||eps^p|| exceeds the threshold
 !>   (&output band_onset_strain; the largest when several cross in one step),
@@ -11,7 +11,7 @@
 !>   (wellposed_mpm_band) in the middle 60 % of the plate's height;
 !> - the platen's layer: the mean sigma_yy in the cell row under the
 !>   platen's lowest node row over that of the particle row(s) nearest
-!>   mid-height, after the last step (docs/mpm.md, "The platen").
+!>   mid-height, after the last step (docs/bands.md, "The platen").
 !> Collective: every rank calls `step` each step with the same curve.
 module wellposed_mpm_band_watch
   use wellposed_kinds, only: dp
