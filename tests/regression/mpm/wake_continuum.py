@@ -81,9 +81,7 @@ def continuum(mat, rho, peak, tau, stations, t_end, dx):
     ts, hist = [], [[] for _ in stations]
     t = 0.0
     while t < t_end:
-        u = min(max(t / tau, 0.0), 1.0)
-        shape = 0.5 * (1.0 - math.cos(2.0 * math.pi * u)) if mat["pulse"] == "cosine" \
-            else 1.0 - abs(2.0 * u - 1.0)
+        shape = float(mpm_check.load_shape(t, tau, mat["pulse"]))
         f = np.zeros(n + 1)
         f[:-1] += sig[0]
         f[1:] -= sig[0]
