@@ -114,69 +114,79 @@ contains
 
   !> CPDI weights (module comment) for half side vectors r1, r2 (m);
   !> nused: the distinct nodes, first in nodes(:), in the order the corners
-  !> 1-4 first reach them. A corner's four nodes are distinct, so each
-  !> node's value of a corner is that corner's weight, unsummed. The nodes
-  !> are found by their place in the box of the corners' cells (a table of
-  !> at most 4 x 4 slots) or, for a box wider than that (a particle
-  !> stretched over more than two cells), by a search of the list.
+  !> 1-4 first reach them; past nused, phi and grad are 0 and the node is
+  !> nodes(1). A corner's four nodes are distinct, so each node's value of a
+  !> corner is that corner's weight, unsummed. The nodes are found by their
+  !> place in the box of the corners' cells (a table of at most 4 x 4 slots)
+  !> or, for a box wider than that (a particle stretched over more than two
+  !> cells), by a search of the list. The 16 entries are a fixed size, so
+  !> the zeros are plain stores, not a library call.
   pure subroutine cpdi_2d(xp, r1, r2, origin, h, nx, nodes, phi, grad, nused)
     real(dp), intent(in) :: xp(2), r1(2), r2(2), origin(2), h
     integer, intent(in) :: nx
-    integer, intent(out), contiguous :: nodes(:)
-    real(dp), intent(out), contiguous :: phi(:), grad(:, :)
+    integer, intent(out) :: nodes(16)
+    real(dp), intent(out) :: phi(16), grad(2, 16)
     integer, intent(out) :: nused
     real(dp) :: c(2, 4), sc(4, 4), vol, w(16, 4), v13(2), v24(2)
-    integer :: cell(2, 4), slot(16), lo(2), a, k, m, node, base, corner_node, node_off(4)
+    integer :: cell(2, 4), slot(16), lo(2), a, j, k, m, node, base, corner_node, node_off(4)
     ! node m of a corner, in the order of bilinear's loops (x fastest): its
     ! offset in the 4 x 4 box of slots and in the grid's numbering
     integer, parameter :: box_off(4) = [0, 1, 4, 5]
-    logical :: boxed
     c = cpdi_corners(xp, r1, r2)
     do a = 1, 4
       call bilinear_weights(c(:, a), origin, h, cell(:, a), sc(:, a))
     end do
     lo(1) = min(cell(1, 1), cell(1, 2), cell(1, 3), cell(1, 4))
     lo(2) = min(cell(2, 1), cell(2, 2), cell(2, 3), cell(2, 4))
-    boxed = max(cell(1, 1), cell(1, 2), cell(1, 3), cell(1, 4)) - lo(1) <= 2 .and. &
-            max(cell(2, 1), cell(2, 2), cell(2, 3), cell(2, 4)) - lo(2) <= 2
-    slot = 0
     nused = 0
     node_off = [0, 1, nx, nx + 1]
-    do a = 1, 4
-      corner_node = cell(1, a) + nx*cell(2, a)
-      base = (cell(1, a) - lo(1)) + 4*(cell(2, a) - lo(2)) + 1
-      do m = 1, 4
-        node = corner_node + node_off(m)
-        if (boxed) then
-          k = slot(base + box_off(m))
-        else
-          k = findloc(nodes(1:nused), node, dim=1)
-        end if
-        if (k == 0) then
-          nused = nused + 1
-          nodes(nused) = node
-          w(nused, :) = 0.0_dp
-          k = nused
-          if (boxed) slot(base + box_off(m)) = k
-        end if
-        w(k, a) = w(k, a) + sc(m, a)
+    if (max(cell(1, 1), cell(1, 2), cell(1, 3), cell(1, 4)) - lo(1) <= 2 .and. &
+        max(cell(2, 1), cell(2, 2), cell(2, 3), cell(2, 4)) - lo(2) <= 2) then
+      slot = 0
+      do a = 1, 4
+        corner_node = cell(1, a) + nx*cell(2, a)
+        base = (cell(1, a) - lo(1)) + 4*(cell(2, a) - lo(2)) + 1
+        do m = 1, 4
+          j = base + box_off(m)
+          k = slot(j)
+          if (k == 0) then
+            nused = nused + 1
+            k = nused
+            slot(j) = k
+            nodes(k) = corner_node + node_off(m)
+            w(k, :) = 0.0_dp
+          end if
+          w(k, a) = w(k, a) + sc(m, a)
+        end do
       end do
-    end do
+    else
+      do a = 1, 4
+        corner_node = cell(1, a) + nx*cell(2, a)
+        do m = 1, 4
+          node = corner_node + node_off(m)
+          k = findloc(nodes(1:nused), node, dim=1)
+          if (k == 0) then
+            nused = nused + 1
+            k = nused
+            nodes(k) = node
+            w(k, :) = 0.0_dp
+          end if
+          w(k, a) = w(k, a) + sc(m, a)
+        end do
+      end do
+    end if
     vol = 4.0_dp*abs(r1(1)*r2(2) - r1(2)*r2(1))
     v13 = [r1(2) - r2(2), r2(1) - r1(1)]
     v24 = [r1(2) + r2(2), -r1(1) - r2(1)]
+    phi = 0.0_dp
+    grad = 0.0_dp
     do k = 1, nused
       ! the corners summed in their order, as sum() did (no weight is -0)
       phi(k) = 0.25_dp*(((w(k, 1) + w(k, 2)) + w(k, 3)) + w(k, 4))
       grad(:, k) = ((w(k, 1) - w(k, 3))*v13 + (w(k, 2) - w(k, 4))*v24)/vol
     end do
-    ! the unused entries, in one loop (an array fill here cost a library
-    ! call per column)
-    do k = nused + 1, size(phi)
+    do k = nused + 1, 16
       nodes(k) = nodes(1)
-      phi(k) = 0.0_dp
-      grad(1, k) = 0.0_dp
-      grad(2, k) = 0.0_dp
     end do
   end subroutine cpdi_2d
 
