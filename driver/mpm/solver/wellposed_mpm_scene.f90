@@ -80,8 +80,10 @@ module wellposed_mpm_scene
     integer, allocatable :: mat(:)        !< material of each particle
     real(dp), allocatable :: q(:)         !< artificial viscous pressure (Pa)
     ! workspace: start-of-step copies (s0, sv0, e0 when Algorithm 1
-    ! iterates; the bar's s0(1, :) always), increments, volume at the start
+    ! iterates; the bar's s0(1, :) always), increments, volume at the start,
+    ! velocity gradients (ndim x ndim each, eq. 4.11)
     real(dp), allocatable :: s0(:, :), sv0(:, :), e0(:, :), de(:, :), vol_n(:)
+    real(dp), allocatable :: lgrad(:, :, :)
     !> F at the step's start (ndim x ndim), kept for a user's UMAT only:
     !> its DFGRD0 and DROT (wellposed's own reads neither)
     real(dp), allocatable :: f_n(:, :, :)
@@ -230,14 +232,14 @@ contains
       mat = self%mat(1:n)
       q = self%q(1:n)
       deallocate (self%mat, self%q, self%s0, self%sv0, self%e0, self%de, self%vol_n, &
-                  self%block_idx, self%done, self%nnz, self%block_avg, self%block_dl)
+                  self%lgrad, self%block_idx, self%done, self%nnz, self%block_avg, self%block_dl)
     else
       n = 0
       allocate (mat(0), q(0))
     end if
     allocate (self%mat(cap), self%q(cap), self%s0(self%ntens, cap), self%sv0(ns, cap), &
               self%e0(self%ntens, cap), self%de(self%ntens, cap), self%vol_n(cap), &
-              self%block_idx(cap), self%done(cap), self%nnz(cap), self%block_avg(cap), &
+              self%lgrad(self%ndim, self%ndim, cap), self%block_idx(cap), self%done(cap), self%nnz(cap), self%block_avg(cap), &
               self%block_dl(cap))
     if (allocated(self%f_n)) deallocate (self%f_n)
     if (.not. umat_is_ours()) allocate (self%f_n(self%ndim, self%ndim, cap))

@@ -50,7 +50,7 @@ module wellposed_mpm_solver
   use wellposed_mpm_shape, only: shape_1d
   use wellposed_mpm_shape_2d, only: shape_2d
   use wellposed_mpm_transfer, only: p2g, p2g_momentum, grid_update, velocity_from_momentum, &
-                                    g2p, velocity_gradient, bar_velocity_gradients
+                                    g2p, velocity_gradients
   use wellposed_mpm_particle_umat, only: strain_increment
   use wellposed_mpm_exchange, only: mpm_exchange_t
   use wellposed_mpm_nonlocal, only: nonlocal_solve, sweep_key
@@ -82,7 +82,6 @@ contains
     type(error_t), allocatable, intent(out) :: err
     integer(int64) :: t0, t1
     integer(int64), allocatable :: skey(:)
-    real(dp), allocatable :: l11(:)
     integer :: p, n, d, nt
     real(dp) :: dt, mmin, lg(self%ndim, self%ndim), reaction(self%ndim), given(self%ndim)
     type(bar_load_t) :: load
@@ -144,15 +143,14 @@ contains
       end if
       ! --- velocity gradient (eq. 4.11), strain increment, F and volume,
       ! viscosity, rotation
-      if (d == 1) then
-        allocate (l11(n))
-        call bar_velocity_gradients(g, pt, n, l11, self%nnz)
-      end if
+      call velocity_gradients(g, pt, n, self%lgrad, self%nnz)
       do p = 1, n
-        if (d == 1) then
-          lg(1, 1) = l11(p)
-        else
-          call velocity_gradient(g, pt, p, lg, self%nnz)
+        ! entry by entry: a whole-array copy of runtime size costs a loop nest
+        lg(1, 1) = self%lgrad(1, 1, p)
+        if (d == 2) then
+          lg(2, 1) = self%lgrad(2, 1, p)
+          lg(1, 2) = self%lgrad(1, 2, p)
+          lg(2, 2) = self%lgrad(2, 2, p)
         end if
         call strain_increment(lg, dt, self%de(:, p))
         self%vol_n(p) = pt%vol(p)

@@ -23,19 +23,9 @@ module wellposed_mpm_transfer
   use wellposed_mpm_particles, only: particles_t
   implicit none
   private
-  public :: p2g, p2g_momentum, grid_update, velocity_from_momentum, g2p, velocity_gradient, &
-            bar_velocity_gradients
+  public :: p2g, p2g_momentum, grid_update, velocity_from_momentum, g2p, velocity_gradients
 
 contains
-
-  !> Support nodes of particle p to visit: nnz(p) when given, else all.
-  pure integer function nodes_of(pt, p, nnz) result(m)
-    type(particles_t), intent(in) :: pt
-    integer, intent(in) :: p
-    integer, intent(in), optional :: nnz(:)
-    m = pt%nsup
-    if (present(nnz)) m = nnz(p)
-  end function nodes_of
 
   !> Mass, momentum and internal force of particles 1 .. n on the grid
   !> (the grid's sums zeroed first). The force takes sigma - q I in the
@@ -216,32 +206,13 @@ contains
     integer, intent(in) :: n
     real(dp), intent(in) :: dt
     integer, intent(in), optional :: nnz(:)
-    integer :: p, k, i
-    real(dp) :: w, v1, v2, x1, x2
     if (g%ndim == 1) then
       call g2p_bar(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
                    pt%x, nnz)
       return
     end if
-    do p = 1, n
-      ! node by node into scalars (the same sums, in registers)
-      v1 = pt%v(1, p)
-      v2 = pt%v(2, p)
-      x1 = pt%x(1, p)
-      x2 = pt%x(2, p)
-      do k = 1, nodes_of(pt, p, nnz)
-        i = pt%node(k, p)
-        w = dt*pt%phi(k, p)
-        v1 = v1 + w*g%accel(1, i)
-        v2 = v2 + w*g%accel(2, i)
-        x1 = x1 + w*g%velocity(1, i)
-        x2 = x2 + w*g%velocity(2, i)
-      end do
-      pt%v(1, p) = v1
-      pt%v(2, p) = v2
-      pt%x(1, p) = x1
-      pt%x(2, p) = x2
-    end do
+    call g2p_plate(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
+                   pt%x, nnz)
   end subroutine g2p
 
   !> g2p of a bar on plain arrays (as p2g_bar): the weighted nodal sums,
@@ -268,51 +239,51 @@ contains
     end do
   end subroutine g2p_bar
 
-  !> Velocity gradient of particle p, eq. 4.11: lg(a, b) = d v_a / d x_b
-  !> (ndim x ndim) from the grid velocity.
-  pure subroutine velocity_gradient(g, pt, p, lg, nnz)
-    type(grid_t), intent(in) :: g
-    type(particles_t), intent(in) :: pt
-    integer, intent(in) :: p
-    real(dp), intent(out) :: lg(:, :)
-    integer, intent(in), optional :: nnz(:)
-    integer :: k, i
-    real(dp) :: l11, l21, l12, l22
-    real(dp) :: l1(1)
-    if (g%ndim == 1) then
-      call gradient_bar(1, nodes_of(pt, p, nnz), pt%node(:, p), pt%grad(:, :, p), g%glo, &
-                        g%ghi, g%velocity, l1)
-      lg(1, 1) = l1(1)
-      return
-    end if
-    ! sums in scalars from zero, as the nodes come (no fill of lg)
-    l11 = 0.0_dp
-    l21 = 0.0_dp
-    l12 = 0.0_dp
-    l22 = 0.0_dp
-    do k = 1, nodes_of(pt, p, nnz)
-      i = pt%node(k, p)
-      l11 = l11 + g%velocity(1, i)*pt%grad(1, k, p)
-      l21 = l21 + g%velocity(2, i)*pt%grad(1, k, p)
-      l12 = l12 + g%velocity(1, i)*pt%grad(2, k, p)
-      l22 = l22 + g%velocity(2, i)*pt%grad(2, k, p)
+  !> g2p of a plate on plain arrays (as g2p_bar): velocity and position
+  !> advanced node by node with w = dt phi, in scalars.
+  pure subroutine g2p_plate(n, m, node, phi, glo, ghi, ga, gv, dt, v, x, nnz)
+    integer, intent(in) :: n, m, glo, ghi, node(m, *)
+    real(dp), intent(in) :: phi(m, *), ga(2, glo:ghi), gv(2, glo:ghi), dt
+    real(dp), intent(inout) :: v(2, *), x(2, *)
+    integer, intent(in), optional :: nnz(*)
+    integer :: p, k, i, mk
+    real(dp) :: w, v1, v2, x1, x2
+    mk = m
+    do p = 1, n
+      if (present(nnz)) mk = nnz(p)
+      v1 = v(1, p)
+      v2 = v(2, p)
+      x1 = x(1, p)
+      x2 = x(2, p)
+      do k = 1, mk
+        i = node(k, p)
+        w = dt*phi(k, p)
+        v1 = v1 + w*ga(1, i)
+        v2 = v2 + w*ga(2, i)
+        x1 = x1 + w*gv(1, i)
+        x2 = x2 + w*gv(2, i)
+      end do
+      v(1, p) = v1
+      v(2, p) = v2
+      x(1, p) = x1
+      x(2, p) = x2
     end do
-    lg(1, 1) = l11
-    lg(2, 1) = l21
-    lg(1, 2) = l12
-    lg(2, 2) = l22
-  end subroutine velocity_gradient
+  end subroutine g2p_plate
 
-  !> d v/d x of particles 1 .. n of a bar at once, l11(p) (eq. 4.11): one
-  !> call for all instead of velocity_gradient's one per particle.
-  subroutine bar_velocity_gradients(g, pt, n, l11, nnz)
+  !> Velocity gradients of particles 1 .. n, eq. 4.11: lg(a, b, p) = d v_a /
+  !> d x_b (ndim x ndim each) from the grid velocity, one call for all.
+  subroutine velocity_gradients(g, pt, n, lg, nnz)
     type(grid_t), intent(in) :: g
     type(particles_t), intent(in) :: pt
     integer, intent(in) :: n
-    real(dp), intent(out) :: l11(:)
+    real(dp), intent(out), contiguous :: lg(:, :, :)
     integer, intent(in), optional :: nnz(:)
-    call gradient_bar(n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, l11, nnz)
-  end subroutine bar_velocity_gradients
+    if (g%ndim == 1) then
+      call gradient_bar(n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg, nnz)
+    else
+      call gradient_plate(n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg, nnz)
+    end if
+  end subroutine velocity_gradients
 
   !> The bar's velocity gradients on plain arrays (as p2g_bar): each a sum
   !> from zero over the particle's nodes, in their order.
@@ -333,5 +304,35 @@ contains
       l11(p) = l
     end do
   end subroutine gradient_bar
+
+  !> The plate's velocity gradients on plain arrays: sums in scalars from
+  !> zero, node by node in their order.
+  pure subroutine gradient_plate(n, m, node, grad, glo, ghi, gv, lg, nnz)
+    integer, intent(in) :: n, m, glo, ghi, node(m, *)
+    real(dp), intent(in) :: grad(2, m, *), gv(2, glo:ghi)
+    real(dp), intent(out) :: lg(2, 2, *)
+    integer, intent(in), optional :: nnz(*)
+    integer :: p, k, i, mk
+    real(dp) :: l11, l21, l12, l22
+    mk = m
+    do p = 1, n
+      if (present(nnz)) mk = nnz(p)
+      l11 = 0.0_dp
+      l21 = 0.0_dp
+      l12 = 0.0_dp
+      l22 = 0.0_dp
+      do k = 1, mk
+        i = node(k, p)
+        l11 = l11 + gv(1, i)*grad(1, k, p)
+        l21 = l21 + gv(2, i)*grad(1, k, p)
+        l12 = l12 + gv(1, i)*grad(2, k, p)
+        l22 = l22 + gv(2, i)*grad(2, k, p)
+      end do
+      lg(1, 1, p) = l11
+      lg(2, 1, p) = l21
+      lg(1, 2, p) = l12
+      lg(2, 2, p) = l22
+    end do
+  end subroutine gradient_plate
 
 end module wellposed_mpm_transfer
