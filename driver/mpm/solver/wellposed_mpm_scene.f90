@@ -232,15 +232,16 @@ contains
       mat = self%mat(1:n)
       q = self%q(1:n)
       deallocate (self%mat, self%q, self%s0, self%sv0, self%e0, self%de, self%vol_n, &
-                  self%lgrad, self%block_idx, self%done, self%nnz, self%block_avg, self%block_dl)
+                  self%lgrad, self%block_idx, self%done, self%nnz, self%block_avg, &
+                  self%block_dl)
     else
       n = 0
       allocate (mat(0), q(0))
     end if
     allocate (self%mat(cap), self%q(cap), self%s0(self%ntens, cap), self%sv0(ns, cap), &
               self%e0(self%ntens, cap), self%de(self%ntens, cap), self%vol_n(cap), &
-              self%lgrad(self%ndim, self%ndim, cap), self%block_idx(cap), self%done(cap), self%nnz(cap), self%block_avg(cap), &
-              self%block_dl(cap))
+              self%lgrad(self%ndim, self%ndim, cap), self%block_idx(cap), self%done(cap), &
+              self%nnz(cap), self%block_avg(cap), self%block_dl(cap))
     if (allocated(self%f_n)) deallocate (self%f_n)
     if (.not. umat_is_ours()) allocate (self%f_n(self%ndim, self%ndim, cap))
     self%mat(1:n) = mat

@@ -209,10 +209,10 @@ contains
     if (g%ndim == 1) then
       call g2p_bar(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
                    pt%x, nnz)
-      return
+    else
+      call g2p_plate(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, &
+                     pt%v, pt%x, nnz)
     end if
-    call g2p_plate(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
-                   pt%x, nnz)
   end subroutine g2p
 
   !> g2p of a bar on plain arrays (as p2g_bar): the weighted nodal sums,
