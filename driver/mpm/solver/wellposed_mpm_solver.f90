@@ -155,8 +155,13 @@ contains
         call strain_increment(lg, dt, self%de(:, p))
         self%vol_n(p) = pt%vol(p)
         if (allocated(self%f_n)) self%f_n(:, :, p) = pt%defgrad(1:d, 1:d, p)
-        call deform(self, p, lg, err)
-        if (allocated(err)) exit
+        call deform(self, p, lg)
+        if (.not. pt%vol(p) > 0.0_dp) then
+          call new_error(err, status_cutback, 'time', 'step '//int_text(self%nstep + 1)// &
+            ': particle '//int_text(pt%gid(p))//' was turned inside out (det F <= 0); a '// &
+            'smaller &time cfl may help')
+          exit
+        end if
         if (self%visc_a1 > 0.0_dp .or. self%visc_a2 > 0.0_dp) call viscosity(self, p, lg)
         if (d == 2) call jaumann(self, p, lg)
         ! the start of the stress update: Algorithm 1's sweeps restart from
@@ -268,12 +273,12 @@ contains
 
   !> The F and volume kernel of particle p over the step: 1D uniaxial
   !> strain F_11 (1 + d eps), 2D F_{n+1} = F_n + dt L F_n; V = det F V_0.
-  !> A particle turned inside out (det F <= 0) is an error.
-  subroutine deform(self, p, lg, err)
+  !> The caller checks V > 0 (a particle turned inside out): no error text
+  !> here keeps this small enough to inline into the particle loop.
+  pure subroutine deform(self, p, lg)
     type(mpm_scene_t), intent(inout) :: self
     integer, intent(in) :: p
     real(dp), intent(in) :: lg(:, :)
-    type(error_t), allocatable, intent(inout) :: err
     real(dp) :: f2(2, 2), lf
     integer :: a, b
     associate (pt => self%parts)
@@ -292,9 +297,6 @@ contains
         pt%vol(p) = pt%vol0(p)*(pt%defgrad(1, 1, p)*pt%defgrad(2, 2, p) - &
                                 pt%defgrad(1, 2, p)*pt%defgrad(2, 1, p))
       end if
-      if (.not. pt%vol(p) > 0.0_dp) call new_error(err, status_cutback, 'time', 'step '// &
-        int_text(self%nstep + 1)//': particle '//int_text(pt%gid(p))//' was turned inside '// &
-        'out (det F <= 0); a smaller &time cfl may help')
     end associate
   end subroutine deform
 
