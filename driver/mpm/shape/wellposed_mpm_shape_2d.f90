@@ -119,8 +119,9 @@ contains
   !> corner is that corner's weight, unsummed. The nodes are found by their
   !> place in the box of the corners' cells (a table of at most 4 x 4 slots)
   !> or, for a box wider than that (a particle stretched over more than two
-  !> cells), by a search of the list. The 16 entries are a fixed size, so
-  !> the zeros are plain stores, not a library call.
+  !> cells), by a search of the list. Only the unused entries are zeroed
+  !> (zeroing all 16 first cost 3 % of the sheared plate's step in time,
+  !> though fewer instructions).
   pure subroutine cpdi_2d(xp, r1, r2, origin, h, nx, nodes, phi, grad, nused)
     real(dp), intent(in) :: xp(2), r1(2), r2(2), origin(2), h
     integer, intent(in) :: nx
@@ -178,8 +179,6 @@ contains
     vol = 4.0_dp*abs(r1(1)*r2(2) - r1(2)*r2(1))
     v13 = [r1(2) - r2(2), r2(1) - r1(1)]
     v24 = [r1(2) + r2(2), -r1(1) - r2(1)]
-    phi = 0.0_dp
-    grad = 0.0_dp
     do k = 1, nused
       ! the corners summed in their order, as sum() did (no weight is -0)
       phi(k) = 0.25_dp*(((w(k, 1) + w(k, 2)) + w(k, 3)) + w(k, 4))
@@ -187,6 +186,9 @@ contains
     end do
     do k = nused + 1, 16
       nodes(k) = nodes(1)
+      phi(k) = 0.0_dp
+      grad(1, k) = 0.0_dp
+      grad(2, k) = 0.0_dp
     end do
   end subroutine cpdi_2d
 
