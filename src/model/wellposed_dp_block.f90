@@ -2,9 +2,11 @@
 !> linear hardening, Duvaut-Lions; eq. 4.36-4.39, 2.10) for a block of
 !> points at once, the form an explicit host (a VUMAT, an MPM particle
 !> loop) calls: arrays (n, 6) of tensor components [11, 22, 33, 12, 13, 23].
-!> The elastic and cone regimes are computed for every point and selected
-!> by masks, so the loop over points has no call and no branch and the
-!> compiler vectorises it. Points whose answer is neither (the apex, a zero
+!> The trial and its yield function are computed for every point; a chunk
+!> with a plastic point then computes the cone for every point too, and
+!> selects by masks, so the loops over points have no call and no branch
+!> and the compiler vectorises them (with -fno-trapping-math, CMakeLists.txt).
+!> Points whose answer is neither (the apex, a zero
 !> deviator, no admissible stress) are marked deferred and left to
 !> point_update, one by one; they are rare. Same arithmetic, in the same
 !> order, as point_closed_form: the results are bitwise its results.
@@ -42,6 +44,7 @@ contains
     real(dp), intent(inout) :: status(block_chunk), trial(block_chunk, 6)
     real(dp) :: bulk, shear, rn, rate, w, zeta_new, tr_de, st(6), s(6), i1_tr, q, k_n, f_tr
     real(dp) :: qs, x_max, x, xc, shrink, i1, sn(6), dep(6), r, fc, bad, pl
+    real(dp) :: q_trial(block_chunk), f_trial(block_chunk), zeta_trial(block_chunk)
     integer :: i, j
     real(dp) :: apex_on
 
@@ -51,9 +54,12 @@ contains
     rate = p%a_m + p%hard%h
     ! 1 when the cone has an apex (beta > 0), else 0: a factor, not a branch.
     apex_on = merge(1.0_dp, 0.0_dp, p%beta > 0.0_dp)
+    ! The trial (eq. 1.5) and its yield function for every point; a chunk
+    ! with no point outside the yield surface (most of a body in an elastic
+    ! wave) takes the elastic answer and skips the cone's divisions.
     do i = 1, n
-      zeta_new = zeta0(i) + p%h_zeta*avg_dlambda(i)
-      ! Elastic trial C : de (eq. 1.5).
+      zeta_trial(i) = zeta0(i) + p%h_zeta*avg_dlambda(i)
+      zeta(i) = zeta_trial(i)
       tr_de = de(i, 1) + de(i, 2) + de(i, 3)
       do j = 1, 3
         st(j) = sig0(i, j) + 2.0_dp*shear*(de(i, j) - tr_de/3.0_dp) + bulk*tr_de
@@ -65,8 +71,44 @@ contains
       s(1:3) = st(1:3) - i1_tr/3.0_dp
       s(4:6) = st(4:6)
       q = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp*(s(4)**2 + s(5)**2 + s(6)**2))
-      k_n = p%hard%k0 + p%hard%h*z0(i) + zeta_new
-      f_tr = q/sqrt2 + p%beta*i1_tr - k_n
+      k_n = p%hard%k0 + p%hard%h*z0(i) + zeta_trial(i)
+      f_trial(i) = q/sqrt2 + p%beta*i1_tr - k_n
+      q_trial(i) = q
+      do j = 1, 6
+        trial(i, j) = st(j)
+      end do
+    end do
+    ! 1 when a point is plastic (a NaN f counts as elastic, as below)
+    pl = 0.0_dp
+    do i = 1, n
+      pl = merge(1.0_dp, pl, f_trial(i) > 0.0_dp)
+    end do
+    if (pl == 0.0_dp) then
+      do j = 1, 6
+        do i = 1, n
+          sig(i, j) = trial(i, j)
+          eps_p(i, j) = eps_p0(i, j)
+        end do
+      end do
+      do i = 1, n
+        z(i) = z0(i)
+        f(i) = f_trial(i)
+        dlambda(i) = 0.0_dp
+        status(i) = 0.0_dp
+      end do
+      return
+    end if
+    do i = 1, n
+      ! the first loop's trial, deviator, q and f: the same operations.
+      ! zeta_new from a local array: a dummy's load that GCC sinks into the
+      ! plastic branch (only fc reads it) might trap, and blocks vectorising.
+      st = trial(i, :)
+      i1_tr = st(1) + st(2) + st(3)
+      s(1:3) = st(1:3) - i1_tr/3.0_dp
+      s(4:6) = st(4:6)
+      q = q_trial(i)
+      f_tr = f_trial(i)
+      zeta_new = zeta_trial(i)
 
       ! Cone (eq. 4.36), evaluated on every point with divisors kept >=
       ! tiny and x clipped to [0, x_max], so that no lane divides by zero or
@@ -90,14 +132,12 @@ contains
       fc = rsqrt2*shrink*q + p%beta*i1 - (p%hard%k0 + p%hard%h*(z0(i) + xc)) - zeta_new
 
       do j = 1, 6
-        trial(i, j) = st(j)
         sig(i, j) = merge(sn(j), st(j), f_tr > 0.0_dp)
         r = eps_p0(i, j) + dep(j)
         eps_p(i, j) = merge(r, eps_p0(i, j), f_tr > 0.0_dp)
       end do
       r = z0(i) + xc
       z(i) = merge(r, z0(i), f_tr > 0.0_dp)
-      zeta(i) = zeta_new
       dlambda(i) = merge(xc, 0.0_dp, f_tr > 0.0_dp)
       f(i) = merge(fc, f_tr, f_tr > 0.0_dp)
       ! 0 elastic, 1 cone, -1 deferred, as arithmetic on two 0/1 masks.
