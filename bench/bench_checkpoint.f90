@@ -7,6 +7,7 @@
 program bench_checkpoint
   use, intrinsic :: iso_fortran_env, only: int64, output_unit
   use wellposed_kinds, only: dp
+  use bench_args, only: real_arg, most_args
   use wellposed_error, only: error_t
   use wellposed_mpm_config, only: mpm_config_t
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance
@@ -20,17 +21,15 @@ program bench_checkpoint
   type(checkpoint_t) :: ck, back
   type(error_t), allocatable :: err
   character(len=:), allocatable :: path
-  character(len=32) :: arg
   integer(int64) :: c0, c1, rate, bytes
   integer :: k
   real(dp) :: t_step, t_write, t_read
 
   cfg%name = 'bench_checkpoint'
   cfg%title = 'Sandler-Rubin default scene'
-  if (command_argument_count() >= 1) then
-    call get_command_argument(1, arg)
-    read (arg, *) cfg%dx
-  end if
+  call most_args('bench_checkpoint', 1, 'bench_checkpoint [DX]')
+  if (command_argument_count() >= 1) &
+    cfg%dx = real_arg('bench_checkpoint', 1, 'DX (m)', 0.01_dp, 5.0_dp)
   cfg%nprops = 14
   cfg%props = 0.0_dp
   cfg%props(1:5) = [4.0e9_dp, 1.5e9_dp, 0.315_dp, 0.0_dp, 5.066e6_dp]

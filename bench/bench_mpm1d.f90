@@ -20,6 +20,7 @@
 program bench_mpm1d
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
+  use bench_args, only: int_arg, most_args
   use wellposed_error, only: error_t
   use wellposed_mpm_config, only: mpm_config_t, shape_gimp, shape_linear, shape_names, &
                                   mass_lumped, mass_blended
@@ -33,7 +34,6 @@ program bench_mpm1d
   integer, parameter :: nwarm = 200, nrounds = 10, trial_calls = 200000
   real(dp), parameter :: target_ratio = 6.0_dp   !< GIMP, x trial
   integer :: nsteps = 2000                 !< first argument, if given
-  character(len=32) :: arg
   type(mpm_config_t) :: cfg
   type(mpm_scene_t) :: sc
   type(error_t), allocatable :: err
@@ -41,16 +41,12 @@ program bench_mpm1d
   character(len=6) :: label
   real(dp) :: ns, trial, t0, t1, tot, sink
 
-  if (command_argument_count() >= 1) then
-    call get_command_argument(1, arg)
-    read (arg, *) nsteps
-  end if
+  call most_args('bench_mpm1d', 2, 'bench_mpm1d [NSTEPS [ROW]]')
+  if (command_argument_count() >= 1) nsteps = int_arg('bench_mpm1d', 1, 'NSTEPS', 1, 10**7)
   row_first = 1
   row_last = 4
   if (command_argument_count() >= 2) then
-    call get_command_argument(2, arg)
-    read (arg, *) row_first
-    if (row_first < 1 .or. row_first > 4) error stop 'bench_mpm1d: ROW is 1 to 4'
+    row_first = int_arg('bench_mpm1d', 2, 'ROW', 1, 4)
     row_last = row_first
   end if
   per_round = max(1, nsteps/nrounds)

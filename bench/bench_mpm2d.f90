@@ -21,6 +21,7 @@
 program bench_mpm2d
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
+  use bench_args, only: int_arg, most_args
   use wellposed_error, only: error_t
   use wellposed_mpm_plane_strain, only: ps_config_t
   use wellposed_mpm_plate_config, only: bc_free2
@@ -38,15 +39,11 @@ program bench_mpm2d
   type(error_t), allocatable :: err
   integer :: kind, k, row
   real(dp) :: ratio, sink
-  character(len=32) :: arg
 
   sink = 0.0_dp
   row = 0
-  if (command_argument_count() >= 1) then
-    call get_command_argument(1, arg)
-    read (arg, *) row
-    if (row < 1 .or. row > 5) error stop 'bench_mpm2d: ROW is 1 to 5'
-  end if
+  call most_args('bench_mpm2d', 1, 'bench_mpm2d [ROW]')
+  if (command_argument_count() >= 1) row = int_arg('bench_mpm2d', 1, 'ROW', 1, 5)
   write (output_unit, '(a)') 'bench_mpm2d: plane-strain plate 4 m x 5 m, h = 0.25 m, 2 x 2 '// &
     'particles per cell, von Mises (k0 = 40 MPa)'
   write (output_unit, '(a,i0,a,i0,a)') '  CPU time, fastest of ', nrounds, ' rounds of ', &

@@ -16,6 +16,7 @@
 program bench_umat
   use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_kinds, only: dp
+  use bench_args, only: int_arg, most_args
   use wellposed_umat_interface, only: umat
   use wellposed_vumat_interface, only: vumat
   use wellposed_dp_params, only: dp_params_t, fill_dp_params
@@ -48,13 +49,10 @@ program bench_umat
   real(dp) :: t_trial, t_case(3, 2), t_ref(3, 2), t_efr(3, 2), t_check, t_kernel, sink
   real(dp) :: t_vumat(4, 4), t_mixed
   integer :: ncalls, icase, itan, iround, i
-  character(len=32) :: arg
 
   ncalls = 20000
-  if (command_argument_count() >= 1) then
-    call get_command_argument(1, arg)
-    read (arg, *) ncalls
-  end if
+  call most_args('bench_umat', 1, 'bench_umat [CALLS]')
+  if (command_argument_count() >= 1) ncalls = int_arg('bench_umat', 1, 'CALLS', 1, 10**8)
   ! Elastic: a small increment inside the cone; cone: extension from the
   ! case-study state (fig. 2.2); apex: strong hydrostatic tension from zero.
   base_stress(:, 1) = [-100.0e6_dp, -30.0e6_dp, -30.0e6_dp, 0.0_dp, 0.0_dp, 0.0_dp]
