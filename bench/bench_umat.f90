@@ -22,6 +22,15 @@ program bench_umat
   use wellposed_dp_params, only: dp_params_t, fill_dp_params
   use wellposed_dp_point, only: point_closed_form
   implicit none
+  ! The same source builds bench_umat (the static library, the host's usual
+  ! link) and bench_umat_shared (libwellposed.so): the header says which.
+#ifdef BENCH_UMAT_SHARED
+  character(len=*), parameter :: bench_name = 'bench_umat_shared', &
+    linked = 'libwellposed.so (a host linked with -lwellposed, shared)'
+#else
+  character(len=*), parameter :: bench_name = 'bench_umat', &
+    linked = 'libwellposed.a (linked statically, without LTO into the bench)'
+#endif
   interface
     subroutine bench_elastic_trial(stress, statev, ddsdde, dstran, nstatv)
       import :: dp
@@ -51,8 +60,8 @@ program bench_umat
   integer :: ncalls, icase, itan, iround, i
 
   ncalls = 20000
-  call most_args('bench_umat', 1, 'bench_umat [CALLS]')
-  if (command_argument_count() >= 1) ncalls = int_arg('bench_umat', 1, 'CALLS', 1, 10**8)
+  call most_args(bench_name, 1, bench_name//' [CALLS]')
+  if (command_argument_count() >= 1) ncalls = int_arg(bench_name, 1, 'CALLS', 1, 10**8)
   ! Elastic: a small increment inside the cone; cone: extension from the
   ! case-study state (fig. 2.2); apex: strong hydrostatic tension from zero.
   base_stress(:, 1) = [-100.0e6_dp, -30.0e6_dp, -30.0e6_dp, 0.0_dp, 0.0_dp, 0.0_dp]
@@ -90,8 +99,9 @@ program bench_umat
     t_kernel = min(t_kernel, time_kernel(base_stress(:, 2), strains(:, 2)))
   end do
 
-  write (output_unit, '(a,i0,a,i0,a)') 'bench_umat: ', ncalls, ' calls per case and round, ', &
+  write (output_unit, '(a,i0,a,i0,a)') bench_name//': ', ncalls, ' calls per case and round, ', &
     nrounds, ' rounds (fastest kept), NTENS = 6'
+  write (output_unit, '(a)') '  the umat of '//linked
   write (output_unit, '(a,f7.1,a)') '  elastic trial alone (lower bound):  ', t_trial, ' ns'
   write (output_unit, '(a)') '  case          DDSDDE  ref ns  umat ns  /trial  /ref  |'// &
     '  explicit  ref ns  umat ns  /trial  /ref'
