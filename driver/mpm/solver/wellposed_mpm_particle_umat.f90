@@ -23,11 +23,11 @@ module wellposed_mpm_particle_umat
   use wellposed_umat_layout, only: sv_z, sv_dlambda, sv_avg_dlambda, sv_zeta, sv_eps_p, sv_f, &
                                    sv_status
   use wellposed_dp_params, only: dp_params_t
-  use wellposed_dp_point, only: has_closed_form
+  use wellposed_dp_point, only: has_closed_form, point_update
   use wellposed_dp_block, only: closed_form_block, block_chunk
   implicit none
   private
-  public :: strain_increment, umat_particle, umat_block
+  public :: strain_increment, umat_particle, umat_block, umat_point, point_params
 
 contains
 
@@ -83,6 +83,83 @@ contains
     if (allocated(err)) return
     if (host%ours) dlambda = sv(2)
   end subroutine umat_particle
+
+  !> PROPS of one material checked as the UMAT checks them on every call
+  !> (NTENS = ntens, NSTATV = nstatv, the step dt): ok and their parameters
+  !> par for umat_point, which then skips the check (the generalized
+  !> Duvaut-Lions model keeps its UMAT call).
+  subroutine point_params(props, ntens, nstatv, dt, par, ok)
+    real(dp), intent(in), contiguous :: props(:)
+    integer, intent(in) :: ntens, nstatv
+    real(dp), intent(in) :: dt
+    type(dp_params_t), intent(inout) :: par
+    logical, intent(out) :: ok
+    logical :: want_tangent
+    integer :: fault
+    ok = .false.
+    if (ntens /= 6 .and. ntens /= 4) return
+    call check_props(3, ntens - 3, ntens, nstatv, size(props), props, dt, par, want_tangent, &
+                     fault)
+    ok = fault == 0 .and. .not. par%gdl
+  end subroutine point_params
+
+  !> One particle of our material through the model's point update: the
+  !> UMAT's arithmetic and conversions without its call, for PROPS checked
+  !> once (par, from check_props). s, sv, e (STRESS, STATEV, STRAN) in
+  !> place over the increment de with STATEV(3) = avg. done when the UMAT
+  !> would answer in one call (inputs and outputs finite, no error such as
+  !> a cut-back request): the result is then bitwise that call's, dlambda =
+  !> STATEV(2). Else nothing is touched and the host's call decides.
+  subroutine umat_point(par, nt, dt, avg, s, sv, e, de, dlambda, done)
+    type(dp_params_t), intent(in) :: par
+    integer, intent(in) :: nt
+    real(dp), intent(in) :: dt, avg
+    real(dp), intent(inout), contiguous :: s(:), sv(:), e(:)
+    real(dp), intent(in), contiguous :: de(:)
+    real(dp), intent(out) :: dlambda
+    logical, intent(out) :: done
+    real(dp) :: sig(6), d6(6), ep(6), z, zeta, f, dl
+    integer(int64) :: b
+    integer :: status, j
+    type(error_t), allocatable :: err
+    done = .false.
+    dlambda = 0.0_dp
+    if (par%gdl .or. (nt /= 6 .and. nt /= 4) .or. size(sv) < sv_status) return
+    ! what the UMAT and the host check: STATEV(3) is avg here
+    b = ior(ior(nonfinite_bits(avg), nonfinite_run(nt, s)), &
+            ior(nonfinite_run(nt, de), nonfinite_run(nt, e)))
+    do j = 1, size(sv)
+      if (j /= sv_avg_dlambda) b = ior(b, nonfinite_bits(sv(j)))
+    end do
+    if (b < 0) return
+    sig = 0.0_dp
+    d6 = 0.0_dp
+    sig(1:nt) = s(1:nt)
+    d6(1:nt) = de(1:nt)
+    d6(4:6) = 0.5_dp*d6(4:6)
+    ep(1:3) = sv(sv_eps_p:sv_eps_p + 2)
+    ep(4:6) = 0.5_dp*sv(sv_eps_p + 3:sv_eps_p + 5)
+    z = sv(sv_z)
+    zeta = sv(sv_zeta)
+    call point_update(par, sig, ep, z, zeta, avg, d6, dt, dl, f, status, nt, err=err)
+    if (allocated(err)) return
+    ep(4:6) = 2.0_dp*ep(4:6)
+    b = ior(ior(nonfinite_run(nt, sig), nonfinite_run(6, ep)), &
+            ior(ior(nonfinite_bits(z), nonfinite_bits(dl)), &
+                ior(nonfinite_bits(zeta), nonfinite_bits(f))))
+    if (b < 0) return
+    s(1:nt) = sig(1:nt)
+    sv(sv_avg_dlambda) = avg
+    sv(sv_z) = z
+    sv(sv_dlambda) = dl
+    sv(sv_zeta) = zeta
+    sv(sv_eps_p:sv_eps_p + 5) = ep
+    sv(sv_f) = f
+    sv(sv_status) = real(status, dp)
+    e(1:nt) = e(1:nt) + de(1:nt)
+    dlambda = dl
+    done = .true.
+  end subroutine umat_point
 
   !> Particles idx(:) of one material of ours through the block kernel, in
   !> place, with STATEV(3) = <dlambda> = avg(p) (0 when absent: the local

@@ -21,7 +21,8 @@ module wellposed_mpm_scene
   use wellposed_mpm_materials, only: mpm_materials_t, material_of, check_covered
   use wellposed_umat_host, only: umat_host_t, new_umat_host, umat_is_ours
   use wellposed_step_kinematics, only: step_kinematics
-  use wellposed_mpm_particle_umat, only: umat_particle, umat_block
+  use wellposed_mpm_particle_umat, only: umat_particle, umat_block, umat_point, point_params
+  use wellposed_dp_params, only: dp_params_t
   use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, nonlocal_settings_t, &
                                     new_nonlocal, nonlocal_ghost_nodes
   implicit none
@@ -91,6 +92,9 @@ module wellposed_mpm_scene
     integer, allocatable :: nnz(:)        !< support nodes in use of each particle, this step
     logical, allocatable :: done(:)       !< updated by the block kernel this step
     real(dp), allocatable :: block_avg(:), block_dl(:)  !< a list's averages, dlambda (by particle)
+    type(dp_params_t), allocatable :: point_par(:)  !< each material's PROPS, checked this step
+    logical, allocatable :: point_ok(:)   !< material k goes through umat_point
+    integer :: point_step = -1            !< the step point_par was checked for
     type(nonlocal_t) :: nl                !< Algorithm 1 (the dissertation's chapter 4)
     type(umat_host_t) :: host             !< the UMAT host, one per scene
   contains
@@ -262,6 +266,7 @@ contains
     integer :: nsub, k, nt
     nt = self%ntens
     call restore_start(self, p)
+    if (point_path(self, p, avg, dlambda)) return
     associate (pt => self%parts)
       k = self%mat(p)
       self%host%ours = self%mats%contract(k)
@@ -373,6 +378,43 @@ contains
       end associate
     end do
   end subroutine update_blocks
+
+  !> Particle p alone through umat_point (Algorithm 1's sweeps in the serial
+  !> order, and the particles the block kernel leaves) when its material is
+  !> ours and the linked UMAT is wellposed's: the UMAT call's answer without
+  !> the call, PROPS checked once a step. True when done; else p is untouched.
+  logical function point_path(self, p, avg, dlambda) result(done)
+    type(mpm_scene_t), intent(inout) :: self
+    integer, intent(in) :: p
+    real(dp), intent(in) :: avg
+    real(dp), intent(inout) :: dlambda
+    integer :: k, nt
+    done = .false.
+    if (.not. block_kernel_on(self)) return
+    if (self%point_step /= self%nstep) then
+      if (allocated(self%point_ok)) then
+        if (size(self%point_ok) /= self%mats%n) deallocate (self%point_par, self%point_ok)
+      end if
+      if (.not. allocated(self%point_ok)) then
+        allocate (self%point_par(self%mats%n), self%point_ok(self%mats%n))
+      end if
+      do k = 1, self%mats%n
+        self%point_ok(k) = .false.
+        if (.not. (self%mats%ours(k) .and. self%mats%contract(k))) cycle
+        call point_params(self%mats%props(1:self%mats%nprops(k), k), self%ntens, &
+                          self%host%nstatv, self%dt, self%point_par(k), self%point_ok(k))
+      end do
+      self%point_step = self%nstep
+    end if
+    k = self%mat(p)
+    if (k < 1 .or. k > size(self%point_ok)) return
+    if (.not. self%point_ok(k)) return
+    nt = self%ntens
+    associate (pt => self%parts)
+      call umat_point(self%point_par(k), nt, self%dt, avg, pt%stress(1:nt, p), &
+                      pt%statev(:, p), pt%stran(1:nt, p), self%de(:, p), dlambda, done)
+    end associate
+  end function point_path
 
   !> True when our materials go through the block kernel: the linked UMAT
   !> is wellposed's and no user UMAT procedure is set on the host.
