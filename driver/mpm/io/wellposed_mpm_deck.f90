@@ -16,7 +16,7 @@ module wellposed_mpm_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: check_range, check_finite, unset, is_set, real_str, check_word
-  use wellposed_mpm_deck_file, only: read_deck_groups
+  use wellposed_mpm_deck_file, only: deck_sources_t, start_sources, next_source, read_failed
   use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck
   use wellposed_mpm_scene_kind, only: scene_kind_bar
   use wellposed_mpm_materials, only: first_material
@@ -52,6 +52,10 @@ contains
     integer :: count
     real(dp) :: first, spacing
     character(len=16) :: pulse
+    type(deck_sources_t) :: src
+    character(len=:), allocatable :: grp
+    character(len=512) :: rd_msg
+    integer :: rd_ios
     namelist /initial/ stress, velocity, out_of_equilibrium
     namelist /load/ base, peak, duration, start, pulse, rate, amplitude, frequency
     namelist /stations/ first, spacing, count
@@ -77,7 +81,11 @@ contains
     start = cfg%load_start; pulse = 'triangle'
     rate = unset; amplitude = unset; frequency = unset
     first = cfg%station_first; spacing = cfg%station_spacing; count = cfg%nstations
-    call read_deck_groups(path, text, overrides, bar_groups, read_group, err)
+    call start_sources(src, path, text, overrides, bar_groups, err)
+    do while (next_source(src, grp, err))
+      call read_group(grp, rd_ios, rd_msg, src%unit, src%line)
+      if (read_failed(src, grp, rd_ios, rd_msg, err)) return
+    end do
     if (allocated(err)) return
 
     cfg%pulse = word(pulse, pulse_names, 'load', 'pulse'); if (allocated(err)) return

@@ -1,28 +1,42 @@
 !> An MPM deck opened for reading, for every scene kind's reader: its whole
 !> text (to find groups, quote values and store in run.h5) and a unit on it
 !> for the namelist READs; a command-line override group.key=value as the
-!> one-line namelist the reader reads after the deck; and the loop every
-!> reader makes over its groups, the deck's then the overrides'. A file that is not
-!> a deck (empty, comments only, not text, cut in the middle of a group) or
-!> that names no scene is refused here, before anything is set up: the
-!> default scene runs only when the program is given no deck at all.
+!> one-line namelist the reader reads after the deck; and the sources of
+!> a reader's groups in turn, the deck's then the overrides' (the reader
+!> makes each READ, so no procedure of its is passed: no executable stack).
+!> A file that is not a deck (empty, comments only, not text, cut in the
+!> middle of a group) or that names no scene is refused here, before
+!> anything is set up: the default scene runs only when the program is
+!> given no deck at all.
 module wellposed_mpm_deck_file
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: read_deck_text, has_group, namelist_error, lower
   implicit none
   private
-  public :: open_deck, override_line, read_deck_groups, group_reader, sets_list
+  public :: open_deck, override_line, start_sources, next_source, read_failed, sets_list
+
+  !> Where a reader's groups come from, in turn (start_sources, then
+  !> next_source until false): each of its groups the deck holds (`unit`,
+  !> the deck rewound), then each override of one of them (`line`, a
+  !> one-line namelist); the one not current is unallocated, so passed on
+  !> it is absent. The reader makes each READ itself: a callback would be
+  !> an internal procedure of the reader, and passing one needs an
+  !> executable stack (a trampoline).
+  type, public :: deck_sources_t
+    character(len=:), allocatable :: path, text
+    character(len=:), allocatable :: groups(:), overrides(:), known(:)
+    procedure(group_test), pointer, nopass :: is_other => null()
+    integer :: deck_unit = -1             !< the deck, open while its groups are read
+    integer :: next = 1                   !< the source after the current one
+    integer, allocatable :: unit          !< the deck, when the current source
+    character(len=:), allocatable :: line !< the current override's namelist
+  end type deck_sources_t
 
   abstract interface
-    !> One READ of namelist group `grp` from `unit` (the deck) or `line`
-    !> (an override), iostat and iomsg in ios and msg.
-    subroutine group_reader(grp, ios, msg, unit, line)
-      character(len=*), intent(in) :: grp
-      integer, intent(out) :: ios
-      character(len=*), intent(inout) :: msg
-      integer, intent(in), optional :: unit
-      character(len=*), intent(in), optional :: line
-    end subroutine group_reader
+    !> True for a group another reader takes (a &material occurrence).
+    pure logical function group_test(group)
+      character(len=*), intent(in) :: group
+    end function group_test
   end interface
 
 contains
@@ -87,56 +101,99 @@ contains
     sets_list = rest(1:1) == '='
   end function sets_list
 
-  !> Each of `groups` that deck `path` (its text `text`) holds, then each
-  !> override of those groups, through `reader`; errors name the deck or the
-  !> command line and the group. With `known`, an override of a group in
-  !> neither list (nor a &material occurrence: `is_other`) is refused.
-  subroutine read_deck_groups(path, text, overrides, groups, reader, err, known, is_other)
+  !> The sources of `groups` in deck `path` (its text `text`) and in
+  !> `overrides`; errors name the deck or the command line and the group.
+  !> With `known`, an override of a group in neither list (nor one
+  !> `is_other` takes) is refused.
+  subroutine start_sources(src, path, text, overrides, groups, err, known, is_other)
+    type(deck_sources_t), intent(out) :: src
     character(len=*), intent(in) :: path, text, overrides(:), groups(:)
-    procedure(group_reader) :: reader
     type(error_t), allocatable, intent(out) :: err
     character(len=*), intent(in), optional :: known(:)
-    interface
-      pure logical function is_other(group)
-        character(len=*), intent(in) :: group
-      end function is_other
-    end interface
-    optional :: is_other
-    integer :: unit, ios, i
+    procedure(group_test), optional :: is_other
+    integer :: ios
     character(len=512) :: msg
-    character(len=:), allocatable :: line, group
-    open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
+    src%path = path
+    src%text = text
+    src%groups = groups
+    src%overrides = overrides
+    if (present(known)) src%known = known
+    if (present(is_other)) src%is_other => is_other
+    open (newunit=src%deck_unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
     if (ios /= 0) then
+      src%deck_unit = -1
+      src%next = size(groups) + size(overrides) + 1
       call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
-      return
     end if
-    do i = 1, size(groups)
-      if (.not. has_group(text, trim(groups(i)))) cycle
-      rewind (unit)
-      call reader(trim(groups(i)), ios, msg, unit=unit)
-      if (ios /= 0) then
-        close (unit)
-        err = namelist_error(path, trim(groups(i)), ios, msg, text); return
-      end if
+  end subroutine start_sources
+
+  !> The next source, its group in `group`: false at the end (the deck
+  !> closed) or with err set (the deck could not be opened, a malformed or
+  !> unknown override).
+  logical function next_source(src, group, err) result(more)
+    type(deck_sources_t), intent(inout) :: src
+    character(len=:), allocatable, intent(out) :: group
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i, ng
+    more = .false.
+    if (allocated(err)) return
+    if (allocated(src%unit)) deallocate (src%unit)
+    if (allocated(src%line)) deallocate (src%line)
+    ng = size(src%groups)
+    do while (src%next <= ng)
+      i = src%next
+      src%next = i + 1
+      if (.not. has_group(src%text, trim(src%groups(i)))) cycle
+      rewind (src%deck_unit)
+      src%unit = src%deck_unit
+      group = trim(src%groups(i))
+      more = .true.
+      return
     end do
-    close (unit)
-    do i = 1, size(overrides)
-      call override_line(overrides(i), group, line, err)
+    call close_deck(src)
+    do while (src%next <= ng + size(src%overrides))
+      i = src%next - ng
+      src%next = src%next + 1
+      call override_line(src%overrides(i), group, src%line, err)
       if (allocated(err)) return
-      if (.not. any(groups == group)) then
-        if (.not. present(known)) cycle
-        if (any(known == group)) cycle
-        if (present(is_other)) then
-          if (is_other(group)) cycle
-        end if
-        call new_error(err, status_invalid, group, 'override "'//trim(overrides(i))// &
-          '": no group &'//group); return
+      if (any(src%groups == group)) then
+        more = .true.
+        return
       end if
-      call reader(group, ios, msg, line=line)
-      if (ios /= 0) then
-        err = namelist_error('command line', group, ios, msg, line); return
+      deallocate (src%line)
+      if (.not. allocated(src%known)) cycle
+      if (any(src%known == group)) cycle
+      if (associated(src%is_other)) then
+        if (src%is_other(group)) cycle
       end if
+      call new_error(err, status_invalid, group, 'override "'//trim(src%overrides(i))// &
+        '": no group &'//group)
+      return
     end do
-  end subroutine read_deck_groups
+  end function next_source
+
+  !> True when the READ of the current source failed (iostat ios /= 0):
+  !> err then names the deck or the command line, the group and the
+  !> message (iomsg msg), and the deck is closed.
+  logical function read_failed(src, group, ios, msg, err) result(failed)
+    type(deck_sources_t), intent(inout) :: src
+    character(len=*), intent(in) :: group, msg
+    integer, intent(in) :: ios
+    type(error_t), allocatable, intent(inout) :: err
+    failed = ios /= 0
+    if (.not. failed) return
+    if (allocated(src%line)) then
+      err = namelist_error('command line', group, ios, msg, src%line)
+    else
+      err = namelist_error(src%path, group, ios, msg, src%text)
+    end if
+    call close_deck(src)
+  end function read_failed
+
+  subroutine close_deck(src)
+    type(deck_sources_t), intent(inout) :: src
+    if (src%deck_unit /= -1) close (src%deck_unit)
+    src%deck_unit = -1
+  end subroutine close_deck
 
 end module wellposed_mpm_deck_file

@@ -28,7 +28,8 @@ module wellposed_mpm_deck_shared
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: check_finite, check_word, unset, is_set, lower, real_str
-  use wellposed_mpm_deck_file, only: open_deck, read_deck_groups
+  use wellposed_mpm_deck_file, only: open_deck, deck_sources_t, start_sources, next_source, &
+                                     read_failed
   use wellposed_mpm_scene_kind, only: check_scene_name, scene_kind_bar, scene_kind_names
   use wellposed_mpm_material_deck, only: read_materials, material_defaults_t, &
                                          is_material_group
@@ -94,6 +95,10 @@ contains
     real(dp) :: nl_length, nl_h_zeta
     character(len=16) :: nl_word, nl_sweep
     integer :: unit, i
+    type(deck_sources_t) :: src
+    character(len=:), allocatable :: grp
+    character(len=512) :: rd_msg
+    integer :: rd_ios
 
     call blank(given)
     given%stop_on_cutback = sh%stop_on_cutback
@@ -105,8 +110,11 @@ contains
     call open_deck(path, text, unit, err)
     if (allocated(err)) return
     close (unit)
-    call read_deck_groups(path, text, overrides, shared_groups, read_group, err, own, &
-                          is_material_group)
+    call start_sources(src, path, text, overrides, shared_groups, err, own, is_material_group)
+    do while (next_source(src, grp, err))
+      call read_group(grp, rd_ios, rd_msg, src%unit, src%line)
+      if (read_failed(src, grp, rd_ios, rd_msg, err)) return
+    end do
     if (allocated(err)) return
     if (allocated(foreign%key)) then
       call new_error(err, status_invalid, foreign%key, path//': &'//foreign%group//': '// &
@@ -163,7 +171,8 @@ contains
       case ('viscosity')
         call read_viscosity(given, ios, msg, unit, line)
       case ('nonlocal')
-        call read_nonlocal(sh%nonlocal, nl_word, nl_sweep, nl_length, nl_h_zeta, ios, msg, unit, line)
+        call read_nonlocal(sh%nonlocal, nl_word, nl_sweep, nl_length, nl_h_zeta, ios, msg, &
+                           unit, line)
       case ('output')
         call read_output(given, ios, msg, unit, line)
         if (kind /= scene_kind_bar) then

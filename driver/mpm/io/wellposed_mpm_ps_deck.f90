@@ -38,7 +38,8 @@ module wellposed_mpm_ps_deck
   use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck, max_cases
   use wellposed_mpm_materials, only: add_material, check_regions, first_material
   use wellposed_umat_layout, only: prop_k0
-  use wellposed_mpm_deck_file, only: read_deck_groups, sets_list
+  use wellposed_mpm_deck_file, only: deck_sources_t, start_sources, next_source, read_failed, &
+                                     sets_list
   use wellposed_mpm_scene_kind, only: scene_kind_plate
   use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
                                         bc_velocity, platen_names
@@ -91,6 +92,10 @@ contains
     character(len=:), allocatable, intent(out) :: text
     type(error_t), allocatable, intent(out) :: err
     type(shared_deck_t) :: sh
+    type(deck_sources_t) :: src
+    character(len=:), allocatable :: grp
+    character(len=512) :: rd_msg
+    integer :: rd_ios
     real(dp) :: width, height, weak_x(2), weak_y(2), weak_k0
     real(dp) :: dx(max_cases), scale(max_cases)
     character(len=32) :: label(max_cases)
@@ -118,7 +123,11 @@ contains
     bottom = 'roller'; top = 'velocity'; sides = 'free'; top_lateral = 'fixed'; platen = 'surface'
     top_velocity = cfg%top_velocity; ramp_time = cfg%ramp_time
     x = unset; y = unset
-    call read_deck_groups(path, text, overrides, plate_groups, read_group, err)
+    call start_sources(src, path, text, overrides, plate_groups, err)
+    do while (next_source(src, grp, err))
+      call read_group(grp, rd_ios, rd_msg, src%unit, src%line)
+      if (read_failed(src, grp, rd_ios, rd_msg, err)) return
+    end do
     if (allocated(err)) return
 
     call shared_into_config(); if (allocated(err)) return
