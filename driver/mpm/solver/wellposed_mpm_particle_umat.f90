@@ -185,7 +185,7 @@ contains
     real(dp) :: c_ep(chunk, 6), c_z0(chunk), c_zeta0(chunk), c_avg(chunk), c_z(chunk)
     real(dp) :: c_zeta(chunk), c_dl(chunk), c_f(chunk), c_st(chunk), c_trial(chunk, 6)
     integer(int64) :: bad(chunk), b
-    logical :: want_tangent, keep
+    logical :: want_tangent, keep, run
     type(dp_params_t) :: par
     integer :: fault, k0, n, i, j, q, q0, q1, nt
     nt = ntens
@@ -225,7 +225,8 @@ contains
           if (idx(k0 - 1 + i) /= q0 + i - 1) b = -1_int64
         end do
       end if
-      if (b >= 0) then
+      run = b >= 0
+      if (run) then
         bad(1:n) = 0
       else
         do i = 1, n
@@ -243,24 +244,36 @@ contains
       end if
       ! Gather in the model's order with tensor shears; a point with a bad
       ! input enters the kernel as zeros (selected, not computed on) and is
-      ! left to the per-particle call.
-      do i = 1, n
-        q = idx(k0 - 1 + i)
-        keep = bad(i) >= 0
-        do j = 1, 3
-          c_sig0(i, j) = merge(stress(j, q), 0.0_dp, keep)
-          c_de(i, j) = merge(de(j, q), 0.0_dp, keep)
-          c_ep0(i, j) = merge(statev(sv_eps_p - 1 + j, q), 0.0_dp, keep)
-          c_ep0(i, j + 3) = 0.5_dp*merge(statev(sv_eps_p + 2 + j, q), 0.0_dp, keep)
+      ! left to the per-particle call. A finite run is copied column by column.
+      if (run) then
+        if (nt == 6) then   ! NTENS a constant in each call: the loops unroll
+          call gather_run(n, 6, size(stress, 1), size(de, 1), size(statev, 1), &
+                          stress(:, q0:q1), de(:, q0:q1), statev(:, q0:q1), c_sig0, c_de, c_ep0, &
+                          c_z0, c_zeta0)
+        else
+          call gather_run(n, 4, size(stress, 1), size(de, 1), size(statev, 1), &
+                          stress(:, q0:q1), de(:, q0:q1), statev(:, q0:q1), c_sig0, c_de, c_ep0, &
+                          c_z0, c_zeta0)
+        end if
+      else
+        do i = 1, n
+          q = idx(k0 - 1 + i)
+          keep = bad(i) >= 0
+          do j = 1, 3
+            c_sig0(i, j) = merge(stress(j, q), 0.0_dp, keep)
+            c_de(i, j) = merge(de(j, q), 0.0_dp, keep)
+            c_ep0(i, j) = merge(statev(sv_eps_p - 1 + j, q), 0.0_dp, keep)
+            c_ep0(i, j + 3) = 0.5_dp*merge(statev(sv_eps_p + 2 + j, q), 0.0_dp, keep)
+          end do
+          do j = 4, nt
+            c_sig0(i, j) = merge(stress(j, q), 0.0_dp, keep)
+            c_de(i, j) = 0.5_dp*merge(de(j, q), 0.0_dp, keep)
+          end do
+          c_z0(i) = merge(statev(sv_z, q), 0.0_dp, keep)
+          c_zeta0(i) = merge(statev(sv_zeta, q), 0.0_dp, keep)
+          c_avg(i) = merge(c_avg(i), 0.0_dp, keep)
         end do
-        do j = 4, nt
-          c_sig0(i, j) = merge(stress(j, q), 0.0_dp, keep)
-          c_de(i, j) = 0.5_dp*merge(de(j, q), 0.0_dp, keep)
-        end do
-        c_z0(i) = merge(statev(sv_z, q), 0.0_dp, keep)
-        c_zeta0(i) = merge(statev(sv_zeta, q), 0.0_dp, keep)
-        c_avg(i) = merge(c_avg(i), 0.0_dp, keep)
-      end do
+      end if
       call closed_form_block(par, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
                              c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
       ! The outputs the host checks (STRESS and STATEV finite), a column at
@@ -275,6 +288,26 @@ contains
           bad(i) = ior(bad(i), ior(nonfinite_bits(c_sig(i, j)), nonfinite_bits(c_ep(i, j))))
         end do
       end do
+      if (run) then
+        b = 0
+        do i = 1, n
+          b = ior(b, bad(i))
+        end do
+        if (b >= 0) then
+          if (nt == 6) then
+            call scatter_run(n, 6, size(stress, 1), size(de, 1), size(stran, 1), &
+                             size(statev, 1), c_sig, c_ep, c_z, c_dl, c_avg, c_zeta, c_f, c_st, &
+                             de(:, q0:q1), stress(:, q0:q1), stran(:, q0:q1), statev(:, q0:q1))
+          else
+            call scatter_run(n, 4, size(stress, 1), size(de, 1), size(stran, 1), &
+                             size(statev, 1), c_sig, c_ep, c_z, c_dl, c_avg, c_zeta, c_f, c_st, &
+                             de(:, q0:q1), stress(:, q0:q1), stran(:, q0:q1), statev(:, q0:q1))
+          end if
+          dlambda(q0:q1) = c_dl(1:n)
+          done(q0:q1) = .true.
+          cycle
+        end if
+      end if
       do i = 1, n
         if (bad(i) < 0) cycle
         q = idx(k0 - 1 + i)
@@ -282,21 +315,83 @@ contains
           stress(j, q) = c_sig(i, j)
           stran(j, q) = stran(j, q) + de(j, q)
         end do
-        statev(sv_z, q) = c_z(i)
-        statev(sv_dlambda, q) = c_dl(i)
-        statev(sv_avg_dlambda, q) = c_avg(i)
-        statev(sv_zeta, q) = c_zeta(i)
-        do j = 1, 3
-          statev(sv_eps_p - 1 + j, q) = c_ep(i, j)
-          statev(sv_eps_p + 2 + j, q) = 2.0_dp*c_ep(i, j + 3)
-        end do
-        statev(sv_f, q) = c_f(i)
-        statev(sv_status, q) = c_st(i)
+        call store_statev(i, c_z, c_dl, c_avg, c_zeta, c_f, c_st, c_ep, statev(:, q))
         dlambda(q) = c_dl(i)
         done(q) = .true.
       end do
     end do
   end subroutine umat_block
+
+  !> umat_block's gather of a run of n particles whose inputs are all
+  !> finite: the chunk's columns in the model's order, tensor shears.
+  pure subroutine gather_run(n, nt, ns, nd, nv, s, d, sv, c_sig0, c_de, c_ep0, c_z0, c_zeta0)
+    integer, value :: nt
+    integer, intent(in) :: n, ns, nd, nv
+    real(dp), intent(in) :: s(ns, n), d(nd, n), sv(nv, n)
+    real(dp), intent(inout) :: c_sig0(block_chunk, 6), c_de(block_chunk, 6)
+    real(dp), intent(out) :: c_ep0(block_chunk, 6), c_z0(block_chunk), c_zeta0(block_chunk)
+    integer :: i, j
+    do j = 1, 3
+      do i = 1, n
+        c_sig0(i, j) = s(j, i)
+        c_de(i, j) = d(j, i)
+        c_ep0(i, j) = sv(sv_eps_p - 1 + j, i)
+        c_ep0(i, j + 3) = 0.5_dp*sv(sv_eps_p + 2 + j, i)
+      end do
+    end do
+    do j = 4, nt
+      do i = 1, n
+        c_sig0(i, j) = s(j, i)
+        c_de(i, j) = 0.5_dp*d(j, i)
+      end do
+    end do
+    do i = 1, n
+      c_z0(i) = sv(sv_z, i)
+      c_zeta0(i) = sv(sv_zeta, i)
+    end do
+  end subroutine gather_run
+
+  !> umat_block's scatter of a run of n particles every output of which is
+  !> finite: stress, strain, the STATEV slots (engineering plastic shears).
+  pure subroutine scatter_run(n, nt, ns, nd, ne, nv, c_sig, c_ep, c_z, c_dl, c_avg, c_zeta, &
+                              c_f, c_st, d, s, e, sv)
+    integer, value :: nt
+    integer, intent(in) :: n, ns, nd, ne, nv
+    real(dp), intent(in), dimension(block_chunk, 6) :: c_sig, c_ep
+    real(dp), intent(in), dimension(block_chunk) :: c_z, c_dl, c_avg, c_zeta, c_f, c_st
+    real(dp), intent(in) :: d(nd, n)
+    real(dp), intent(inout) :: s(ns, n), e(ne, n), sv(nv, n)
+    integer :: i, j
+    do j = 1, nt
+      do i = 1, n
+        s(j, i) = c_sig(i, j)
+        e(j, i) = e(j, i) + d(j, i)
+      end do
+    end do
+    do i = 1, n
+      call store_statev(i, c_z, c_dl, c_avg, c_zeta, c_f, c_st, c_ep, sv(:, i))
+    end do
+  end subroutine scatter_run
+
+  !> The STATEV slots of chunk point i (the plastic strain's shears
+  !> engineering again).
+  pure subroutine store_statev(i, c_z, c_dl, c_avg, c_zeta, c_f, c_st, c_ep, sv)
+    integer, intent(in) :: i
+    real(dp), intent(in), dimension(block_chunk) :: c_z, c_dl, c_avg, c_zeta, c_f, c_st
+    real(dp), intent(in) :: c_ep(block_chunk, 6)
+    real(dp), intent(inout) :: sv(*)
+    integer :: j
+    sv(sv_z) = c_z(i)
+    sv(sv_dlambda) = c_dl(i)
+    sv(sv_avg_dlambda) = c_avg(i)
+    sv(sv_zeta) = c_zeta(i)
+    do j = 1, 3
+      sv(sv_eps_p - 1 + j) = c_ep(i, j)
+      sv(sv_eps_p + 2 + j) = 2.0_dp*c_ep(i, j + 3)
+    end do
+    sv(sv_f) = c_f(i)
+    sv(sv_status) = c_st(i)
+  end subroutine store_statev
 
   !> Negative when one of x(1:m) is NaN or Inf (nonfinite_bits OR-ed over a
   !> run of memory: no branch, so the loop vectorises).
