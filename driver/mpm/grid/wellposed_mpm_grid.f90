@@ -11,7 +11,7 @@ module wellposed_mpm_grid
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: grid_t, new_grid, new_grid_1d, grid_reset, cell_layer
+  public :: grid_t, new_grid, new_grid_1d, grid_reset, cell_layer, zero
 
   type :: grid_t
     integer :: ndim = 1

@@ -16,10 +16,11 @@
 !> particle loop, no array temporaries); `nnz` (optional) is each
 !> particle's count of support nodes in use (a CPDI particle fills fewer
 !> than its room; the weights past it are 0 and are skipped, which leaves
-!> every sum unchanged).
+!> every sum unchanged). A bar's supports are always full (nnz = nsup, 2
+!> or 3): its loops take the node count as a constant and never read nnz.
 module wellposed_mpm_transfer
   use wellposed_kinds, only: dp
-  use wellposed_mpm_grid, only: grid_t, grid_reset
+  use wellposed_mpm_grid, only: grid_t, grid_reset, zero
   use wellposed_mpm_particles, only: particles_t
   implicit none
   private
@@ -39,8 +40,18 @@ contains
     integer, intent(in), optional :: nnz(:)
     call grid_reset(g)
     if (g%ndim == 1) then
-      call p2g_bar(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
-                   size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q, nnz)
+      ! a bar's supports are full (nnz = nsup): the node count is a constant
+      select case (pt%nsup)
+      case (3)
+        call p2g_bar(n, 3, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
+                     size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q)
+      case (2)
+        call p2g_bar(n, 2, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
+                     size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q)
+      case default
+        call p2g_bar(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
+                     size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q)
+      end select
     else
       call p2g_plate(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
                      size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q, nnz)
@@ -49,37 +60,50 @@ contains
 
   !> p2g of a bar on plain arrays: explicit shapes carry no descriptors to
   !> reload after each store to the grid, and dummies are distinct, so the
-  !> particle's factors stay in registers. The arithmetic is p2g's. Without
-  !> gm and gf, the momentum alone (MUSL's rebuild; the compiler unswitches
-  !> the tests of present out of the loop).
+  !> particle's factors stay in registers. The arithmetic is p2g's. Every
+  !> support is full (m nodes): called with a constant m, the node loop
+  !> unrolls.
   pure subroutine p2g_bar(n, m, node, phi, grad, mass, v, vol, stress, ns, glo, ghi, gp, gm, &
-                          gf, q, nnz)
-    integer, intent(in) :: n, m, ns, glo, ghi, node(m, *)
+                          gf, q)
+    integer, value :: m
+    integer, intent(in) :: n, ns, glo, ghi, node(m, *)
     real(dp), intent(in) :: phi(m, *), grad(m, *), mass(*), v(*), vol(*), stress(ns, *)
-    real(dp), intent(inout) :: gp(glo:ghi)
-    real(dp), intent(inout), optional :: gm(glo:ghi), gf(glo:ghi)
+    real(dp), intent(inout) :: gp(glo:ghi), gm(glo:ghi), gf(glo:ghi)
     real(dp), intent(in), optional :: q(*)
-    integer, intent(in), optional :: nnz(*)
-    integer :: p, k, i, mk
+    integer :: p, k, i
     real(dp) :: w, qp, mp, v1, vs
-    mk = m
-    vs = 0.0_dp
     do p = 1, n
       qp = 0.0_dp
       if (present(q)) qp = q(p)
-      if (present(nnz)) mk = nnz(p)
       mp = mass(p)
       v1 = v(p)
-      if (present(gf)) vs = vol(p)*(stress(1, p) - qp)
-      do k = 1, mk
+      vs = vol(p)*(stress(1, p) - qp)
+      do k = 1, m
         i = node(k, p)
         w = phi(k, p)*mp
-        if (present(gm)) gm(i) = gm(i) + w
+        gm(i) = gm(i) + w
         gp(i) = gp(i) + w*v1
-        if (present(gf)) gf(i) = gf(i) - vs*grad(k, p)
+        gf(i) = gf(i) - vs*grad(k, p)
       end do
     end do
   end subroutine p2g_bar
+
+  !> The momentum alone of a bar's particles (MUSL's rebuild), as p2g_bar.
+  pure subroutine momentum_bar(n, m, node, phi, mass, v, glo, ghi, gp)
+    integer, value :: m
+    integer, intent(in) :: n, glo, ghi, node(m, *)
+    real(dp), intent(in) :: phi(m, *), mass(*), v(*)
+    real(dp), intent(inout) :: gp(glo:ghi)
+    integer :: p, k, i
+    real(dp) :: w
+    do p = 1, n
+      do k = 1, m
+        i = node(k, p)
+        w = phi(k, p)*mass(p)
+        gp(i) = gp(i) + w*v(p)
+      end do
+    end do
+  end subroutine momentum_bar
 
   !> The momentum of particles 1 .. n alone on the grid (MUSL's rebuild).
   subroutine p2g_momentum(g, pt, n, nnz)
@@ -87,10 +111,16 @@ contains
     type(particles_t), intent(in) :: pt
     integer, intent(in) :: n
     integer, intent(in), optional :: nnz(:)
-    g%momentum = 0.0_dp
+    call zero(g%momentum, size(g%momentum))
     if (g%ndim == 1) then
-      call p2g_bar(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
-                   size(pt%stress, 1), g%glo, g%ghi, g%momentum, nnz=nnz)
+      select case (pt%nsup)
+      case (3)
+        call momentum_bar(n, 3, pt%node, pt%phi, pt%mass, pt%v, g%glo, g%ghi, g%momentum)
+      case (2)
+        call momentum_bar(n, 2, pt%node, pt%phi, pt%mass, pt%v, g%glo, g%ghi, g%momentum)
+      case default
+        call momentum_bar(n, pt%nsup, pt%node, pt%phi, pt%mass, pt%v, g%glo, g%ghi, g%momentum)
+      end select
     else
       call p2g_plate(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
                      size(pt%stress, 1), g%glo, g%ghi, g%momentum, nnz=nnz)
@@ -152,52 +182,88 @@ contains
     type(grid_t), intent(inout) :: g
     real(dp), intent(in) :: dt, mmin, given(:)
     real(dp), intent(out) :: reaction(:)
-    integer :: i, d
     reaction = 0.0_dp
-    do i = g%glo, g%ghi
-      if (g%mass(i) > mmin) then
-        g%accel(:, i) = (g%fint(:, i) + g%fext(:, i))/g%mass(i)
-        g%velocity(:, i) = g%momentum(:, i)/g%mass(i) + g%accel(:, i)*dt
-      else
-        g%accel(:, i) = 0.0_dp
-        g%velocity(:, i) = 0.0_dp
-      end if
-      do d = 1, g%ndim
-        if (g%fixed(d, i)) then
-          if (i >= g%ilo .and. i <= g%ihi) reaction(d) = reaction(d) - (g%fint(d, i) + &
-                                                                         g%fext(d, i))
-          g%accel(d, i) = 0.0_dp
-          g%velocity(d, i) = 0.0_dp
-        else if (g%given(d, i)) then
-          g%accel(d, i) = 0.0_dp
-          g%velocity(d, i) = given(d)
+    ! the dimension as a constant: its loops vanish in 1D
+    if (g%ndim == 1) then
+      call update_nodes(1, g%glo, g%ghi, g%ilo, g%ihi, dt, mmin, given, g%mass, g%momentum, &
+                        g%fint, g%fext, g%fixed, g%given, g%accel, g%velocity, reaction)
+    else
+      call update_nodes(2, g%glo, g%ghi, g%ilo, g%ihi, dt, mmin, given, g%mass, g%momentum, &
+                        g%fint, g%fext, g%fixed, g%given, g%accel, g%velocity, reaction)
+    end if
+  end subroutine grid_update
+
+  !> grid_update on plain arrays of nd components per node.
+  pure subroutine update_nodes(nd, glo, ghi, ilo, ihi, dt, mmin, given, mass, momentum, fint, &
+                               fext, fixed, is_given, accel, velocity, reaction)
+    integer, value :: nd
+    integer, intent(in) :: glo, ghi, ilo, ihi
+    real(dp), intent(in) :: dt, mmin, given(nd), mass(glo:ghi)
+    real(dp), intent(in), dimension(nd, glo:ghi) :: momentum, fint, fext
+    logical, intent(in), dimension(nd, glo:ghi) :: fixed, is_given
+    real(dp), intent(inout), dimension(nd, glo:ghi) :: accel, velocity
+    real(dp), intent(inout) :: reaction(nd)
+    integer :: i, d
+    do i = glo, ghi
+      do d = 1, nd
+        if (mass(i) > mmin) then
+          accel(d, i) = (fint(d, i) + fext(d, i))/mass(i)
+          velocity(d, i) = momentum(d, i)/mass(i) + accel(d, i)*dt
+        else
+          accel(d, i) = 0.0_dp
+          velocity(d, i) = 0.0_dp
+        end if
+        if (fixed(d, i)) then
+          if (i >= ilo .and. i <= ihi) reaction(d) = reaction(d) - (fint(d, i) + fext(d, i))
+          accel(d, i) = 0.0_dp
+          velocity(d, i) = 0.0_dp
+        else if (is_given(d, i)) then
+          accel(d, i) = 0.0_dp
+          velocity(d, i) = given(d)
         end if
       end do
     end do
-  end subroutine grid_update
+  end subroutine update_nodes
 
   !> MUSL: the grid velocity from the rebuilt momentum (no acceleration),
   !> with the boundary conditions of grid_update.
   subroutine velocity_from_momentum(g, mmin, given)
     type(grid_t), intent(inout) :: g
     real(dp), intent(in) :: mmin, given(:)
+    call zero(g%accel, size(g%accel))
+    if (g%ndim == 1) then
+      call rebuild_nodes(1, g%glo, g%ghi, mmin, given, g%mass, g%momentum, g%fixed, g%given, &
+                         g%velocity)
+    else
+      call rebuild_nodes(2, g%glo, g%ghi, mmin, given, g%mass, g%momentum, g%fixed, g%given, &
+                         g%velocity)
+    end if
+  end subroutine velocity_from_momentum
+
+  !> velocity_from_momentum on plain arrays of nd components per node.
+  pure subroutine rebuild_nodes(nd, glo, ghi, mmin, given, mass, momentum, fixed, is_given, &
+                                velocity)
+    integer, value :: nd
+    integer, intent(in) :: glo, ghi
+    real(dp), intent(in) :: mmin, given(nd), mass(glo:ghi), momentum(nd, glo:ghi)
+    logical, intent(in), dimension(nd, glo:ghi) :: fixed, is_given
+    real(dp), intent(inout) :: velocity(nd, glo:ghi)
     integer :: i, d
-    g%accel(:, g%glo:g%ghi) = 0.0_dp    ! one fill, not one per node
-    do i = g%glo, g%ghi
-      if (g%mass(i) > mmin) then
-        g%velocity(:, i) = g%momentum(:, i)/g%mass(i)
-      else
-        g%velocity(:, i) = 0.0_dp
-      end if
-      do d = 1, g%ndim
-        if (g%fixed(d, i)) then
-          g%velocity(d, i) = 0.0_dp
-        else if (g%given(d, i)) then
-          g%velocity(d, i) = given(d)
+    do i = glo, ghi
+      do d = 1, nd
+        if (mass(i) > mmin) then
+          velocity(d, i) = momentum(d, i)/mass(i)
+        else
+          velocity(d, i) = 0.0_dp
+        end if
+        if (fixed(d, i)) then
+          velocity(d, i) = 0.0_dp
+        else if (is_given(d, i)) then
+          velocity(d, i) = given(d)
         end if
       end do
     end do
-  end subroutine velocity_from_momentum
+  end subroutine rebuild_nodes
 
   !> FLIP velocity (eq. 4.13) and position (eq. 4.12) of particles 1 .. n.
   subroutine g2p(g, pt, n, dt, nnz)
@@ -207,8 +273,15 @@ contains
     real(dp), intent(in) :: dt
     integer, intent(in), optional :: nnz(:)
     if (g%ndim == 1) then
-      call g2p_bar(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
-                   pt%x, nnz)
+      select case (pt%nsup)
+      case (3)
+        call g2p_bar(n, 3, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, pt%x)
+      case (2)
+        call g2p_bar(n, 2, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, pt%x)
+      case default
+        call g2p_bar(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
+                     pt%x)
+      end select
     else
       call g2p_plate(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, &
                      pt%v, pt%x, nnz)
@@ -217,19 +290,17 @@ contains
 
   !> g2p of a bar on plain arrays (as p2g_bar): the weighted nodal sums,
   !> then the step.
-  pure subroutine g2p_bar(n, m, node, phi, glo, ghi, ga, gv, dt, v, x, nnz)
-    integer, intent(in) :: n, m, glo, ghi, node(m, *)
+  pure subroutine g2p_bar(n, m, node, phi, glo, ghi, ga, gv, dt, v, x)
+    integer, value :: m
+    integer, intent(in) :: n, glo, ghi, node(m, *)
     real(dp), intent(in) :: phi(m, *), ga(glo:ghi), gv(glo:ghi), dt
     real(dp), intent(inout) :: v(*), x(*)
-    integer, intent(in), optional :: nnz(*)
-    integer :: p, k, i, mk
+    integer :: p, k, i
     real(dp) :: vs, ds
-    mk = m
     do p = 1, n
-      if (present(nnz)) mk = nnz(p)
       vs = 0.0_dp
       ds = 0.0_dp
-      do k = 1, mk
+      do k = 1, m
         i = node(k, p)
         vs = vs + phi(k, p)*ga(i)
         ds = ds + phi(k, p)*gv(i)
@@ -279,7 +350,14 @@ contains
     real(dp), intent(out), contiguous :: lg(:, :, :)
     integer, intent(in), optional :: nnz(:)
     if (g%ndim == 1) then
-      call gradient_bar(n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg, nnz)
+      select case (pt%nsup)
+      case (3)
+        call gradient_bar(n, 3, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg)
+      case (2)
+        call gradient_bar(n, 2, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg)
+      case default
+        call gradient_bar(n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg)
+      end select
     else
       call gradient_plate(n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg, nnz)
     end if
@@ -287,18 +365,16 @@ contains
 
   !> The bar's velocity gradients on plain arrays (as p2g_bar): each a sum
   !> from zero over the particle's nodes, in their order.
-  pure subroutine gradient_bar(n, m, node, grad, glo, ghi, gv, l11, nnz)
-    integer, intent(in) :: n, m, glo, ghi, node(m, *)
+  pure subroutine gradient_bar(n, m, node, grad, glo, ghi, gv, l11)
+    integer, value :: m
+    integer, intent(in) :: n, glo, ghi, node(m, *)
     real(dp), intent(in) :: grad(m, *), gv(glo:ghi)
     real(dp), intent(out) :: l11(*)
-    integer, intent(in), optional :: nnz(*)
-    integer :: p, k, mk
+    integer :: p, k
     real(dp) :: l
-    mk = m
     do p = 1, n
-      if (present(nnz)) mk = nnz(p)
       l = 0.0_dp
-      do k = 1, mk
+      do k = 1, m
         l = l + gv(node(k, p))*grad(k, p)
       end do
       l11(p) = l
