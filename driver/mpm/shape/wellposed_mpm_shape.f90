@@ -13,7 +13,7 @@ module wellposed_mpm_shape
   use wellposed_mpm_config, only: shape_linear, shape_gimp
   implicit none
   private
-  public :: support_size, shape_1d, gimp_weight, linear_weight, nearest_node
+  public :: support_size, shape_1d, shape_bar, gimp_weight, linear_weight, nearest_node
 
 contains
 
@@ -53,28 +53,43 @@ contains
     real(dp), intent(in) :: x, lp, origin, h
     integer, intent(out) :: nodes(:)
     real(dp), intent(out) :: phi(:), grad(:)
-    real(dp) :: s
-    integer :: i0, k
-    s = (x - origin)/h
+    call shape_bar(kind, 1, [x], [lp], origin, h, size(nodes), nodes, phi, grad)
+  end subroutine shape_1d
+
+  !> shape_1d of particles 1 .. n at x(p), half-widths lp(p), on plain
+  !> arrays of m = support_size(kind) rows: one loop per kind, the node
+  !> count a constant.
+  pure subroutine shape_bar(kind, n, x, lp, origin, h, m, nodes, phi, grad)
+    integer, value :: kind, m
+    integer, intent(in) :: n
+    real(dp), intent(in) :: x(n), lp(n), origin, h
+    integer, intent(out) :: nodes(m, n)
+    real(dp), intent(out) :: phi(m, n), grad(m, n)
+    integer :: i0, k, p
     select case (kind)
     case (shape_gimp)
-      i0 = nearest_node(s) - 1
-      do k = 1, 3
-        nodes(k) = i0 + k - 1
-        call gimp_weight(x - (origin + real(nodes(k), dp)*h), lp, h, phi(k), grad(k))
+      do p = 1, n
+        i0 = nearest_node((x(p) - origin)/h) - 1
+        do k = 1, 3
+          nodes(k, p) = i0 + k - 1
+          call gimp_weight(x(p) - (origin + real(i0 + k - 1, dp)*h), lp(p), h, phi(k, p), &
+                           grad(k, p))
+        end do
       end do
     case default
-      i0 = floor(s)
-      do k = 1, 2
-        nodes(k) = i0 + k - 1
-        call linear_weight(x - (origin + real(nodes(k), dp)*h), h, phi(k), grad(k))
+      do p = 1, n
+        i0 = floor((x(p) - origin)/h)
+        do k = 1, 2
+          nodes(k, p) = i0 + k - 1
+          call linear_weight(x(p) - (origin + real(i0 + k - 1, dp)*h), h, phi(k, p), grad(k, p))
+        end do
       end do
     end select
-  end subroutine shape_1d
+  end subroutine shape_bar
 
   !> uGIMP weight and gradient for offset xi = x_p - x_i (m).
   elemental subroutine gimp_weight(xi, lp, h, phi, grad)
-    real(dp), intent(in) :: xi, lp, h
+    real(dp), value :: xi, lp, h
     real(dp), intent(out) :: phi, grad
     real(dp) :: a, sgn
     a = abs(xi)
@@ -96,7 +111,7 @@ contains
 
   !> Linear hat weight and gradient for offset xi = x_p - x_i (m).
   elemental subroutine linear_weight(xi, h, phi, grad)
-    real(dp), intent(in) :: xi, h
+    real(dp), value :: xi, h
     real(dp), intent(out) :: phi, grad
     real(dp) :: a
     a = abs(xi)

@@ -21,7 +21,7 @@ module wellposed_mpm_bar
   implicit none
   private
   public :: new_bar_scene, probe_moduli, bar_load_t, bar_traction, bar_impulse, &
-            bar_external_work
+            bar_external_work, bar_kinematics
 
   !> The surface traction of one step: the nodes it acts on (is, is + 1),
   !> the weight w of the second, the nodal forces, and whether this rank
@@ -305,5 +305,36 @@ contains
     if (load%w < 1.0_dp) vsurf = (1.0_dp - load%w)*self%grid%velocity(1, load%is) + vsurf
     self%work_external = self%work_external + self%dt*(load%fs(1) + load%fs(2))*vsurf
   end subroutine bar_external_work
+
+  !> The bar's kinematics over a step dt, particles 1 .. n in order, on
+  !> plain arrays: uniaxial strain de = (L_11 dt, 0, 0, 0, 0, 0) (eq. 4.11;
+  !> NTENS = nd = 6),
+  !> F_11 (1 + d eps), V = F_11 V_0 with vol_n the volume of the start, and
+  !> s11_0 the start's sigma_11 (the bar's work). Returns the first particle
+  !> turned inside out (V <= 0), updated and the last one touched, or n + 1.
+  integer function bar_kinematics(n, dt, l11, nd, de, defgrad, vol0, vol, vol_n, ns, stress, &
+                                  n0, s11_0) result(bad)
+    integer, intent(in) :: n, nd, ns, n0
+    real(dp), intent(in) :: dt, l11(*), vol0(*), stress(ns, *)
+    real(dp), intent(inout) :: de(nd, *), defgrad(9, *), vol(*), vol_n(*), s11_0(n0, *)
+    integer :: p
+    do p = 1, n
+      de(1, p) = l11(p)*dt   ! element by element: a loop becomes a memset call
+      de(2, p) = 0.0_dp
+      de(3, p) = 0.0_dp
+      de(4, p) = 0.0_dp
+      de(5, p) = 0.0_dp
+      de(6, p) = 0.0_dp
+      vol_n(p) = vol(p)
+      defgrad(1, p) = defgrad(1, p)*(1.0_dp + de(1, p))
+      vol(p) = vol0(p)*defgrad(1, p)
+      if (.not. vol(p) > 0.0_dp) then
+        bad = p
+        return
+      end if
+      s11_0(1, p) = stress(1, p)
+    end do
+    bad = n + 1
+  end function bar_kinematics
 
 end module wellposed_mpm_bar

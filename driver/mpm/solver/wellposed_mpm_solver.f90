@@ -47,7 +47,7 @@ module wellposed_mpm_solver
   use wellposed_mpm_mass_matrix, only: mass_matrix_update
   use wellposed_mpm_plate_config, only: ps_config_t, bc_velocity
   use wellposed_mpm_grid, only: cell_layer
-  use wellposed_mpm_shape, only: shape_1d
+  use wellposed_mpm_shape, only: shape_bar
   use wellposed_mpm_shape_2d, only: shape_2d
   use wellposed_mpm_transfer, only: p2g, p2g_momentum, grid_update, velocity_from_momentum, &
                                     g2p, velocity_gradients
@@ -58,7 +58,7 @@ module wellposed_mpm_solver
                                  applied_stress, plastic_strain, max_substeps, plastic_count, &
                                  timer_transfer, timer_grid, timer_umat, ntimers
   use wellposed_mpm_bar, only: new_bar_scene, probe_moduli, bar_load_t, bar_traction, &
-                               bar_impulse, bar_external_work
+                               bar_impulse, bar_external_work, bar_kinematics
   use wellposed_mpm_plane_strain, only: new_plate_scene, platen_velocity, platen_nodes, &
                                         platen_push
   implicit none
@@ -82,7 +82,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     integer(int64) :: t0, t1
     integer(int64), allocatable :: skey(:)
-    integer :: p, n, d, nt
+    integer :: p, n, d, nt, last
     real(dp) :: dt, mmin, lg(self%ndim, self%ndim), reaction(self%ndim), given(self%ndim)
     type(bar_load_t) :: load
 
@@ -144,37 +144,45 @@ contains
       ! --- velocity gradient (eq. 4.11), strain increment, F and volume,
       ! viscosity, rotation
       call velocity_gradients(g, pt, n, self%lgrad, self%nnz)
-      do p = 1, n
-        ! entry by entry: a whole-array copy of runtime size costs a loop nest
-        lg(1, 1) = self%lgrad(1, 1, p)
-        if (d == 2) then
+      if (d == 1) then
+        ! the bar in one pass over plain arrays, then what its deck adds (F of
+        ! the start when a user's UMAT reads DFGRD0)
+        if (allocated(self%f_n)) then
+          do p = 1, n
+            self%f_n(1, 1, p) = pt%defgrad(1, 1, p)
+          end do
+        end if
+        last = bar_kinematics(n, dt, self%lgrad, size(self%de, 1), self%de, pt%defgrad, &
+                              pt%vol0, pt%vol, self%vol_n, size(pt%stress, 1), pt%stress, &
+                              size(self%s0, 1), self%s0)
+        if (last <= n) call inside_out(last)
+        if (self%visc_a1 > 0.0_dp .or. self%visc_a2 > 0.0_dp .or. self%nl%active) then
+          do p = 1, last - 1
+            lg(1, 1) = self%lgrad(1, 1, p)
+            if (self%visc_a1 > 0.0_dp .or. self%visc_a2 > 0.0_dp) call viscosity(self, p, lg)
+            call keep_start(p)
+          end do
+        end if
+      else
+        do p = 1, n
+          ! entry by entry: a whole-array copy of runtime size costs a loop nest
+          lg(1, 1) = self%lgrad(1, 1, p)
           lg(2, 1) = self%lgrad(2, 1, p)
           lg(1, 2) = self%lgrad(1, 2, p)
           lg(2, 2) = self%lgrad(2, 2, p)
-        end if
-        call strain_increment(lg, dt, self%de(:, p))
-        self%vol_n(p) = pt%vol(p)
-        if (allocated(self%f_n)) self%f_n(:, :, p) = pt%defgrad(1:d, 1:d, p)
-        call deform(self, p, lg)
-        if (.not. pt%vol(p) > 0.0_dp) then
-          call new_error(err, status_cutback, 'time', 'step '//int_text(self%nstep + 1)// &
-            ': particle '//int_text(pt%gid(p))//' was turned inside out (det F <= 0); a '// &
-            'smaller &time cfl may help')
-          exit
-        end if
-        if (self%visc_a1 > 0.0_dp .or. self%visc_a2 > 0.0_dp) call viscosity(self, p, lg)
-        if (d == 2) call jaumann(self, p, lg)
-        ! the start of the stress update: Algorithm 1's sweeps restart from
-        ! copies; a local model updates in place (the bar's work keeps
-        ! sigma_11 of the start)
-        if (self%nl%active) then
-          self%s0(:, p) = pt%stress(1:nt, p)
-          self%sv0(:, p) = pt%statev(:, p)
-          self%e0(:, p) = pt%stran(1:nt, p)
-        else if (d == 1) then
-          self%s0(1, p) = pt%stress(1, p)
-        end if
-      end do
+          call strain_increment(lg, dt, self%de(:, p))
+          self%vol_n(p) = pt%vol(p)
+          if (allocated(self%f_n)) self%f_n(:, :, p) = pt%defgrad(1:d, 1:d, p)
+          call deform(self, p, lg)
+          if (.not. pt%vol(p) > 0.0_dp) then
+            call inside_out(p)
+            exit
+          end if
+          if (self%visc_a1 > 0.0_dp .or. self%visc_a2 > 0.0_dp) call viscosity(self, p, lg)
+          call jaumann(self, p, lg)
+          call keep_start(p)
+        end do
+      end if
       if (d == 1) call bar_external_work(self, load)
       call ex%sync_error(err)
       if (allocated(err)) return
@@ -214,6 +222,25 @@ contains
     end if
 
   contains
+
+    !> The error of particle p turned inside out (det F <= 0).
+    subroutine inside_out(p)
+      integer, intent(in) :: p
+      call new_error(err, status_cutback, 'time', 'step '//int_text(self%nstep + 1)// &
+        ': particle '//int_text(self%parts%gid(p))//' was turned inside out (det F <= 0); '// &
+        'a smaller &time cfl may help')
+    end subroutine inside_out
+
+    !> The start of particle p's stress update: Algorithm 1's sweeps restart
+    !> from copies; a local model updates in place (the bar's work keeps
+    !> sigma_11 of the start, bar_kinematics).
+    subroutine keep_start(p)
+      integer, intent(in) :: p
+      if (.not. self%nl%active) return
+      self%s0(:, p) = self%parts%stress(1:nt, p)
+      self%sv0(:, p) = self%parts%statev(:, p)
+      self%e0(:, p) = self%parts%stran(1:nt, p)
+    end subroutine keep_start
 
     subroutine tick(timer)
       integer, intent(in) :: timer
@@ -256,10 +283,8 @@ contains
     real(dp) :: f2(2, 2)
     associate (pt => self%parts, g => self%grid)
       if (self%ndim == 1) then
-        do p = 1, pt%n
-          call shape_1d(self%shape, pt%x(1, p), pt%lp(1, p), g%origin, g%dx, pt%node(:, p), &
-                        pt%phi(:, p), pt%grad(1, :, p))
-        end do
+        call shape_bar(self%shape, pt%n, pt%x, pt%lp, g%origin, g%dx, pt%nsup, pt%node, pt%phi, &
+                       pt%grad)
         self%nnz(1:pt%n) = pt%nsup
       else
         do p = 1, pt%n
@@ -271,8 +296,8 @@ contains
     end associate
   end subroutine shape_weights
 
-  !> The F and volume kernel of particle p over the step: 1D uniaxial
-  !> strain F_11 (1 + d eps), 2D F_{n+1} = F_n + dt L F_n; V = det F V_0.
+  !> The F and volume kernel of a plate's particle p over the step:
+  !> F_{n+1} = F_n + dt L F_n, V = det F V_0 (a bar's: bar_kinematics).
   !> The caller checks V > 0 (a particle turned inside out): no error text
   !> here keeps this small enough to inline into the particle loop.
   pure subroutine deform(self, p, lg)
@@ -282,21 +307,16 @@ contains
     real(dp) :: f2(2, 2), lf
     integer :: a, b
     associate (pt => self%parts)
-      if (self%ndim == 1) then
-        pt%defgrad(1, 1, p) = pt%defgrad(1, 1, p)*(1.0_dp + self%de(1, p))
-        pt%vol(p) = pt%vol0(p)*pt%defgrad(1, 1, p)
-      else
-        ! F + dt (L F), the product written out (no temporary)
-        f2 = pt%defgrad(1:2, 1:2, p)
-        do b = 1, 2
-          do a = 1, 2
-            lf = lg(a, 1)*f2(1, b) + lg(a, 2)*f2(2, b)
-            pt%defgrad(a, b, p) = f2(a, b) + self%dt*lf
-          end do
+      ! F + dt (L F), the product written out (no temporary)
+      f2 = pt%defgrad(1:2, 1:2, p)
+      do b = 1, 2
+        do a = 1, 2
+          lf = lg(a, 1)*f2(1, b) + lg(a, 2)*f2(2, b)
+          pt%defgrad(a, b, p) = f2(a, b) + self%dt*lf
         end do
-        pt%vol(p) = pt%vol0(p)*(pt%defgrad(1, 1, p)*pt%defgrad(2, 2, p) - &
-                                pt%defgrad(1, 2, p)*pt%defgrad(2, 1, p))
-      end if
+      end do
+      pt%vol(p) = pt%vol0(p)*(pt%defgrad(1, 1, p)*pt%defgrad(2, 2, p) - &
+                              pt%defgrad(1, 2, p)*pt%defgrad(2, 1, p))
     end associate
   end subroutine deform
 
