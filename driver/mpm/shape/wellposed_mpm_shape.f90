@@ -99,7 +99,7 @@ contains
       grad = -xi/(h*lp)
     else if (a <= h - lp) then
       phi = 1.0_dp - a/h
-      grad = -sgn/h
+      grad = -sgn*(1.0_dp/h)   ! = -sgn/h exactly (sgn = +-1); 1/h leaves the loop
     else if (a < h + lp) then
       phi = (h + lp - a)**2/(4.0_dp*h*lp)
       grad = -sgn*(h + lp - a)/(2.0_dp*h*lp)
