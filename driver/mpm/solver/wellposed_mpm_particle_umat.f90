@@ -171,7 +171,7 @@ contains
   !> doubled in the plastic strain (STATEV 8-10), exact in binary. Nothing
   !> is done when PROPS are refused or the model has no closed form.
   subroutine umat_block(props, ntens, nstatv, dt, idx, de, stress, statev, stran, dlambda, &
-                        done, avg)
+                        done, avg, ndone)
     real(dp), intent(in), contiguous :: props(:)
     real(dp), intent(in) :: dt
     integer, intent(in) :: ntens, nstatv, idx(:)
@@ -180,6 +180,7 @@ contains
     real(dp), intent(inout) :: dlambda(:)
     logical, intent(inout) :: done(:)
     real(dp), intent(in), optional :: avg(:)
+    integer, intent(inout), optional :: ndone   !< increased by the particles updated
     integer, parameter :: chunk = block_chunk
     real(dp) :: c_sig0(chunk, 6), c_ep0(chunk, 6), c_de(chunk, 6), c_sig(chunk, 6)
     real(dp) :: c_ep(chunk, 6), c_z0(chunk), c_zeta0(chunk), c_avg(chunk), c_z(chunk)
@@ -278,20 +279,16 @@ contains
                              c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
       ! The outputs the host checks (STRESS and STATEV finite), a column at
       ! a time; a deferred point (status < 0) or a bad input counts as bad.
-      do i = 1, n
-        bad(i) = ior(ior(bad(i), transfer(c_st(i), 0_int64)), &
-                     ior(ior(nonfinite_bits(c_z(i)), nonfinite_bits(c_dl(i))), &
-                         ior(nonfinite_bits(c_zeta(i)), nonfinite_bits(c_f(i)))))
-      end do
-      do j = 1, 6
-        do i = 1, n
-          bad(i) = ior(bad(i), ior(nonfinite_bits(c_sig(i, j)), nonfinite_bits(c_ep(i, j))))
-        end do
-      end do
+      ! A finite run ORs them all into b first (no per-point store).
       if (run) then
         b = 0
         do i = 1, n
-          b = ior(b, bad(i))
+          b = ior(b, scalar_bits(c_st(i), c_z(i), c_dl(i), c_zeta(i), c_f(i)))
+        end do
+        do j = 1, 6
+          do i = 1, n
+            b = ior(b, ior(nonfinite_bits(c_sig(i, j)), nonfinite_bits(c_ep(i, j))))
+          end do
         end do
         if (b >= 0) then
           if (nt == 6) then
@@ -305,9 +302,18 @@ contains
           end if
           dlambda(q0:q1) = c_dl(1:n)
           done(q0:q1) = .true.
+          if (present(ndone)) ndone = ndone + n
           cycle
         end if
       end if
+      do i = 1, n
+        bad(i) = ior(bad(i), scalar_bits(c_st(i), c_z(i), c_dl(i), c_zeta(i), c_f(i)))
+      end do
+      do j = 1, 6
+        do i = 1, n
+          bad(i) = ior(bad(i), ior(nonfinite_bits(c_sig(i, j)), nonfinite_bits(c_ep(i, j))))
+        end do
+      end do
       do i = 1, n
         if (bad(i) < 0) cycle
         q = idx(k0 - 1 + i)
@@ -318,6 +324,7 @@ contains
         call store_statev(i, c_z, c_dl, c_avg, c_zeta, c_f, c_st, c_ep, statev(:, q))
         dlambda(q) = c_dl(i)
         done(q) = .true.
+        if (present(ndone)) ndone = ndone + 1
       end do
     end do
   end subroutine umat_block
@@ -365,9 +372,17 @@ contains
     do j = 1, nt
       do i = 1, n
         s(j, i) = c_sig(i, j)
-        e(j, i) = e(j, i) + d(j, i)
       end do
     end do
+    if (ne == nt .and. nd == nt) then
+      call add_run(nt*n, d, e)     ! one run of memory: it vectorises
+    else
+      do i = 1, n
+        do j = 1, nt
+          e(j, i) = e(j, i) + d(j, i)
+        end do
+      end do
+    end if
     do i = 1, n
       call store_statev(i, c_z, c_dl, c_avg, c_zeta, c_f, c_st, c_ep, sv(:, i))
     end do
@@ -392,6 +407,22 @@ contains
     sv(sv_f) = c_f(i)
     sv(sv_status) = c_st(i)
   end subroutine store_statev
+
+  !> Negative when a point's scalar outputs are not finite or its status
+  !> is negative (deferred).
+  elemental integer(int64) function scalar_bits(st, z, dl, zeta, f) result(b)
+    real(dp), intent(in) :: st, z, dl, zeta, f
+    b = ior(ior(transfer(st, 0_int64), ior(nonfinite_bits(z), nonfinite_bits(dl))), &
+            ior(nonfinite_bits(zeta), nonfinite_bits(f)))
+  end function scalar_bits
+
+  !> e(1:m) = e(1:m) + d(1:m).
+  pure subroutine add_run(m, d, e)
+    integer, intent(in) :: m
+    real(dp), intent(in) :: d(m)
+    real(dp), intent(inout) :: e(m)
+    e = e + d
+  end subroutine add_run
 
   !> Negative when one of x(1:m) is NaN or Inf (nonfinite_bits OR-ed over a
   !> run of memory: no branch, so the loop vectorises).

@@ -291,10 +291,11 @@ contains
     class(mpm_scene_t), intent(inout) :: self
     real(dp), intent(out) :: dl(:)
     type(error_t), allocatable, intent(out) :: err
-    integer :: n, p
+    integer :: n, p, ndone
     n = size(dl)
     self%done(1:n) = .false.
-    call update_blocks(self, [(p, p=1, n)], dl)
+    call update_blocks(self, n, dl, ndone)
+    if (ndone == n) return
     do p = 1, n
       if (self%done(p)) cycle
       call self%update(p, 0.0_dp, dl(p), err)
@@ -312,7 +313,7 @@ contains
     real(dp), intent(in) :: avg(:)
     real(dp), intent(out) :: dl(:)
     type(error_t), allocatable, intent(out) :: err
-    integer :: q, p
+    integer :: q, p, m
     logical :: blocks
     ! The block kernel updates in place: restore its particles here; one
     ! it cannot take (a user's UMAT, another material) scene_update restores.
@@ -325,7 +326,7 @@ contains
         if (self%mats%ours(self%mat(p))) call restore_start(self, p)
       end if
     end do
-    call update_blocks(self, list, self%block_dl, self%block_avg)
+    call update_blocks(self, size(list), self%block_dl, m, list, self%block_avg)
     do q = 1, size(list)
       p = list(q)
       if (self%done(p)) then
@@ -350,22 +351,27 @@ contains
     self%parts%stran(1:nt, p) = self%e0(:, p)
   end subroutine restore_start
 
-  !> The particles list(:) of each material of ours through the block
-  !> kernel (umat_block: the UMAT's arithmetic, a chunk of points at once)
-  !> when the linked UMAT is wellposed's: done(p) is set for those it
-  !> updated, dl(p) is their dlambda; avg(p) their <dlambda> (0 if absent).
-  subroutine update_blocks(self, list, dl, avg)
+  !> The particles list(1:n) (1 .. n without a list) of each material of
+  !> ours through the block kernel (umat_block: the UMAT's arithmetic, a
+  !> chunk of points at once) when the linked UMAT is wellposed's: done(p)
+  !> is set for the ndone particles it updated, dl(p) is their dlambda;
+  !> avg(p) their <dlambda> (0 if absent).
+  subroutine update_blocks(self, n, dl, ndone, list, avg)
     type(mpm_scene_t), intent(inout) :: self
-    integer, intent(in) :: list(:)
+    integer, intent(in) :: n
     real(dp), intent(inout) :: dl(:)
+    integer, intent(out) :: ndone
+    integer, intent(in), optional :: list(:)
     real(dp), intent(in), optional :: avg(:)
     integer :: k, m, q, p
+    ndone = 0
     if (.not. block_kernel_on(self)) return
     do k = 1, self%mats%n
       if (.not. self%mats%ours(k)) cycle
       m = 0
-      do q = 1, size(list)
-        p = list(q)
+      do q = 1, n
+        p = q
+        if (present(list)) p = list(q)
         if (self%mat(p) /= k) cycle
         m = m + 1
         self%block_idx(m) = p
@@ -374,7 +380,7 @@ contains
       associate (pt => self%parts)
         call umat_block(self%mats%props(1:self%mats%nprops(k), k), self%ntens, &
                         self%host%nstatv, self%dt, self%block_idx(1:m), self%de, pt%stress, &
-                        pt%statev, pt%stran, dl, self%done, avg)
+                        pt%statev, pt%stran, dl, self%done, avg, ndone)
       end associate
     end do
   end subroutine update_blocks
