@@ -41,7 +41,7 @@ module wellposed_mpm_algorithm1
   use wellposed_mpm_nonlocal_settings, only: nl_anderson, nl_sweep_auto, &
                                              nl_gauss_seidel, nl_jacobi, nl_coloured
   use wellposed_mpm_nonlocal_grid, only: nonlocal_t, nonlocal_step_stats_t, nonlocal_project, &
-                                         support_mass, cached_average, warn_bounds, &
+                                         plastic_stats, support_mass, cached_average, warn_bounds, &
                                          field_extents, field_reaches, extend_extents, &
                                          iteration_error, sweep_verdict, sweep_converged, sweep_stop
   use wellposed_mpm_nonlocal_ranks, only: nonlocal_ranks_t
@@ -115,8 +115,7 @@ contains
     self%calls_local = self%calls_local + n
     self%last%umat_calls = n
     self%plastic = self%dl > 0.0_dp
-    self%last%n_plastic = count(self%plastic)
-    self%last%max_dlambda = max(0.0_dp, maxval(self%dl))
+    call plastic_stats(self)
     if (par) then
       call ranks%sum_int(self%last%n_plastic)
       call ranks%max_real(self%last%max_dlambda)
@@ -176,8 +175,7 @@ contains
         return
       end if
     end do
-    self%last%n_plastic = count(self%plastic)
-    self%last%max_dlambda = max(0.0_dp, maxval(self%dl))
+    call plastic_stats(self)
     if (par) then
       call ranks%sum_int(self%last%n_plastic)
       call ranks%sum_int(self%last%n_reclassified)

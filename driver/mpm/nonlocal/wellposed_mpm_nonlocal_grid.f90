@@ -24,7 +24,7 @@ module wellposed_mpm_nonlocal_grid
                                              nl_sweep_names, nl_scheme_names
   implicit none
   private
-  public :: nonlocal_t, nonlocal_step_stats_t, new_nonlocal, nonlocal_ghost_nodes, &
+  public :: nonlocal_t, nonlocal_step_stats_t, new_nonlocal, nonlocal_ghost_nodes, plastic_stats, &
             field_extents, extend_extents, field_reaches, nonlocal_project, &
             nonlocal_average, support_mass, cached_average, warn_bounds, iteration_error, &
             sweep_verdict, sweep_go, sweep_converged, sweep_stop
@@ -506,5 +506,22 @@ contains
       hi(d) = min(hi(d), lo(d) + 512)
     end do
   end subroutine box
+
+  !> The step's count of plastic particles and largest dlambda (at least
+  !> 0), in one pass: count and maxval were a pass each, and maxval's NaN
+  !> rule a branch per particle (dlambda is finite here: the host checks).
+  pure subroutine plastic_stats(self)
+    type(nonlocal_t), intent(inout) :: self
+    integer :: p, m
+    real(dp) :: top
+    m = 0
+    top = 0.0_dp
+    do p = 1, size(self%dl)
+      m = m + merge(1, 0, self%plastic(p))
+      top = max(top, self%dl(p))
+    end do
+    self%last%n_plastic = m
+    self%last%max_dlambda = top
+  end subroutine plastic_stats
 
 end module wellposed_mpm_nonlocal_grid
