@@ -49,8 +49,8 @@ module wellposed_mpm_solver
   use wellposed_mpm_grid, only: cell_layer
   use wellposed_mpm_shape, only: shape_bar
   use wellposed_mpm_shape_2d, only: shape_2d
-  use wellposed_mpm_transfer, only: p2g, p2g_momentum, grid_update, velocity_from_momentum, &
-                                    g2p, velocity_gradients
+  use wellposed_mpm_transfer, only: p2g, grid_update, velocity_from_momentum, g2p, &
+                                    velocity_gradients
   use wellposed_mpm_particle_umat, only: strain_increment
   use wellposed_mpm_exchange, only: mpm_exchange_t
   use wellposed_mpm_nonlocal, only: nonlocal_solve, sweep_key
@@ -134,10 +134,9 @@ contains
       if (d == 1) call bar_impulse(self, load, reaction(1))
       call tick(timer_grid)
       ! --- grid to particle: FLIP velocity (eq. 4.13), position (eq. 4.12)
-      call g2p(g, pt, n, dt, self%nnz)
+      call g2p(g, pt, n, dt, self%nnz, musl=self%scheme == scheme_musl)
       if (self%scheme == scheme_musl) then
-        ! rebuild the grid velocity from the updated particle momentum
-        call p2g_momentum(g, pt, n, self%nnz)
+        ! the grid velocity from the updated particle momentum (g2p's sums)
         call ex%sum_grid(g, .true.)
         call velocity_from_momentum(g, mmin, given)
       end if

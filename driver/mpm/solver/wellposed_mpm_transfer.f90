@@ -265,36 +265,46 @@ contains
     end do
   end subroutine rebuild_nodes
 
-  !> FLIP velocity (eq. 4.13) and position (eq. 4.12) of particles 1 .. n.
-  subroutine g2p(g, pt, n, dt, nnz)
-    type(grid_t), intent(in) :: g
+  !> FLIP velocity (eq. 4.13) and position (eq. 4.12) of particles 1 .. n;
+  !> with `musl`, also MUSL's rebuild of the grid momentum from the updated
+  !> velocities (p2g_momentum's sums, in its order, in the same pass).
+  subroutine g2p(g, pt, n, dt, nnz, musl)
+    type(grid_t), intent(inout) :: g
     type(particles_t), intent(inout) :: pt
     integer, intent(in) :: n
     real(dp), intent(in) :: dt
     integer, intent(in), optional :: nnz(:)
+    logical, intent(in), optional :: musl
+    logical :: rebuild
+    rebuild = .false.
+    if (present(musl)) rebuild = musl
+    if (rebuild) call zero(g%momentum, size(g%momentum))
     if (g%ndim == 1) then
       select case (pt%nsup)
       case (3)
-        call g2p_bar(n, 3, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, pt%x)
+        call g2p_bar(n, 3, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
+                     pt%x, rebuild, pt%mass, g%momentum)
       case (2)
-        call g2p_bar(n, 2, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, pt%x)
+        call g2p_bar(n, 2, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
+                     pt%x, rebuild, pt%mass, g%momentum)
       case default
         call g2p_bar(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
-                     pt%x)
+                     pt%x, rebuild, pt%mass, g%momentum)
       end select
     else
       call g2p_plate(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, &
-                     pt%v, pt%x, nnz)
+                     pt%v, pt%x, rebuild, pt%mass, g%momentum, nnz)
     end if
   end subroutine g2p
 
   !> g2p of a bar on plain arrays (as p2g_bar): the weighted nodal sums,
-  !> then the step.
-  pure subroutine g2p_bar(n, m, node, phi, glo, ghi, ga, gv, dt, v, x)
+  !> then the step; with `rebuild`, the particle's new momentum onto gp.
+  pure subroutine g2p_bar(n, m, node, phi, glo, ghi, ga, gv, dt, v, x, rebuild, mass, gp)
     integer, value :: m
+    logical, value :: rebuild
     integer, intent(in) :: n, glo, ghi, node(m, *)
-    real(dp), intent(in) :: phi(m, *), ga(glo:ghi), gv(glo:ghi), dt
-    real(dp), intent(inout) :: v(*), x(*)
+    real(dp), intent(in) :: phi(m, *), ga(glo:ghi), gv(glo:ghi), dt, mass(*)
+    real(dp), intent(inout) :: v(*), x(*), gp(glo:ghi)
     integer :: p, k, i
     real(dp) :: vs, ds
     do p = 1, n
@@ -307,15 +317,24 @@ contains
       end do
       v(p) = v(p) + dt*vs
       x(p) = x(p) + dt*ds
+      if (rebuild) then
+        do k = 1, m
+          i = node(k, p)
+          gp(i) = gp(i) + (phi(k, p)*mass(p))*v(p)
+        end do
+      end if
     end do
   end subroutine g2p_bar
 
   !> g2p of a plate on plain arrays (as g2p_bar): velocity and position
-  !> advanced node by node with w = dt phi, in scalars.
-  pure subroutine g2p_plate(n, m, node, phi, glo, ghi, ga, gv, dt, v, x, nnz)
+  !> advanced node by node with w = dt phi, in scalars; with `rebuild`, the
+  !> particle's new momentum onto gp.
+  pure subroutine g2p_plate(n, m, node, phi, glo, ghi, ga, gv, dt, v, x, rebuild, mass, gp, &
+                            nnz)
+    logical, value :: rebuild
     integer, intent(in) :: n, m, glo, ghi, node(m, *)
-    real(dp), intent(in) :: phi(m, *), ga(2, glo:ghi), gv(2, glo:ghi), dt
-    real(dp), intent(inout) :: v(2, *), x(2, *)
+    real(dp), intent(in) :: phi(m, *), ga(2, glo:ghi), gv(2, glo:ghi), dt, mass(*)
+    real(dp), intent(inout) :: v(2, *), x(2, *), gp(2, glo:ghi)
     integer, intent(in), optional :: nnz(*)
     integer :: p, k, i, mk
     real(dp) :: w, v1, v2, x1, x2
@@ -338,6 +357,14 @@ contains
       v(2, p) = v2
       x(1, p) = x1
       x(2, p) = x2
+      if (rebuild) then
+        do k = 1, mk
+          i = node(k, p)
+          w = phi(k, p)*mass(p)
+          gp(1, i) = gp(1, i) + w*v1
+          gp(2, i) = gp(2, i) + w*v2
+        end do
+      end if
     end do
   end subroutine g2p_plate
 
