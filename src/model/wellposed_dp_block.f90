@@ -16,7 +16,7 @@ module wellposed_dp_block
   use wellposed_dp_params, only: dp_params_t
   implicit none
   private
-  public :: closed_form_block, block_chunk
+  public :: closed_form_block, block_trial, block_return, elastic_answer, block_chunk
 
   !> Points per call of closed_form_block (the leading dimension of its
   !> arrays, a constant so that the compiler sees the columns apart).
@@ -29,9 +29,12 @@ contains
   !> Advance points 1 to n <= block_chunk: inputs sig0, eps_p0, z0, zeta0
   !> (start of increment), avg_dlambda (the host's <dlambda>), de; outputs
   !> sig, eps_p, z, zeta, dlambda, f and status (0 elastic, 1 cone, or -1:
-  !> deferred, the outputs not to be used), and the elastic trial stress. Status is real, as the STATEV
-  !> slot it goes to, so that every quantity of the loop is a double. `p`
-  !> must serve the closed form (has_closed_form).
+  !> deferred, the outputs not to be used), and the elastic trial stress.
+  !> Status is real, as the STATEV slot it goes to, so that every quantity
+  !> of the loop is a double. `p` must serve the closed form
+  !> (has_closed_form). block_trial, then the elastic answer or
+  !> block_return; a host may call the two itself (an elastic chunk then
+  !> needs no eps_p0).
   pure subroutine closed_form_block(p, n, sig0, eps_p0, z0, zeta0, avg_dlambda, de, dtime, &
                                     sig, eps_p, z, zeta, dlambda, f, status, trial)
     type(dp_params_t), intent(in) :: p
@@ -42,24 +45,58 @@ contains
     real(dp), intent(inout) :: sig(block_chunk, 6), eps_p(block_chunk, 6), z(block_chunk)
     real(dp), intent(inout) :: zeta(block_chunk), dlambda(block_chunk), f(block_chunk)
     real(dp), intent(inout) :: status(block_chunk), trial(block_chunk, 6)
-    real(dp) :: bulk, shear, rn, rate, w, zeta_new, tr_de, st(6), s(6), i1_tr, q, k_n, f_tr
-    real(dp) :: qs, x_max, x, xc, shrink, i1, sn(6), dep(6), r, fc, bad, pl
-    real(dp) :: q_trial(block_chunk), f_trial(block_chunk), zeta_trial(block_chunk)
-    integer :: i, j
-    real(dp) :: apex_on
+    real(dp) :: q_trial(block_chunk)
+    logical :: plastic
+    call block_trial(p, n, sig0, z0, zeta0, avg_dlambda, de, trial, q_trial, f, zeta, plastic)
+    if (plastic) then
+      call block_return(p, n, eps_p0, z0, trial, q_trial, dtime, sig, eps_p, z, zeta, dlambda, &
+                        f, status)
+    else
+      call elastic_answer(n, trial, eps_p0, z0, sig, eps_p, z, dlambda, status)
+    end if
+  end subroutine closed_form_block
 
+  !> The answer of a chunk block_trial found elastic: the trial, eps_p and
+  !> z unchanged, dlambda and status 0 (f and zeta are block_trial's).
+  pure subroutine elastic_answer(n, trial, eps_p0, z0, sig, eps_p, z, dlambda, status)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: trial(block_chunk, 6), eps_p0(block_chunk, 6), z0(block_chunk)
+    real(dp), intent(inout) :: sig(block_chunk, 6), eps_p(block_chunk, 6), z(block_chunk)
+    real(dp), intent(inout) :: dlambda(block_chunk), status(block_chunk)
+    integer :: i, j
+    do j = 1, 6
+      do i = 1, n
+        sig(i, j) = trial(i, j)
+        eps_p(i, j) = eps_p0(i, j)
+      end do
+    end do
+    do i = 1, n
+      z(i) = z0(i)
+      dlambda(i) = 0.0_dp
+      status(i) = 0.0_dp
+    end do
+  end subroutine elastic_answer
+
+  !> The first phase of closed_form_block: the trial (eq. 1.5), its q, the
+  !> yield function f_trial and zeta_trial for points 1 to n; `plastic`
+  !> when a point is outside the yield surface (a NaN f counts as elastic,
+  !> as in block_return). With none, the elastic answer is the trial, f
+  !> f_trial, zeta zeta_trial, eps_p and z unchanged, dlambda and status 0.
+  pure subroutine block_trial(p, n, sig0, z0, zeta0, avg_dlambda, de, trial, q_trial, f_trial, &
+                              zeta_trial, plastic)
+    type(dp_params_t), intent(in) :: p
+    integer, intent(in) :: n
+    real(dp), intent(in) :: sig0(block_chunk, 6), z0(block_chunk), zeta0(block_chunk)
+    real(dp), intent(in) :: avg_dlambda(block_chunk), de(block_chunk, 6)
+    real(dp), intent(inout) :: trial(block_chunk, 6), q_trial(block_chunk)
+    real(dp), intent(inout) :: f_trial(block_chunk), zeta_trial(block_chunk)
+    logical, intent(out) :: plastic
+    real(dp) :: bulk, shear, tr_de, st(6), s(6), i1_tr, q, k_n, pl
+    integer :: i, j
     bulk = p%el%bulk
     shear = p%el%shear
-    rn = 1.0_dp/p%n_m
-    rate = p%a_m + p%hard%h
-    ! 1 when the cone has an apex (beta > 0), else 0: a factor, not a branch.
-    apex_on = merge(1.0_dp, 0.0_dp, p%beta > 0.0_dp)
-    ! The trial (eq. 1.5) and its yield function for every point; a chunk
-    ! with no point outside the yield surface (most of a body in an elastic
-    ! wave) takes the elastic answer and skips the cone's divisions.
     do i = 1, n
       zeta_trial(i) = zeta0(i) + p%h_zeta*avg_dlambda(i)
-      zeta(i) = zeta_trial(i)
       tr_de = de(i, 1) + de(i, 2) + de(i, 3)
       do j = 1, 3
         st(j) = sig0(i, j) + 2.0_dp*shear*(de(i, j) - tr_de/3.0_dp) + bulk*tr_de
@@ -78,26 +115,41 @@ contains
         trial(i, j) = st(j)
       end do
     end do
-    ! 1 when a point is plastic (a NaN f counts as elastic, as below)
     pl = 0.0_dp
     do i = 1, n
       pl = merge(1.0_dp, pl, f_trial(i) > 0.0_dp)
     end do
-    if (pl == 0.0_dp) then
-      do j = 1, 6
-        do i = 1, n
-          sig(i, j) = trial(i, j)
-          eps_p(i, j) = eps_p0(i, j)
-        end do
-      end do
-      do i = 1, n
-        z(i) = z0(i)
-        f(i) = f_trial(i)
-        dlambda(i) = 0.0_dp
-        status(i) = 0.0_dp
-      end do
-      return
-    end if
+    plastic = pl /= 0.0_dp
+  end subroutine block_trial
+
+  !> The second phase of closed_form_block, for a chunk with a plastic
+  !> point: from block_trial's trial, q_trial, f (its f_trial) and zeta
+  !> (its zeta_trial), every point's answer (the elastic ones selected).
+  pure subroutine block_return(p, n, eps_p0, z0, trial, q_trial, dtime, sig, eps_p, z, zeta, &
+                               dlambda, f, status)
+    type(dp_params_t), intent(in) :: p
+    integer, intent(in) :: n
+    real(dp), intent(in) :: eps_p0(block_chunk, 6), z0(block_chunk), trial(block_chunk, 6)
+    real(dp), intent(in) :: q_trial(block_chunk), dtime
+    real(dp), intent(inout) :: sig(block_chunk, 6), eps_p(block_chunk, 6), z(block_chunk)
+    real(dp), intent(inout) :: zeta(block_chunk), dlambda(block_chunk), f(block_chunk)
+    real(dp), intent(inout) :: status(block_chunk)
+    real(dp) :: bulk, shear, rn, rate, w, zeta_new, st(6), s(6), i1_tr, q, f_tr
+    real(dp) :: qs, x_max, x, xc, shrink, i1, sn(6), dep(6), r, fc, bad, pl
+    real(dp) :: f_trial(block_chunk), zeta_trial(block_chunk)
+    integer :: i, j
+    real(dp) :: apex_on
+
+    bulk = p%el%bulk
+    shear = p%el%shear
+    rn = 1.0_dp/p%n_m
+    rate = p%a_m + p%hard%h
+    ! 1 when the cone has an apex (beta > 0), else 0: a factor, not a branch.
+    apex_on = merge(1.0_dp, 0.0_dp, p%beta > 0.0_dp)
+    ! local copies: loads of a dummy in the plastic branch only would block
+    ! vectorising (see zeta_new below)
+    f_trial(1:n) = f(1:n)
+    zeta_trial(1:n) = zeta(1:n)
     do i = 1, n
       ! the first loop's trial, deviator, q and f: the same operations.
       ! zeta_new from a local array: a dummy's load that GCC sinks into the
@@ -176,6 +228,6 @@ contains
         f(i) = q/sqrt2 + p%beta*i1 - (p%hard%k0 + p%hard%h*(z0(i) + xc)) - zeta(i)
       end do
     end if
-  end subroutine closed_form_block
+  end subroutine block_return
 
 end module wellposed_dp_block

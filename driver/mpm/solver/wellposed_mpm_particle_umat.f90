@@ -24,7 +24,8 @@ module wellposed_mpm_particle_umat
                                    sv_status
   use wellposed_dp_params, only: dp_params_t
   use wellposed_dp_point, only: has_closed_form, point_update
-  use wellposed_dp_block, only: closed_form_block, block_chunk
+  use wellposed_dp_block, only: closed_form_block, block_trial, block_return, elastic_answer, &
+                               block_chunk
   implicit none
   private
   public :: strain_increment, umat_particle, umat_block, umat_point, point_params
@@ -184,9 +185,9 @@ contains
     integer, parameter :: chunk = block_chunk
     real(dp) :: c_sig0(chunk, 6), c_ep0(chunk, 6), c_de(chunk, 6), c_sig(chunk, 6)
     real(dp) :: c_ep(chunk, 6), c_z0(chunk), c_zeta0(chunk), c_avg(chunk), c_z(chunk)
-    real(dp) :: c_zeta(chunk), c_dl(chunk), c_f(chunk), c_st(chunk), c_trial(chunk, 6)
+    real(dp) :: c_zeta(chunk), c_dl(chunk), c_f(chunk), c_st(chunk), c_trial(chunk, 6), c_q(chunk)
     integer(int64) :: bad(chunk), b
-    logical :: want_tangent, keep, run
+    logical :: want_tangent, keep, run, plastic
     type(dp_params_t) :: par
     integer :: fault, k0, n, i, j, q, q0, q1, nt
     nt = ntens
@@ -245,16 +246,48 @@ contains
       end if
       ! Gather in the model's order with tensor shears; a point with a bad
       ! input enters the kernel as zeros (selected, not computed on) and is
-      ! left to the per-particle call. A finite run is copied column by column.
+      ! left to the per-particle call. A finite run is copied column by
+      ! column and goes through the kernel's two phases: a chunk with no
+      ! plastic point is written back as soon as its trial is known, its
+      ! plastic strain and z left as they are (their values unchanged).
       if (run) then
         if (nt == 6) then   ! NTENS a constant in each call: the loops unroll
           call gather_run(n, 6, size(stress, 1), size(de, 1), size(statev, 1), &
-                          stress(:, q0:q1), de(:, q0:q1), statev(:, q0:q1), c_sig0, c_de, c_ep0, &
+                          stress(:, q0:q1), de(:, q0:q1), statev(:, q0:q1), c_sig0, c_de, &
                           c_z0, c_zeta0)
         else
           call gather_run(n, 4, size(stress, 1), size(de, 1), size(statev, 1), &
-                          stress(:, q0:q1), de(:, q0:q1), statev(:, q0:q1), c_sig0, c_de, c_ep0, &
+                          stress(:, q0:q1), de(:, q0:q1), statev(:, q0:q1), c_sig0, c_de, &
                           c_z0, c_zeta0)
+        end if
+        call block_trial(par, n, c_sig0, c_z0, c_zeta0, c_avg, c_de, c_trial, c_q, c_f, c_zeta, &
+                         plastic)
+        if (.not. plastic) then
+          b = 0
+          do j = 1, 6
+            do i = 1, n
+              b = ior(b, nonfinite_bits(c_trial(i, j)))
+            end do
+          end do
+          do i = 1, n
+            b = ior(b, ior(nonfinite_bits(c_f(i)), nonfinite_bits(c_zeta(i))))
+          end do
+          if (b >= 0) then
+            call scatter_elastic(n, nt, size(stress, 1), size(de, 1), size(stran, 1), &
+                                 size(statev, 1), c_trial, c_avg, c_zeta, c_f, de(:, q0:q1), &
+                                 stress(:, q0:q1), stran(:, q0:q1), statev(:, q0:q1))
+            dlambda(q0:q1) = 0.0_dp
+            done(q0:q1) = .true.
+            if (present(ndone)) ndone = ndone + n
+            cycle
+          end if
+        end if
+        call gather_ep_run(n, size(statev, 1), statev(:, q0:q1), c_ep0)
+        if (plastic) then
+          call block_return(par, n, c_ep0, c_z0, c_trial, c_q, dt, c_sig, c_ep, c_z, c_zeta, &
+                            c_dl, c_f, c_st)
+        else
+          call elastic_answer(n, c_trial, c_ep0, c_z0, c_sig, c_ep, c_z, c_dl, c_st)
         end if
       else
         do i = 1, n
@@ -274,9 +307,9 @@ contains
           c_zeta0(i) = merge(statev(sv_zeta, q), 0.0_dp, keep)
           c_avg(i) = merge(c_avg(i), 0.0_dp, keep)
         end do
+        call closed_form_block(par, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
+                               c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
       end if
-      call closed_form_block(par, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
-                             c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
       ! The outputs the host checks (STRESS and STATEV finite), a column at
       ! a time; a deferred point (status < 0) or a bad input counts as bad.
       ! A finite run ORs them all into b first (no per-point store).
@@ -330,20 +363,18 @@ contains
   end subroutine umat_block
 
   !> umat_block's gather of a run of n particles whose inputs are all
-  !> finite: the chunk's columns in the model's order, tensor shears.
-  pure subroutine gather_run(n, nt, ns, nd, nv, s, d, sv, c_sig0, c_de, c_ep0, c_z0, c_zeta0)
+  !> finite: the chunk's columns of what the trial needs, tensor shears.
+  pure subroutine gather_run(n, nt, ns, nd, nv, s, d, sv, c_sig0, c_de, c_z0, c_zeta0)
     integer, value :: nt
     integer, intent(in) :: n, ns, nd, nv
     real(dp), intent(in) :: s(ns, n), d(nd, n), sv(nv, n)
     real(dp), intent(inout) :: c_sig0(block_chunk, 6), c_de(block_chunk, 6)
-    real(dp), intent(out) :: c_ep0(block_chunk, 6), c_z0(block_chunk), c_zeta0(block_chunk)
+    real(dp), intent(out) :: c_z0(block_chunk), c_zeta0(block_chunk)
     integer :: i, j
     do j = 1, 3
       do i = 1, n
         c_sig0(i, j) = s(j, i)
         c_de(i, j) = d(j, i)
-        c_ep0(i, j) = sv(sv_eps_p - 1 + j, i)
-        c_ep0(i, j + 3) = 0.5_dp*sv(sv_eps_p + 2 + j, i)
       end do
     end do
     do j = 4, nt
@@ -358,6 +389,45 @@ contains
     end do
   end subroutine gather_run
 
+  !> The plastic strain of a run (a chunk with a plastic point), tensor
+  !> shears.
+  pure subroutine gather_ep_run(n, nv, sv, c_ep0)
+    integer, intent(in) :: n, nv
+    real(dp), intent(in) :: sv(nv, n)
+    real(dp), intent(out) :: c_ep0(block_chunk, 6)
+    integer :: i, j
+    do j = 1, 3
+      do i = 1, n
+        c_ep0(i, j) = sv(sv_eps_p - 1 + j, i)
+        c_ep0(i, j + 3) = 0.5_dp*sv(sv_eps_p + 2 + j, i)
+      end do
+    end do
+  end subroutine gather_ep_run
+
+  !> umat_block's write-back of an elastic run: the trial stress, the
+  !> strain, and the STATEV slots scatter_run writes with other values than
+  !> they hold (dlambda, <dlambda>, zeta, f, status, and the plastic
+  !> strain's shears through the UMAT's halving and doubling).
+  pure subroutine scatter_elastic(n, nt, ns, nd, ne, nv, c_trial, c_avg, c_zeta, c_f, d, s, e, &
+                                  sv)
+    integer, intent(in) :: n, nt, ns, nd, ne, nv
+    real(dp), intent(in) :: c_trial(block_chunk, 6), d(nd, n)
+    real(dp), intent(in), dimension(block_chunk) :: c_avg, c_zeta, c_f
+    real(dp), intent(inout) :: s(ns, n), e(ne, n), sv(nv, n)
+    integer :: i, j
+    call put_stress_strain(n, nt, ns, nd, ne, c_trial, d, s, e)
+    do i = 1, n
+      sv(sv_dlambda, i) = 0.0_dp
+      sv(sv_avg_dlambda, i) = c_avg(i)
+      sv(sv_zeta, i) = c_zeta(i)
+      do j = 1, 3
+        sv(sv_eps_p + 2 + j, i) = 2.0_dp*(0.5_dp*sv(sv_eps_p + 2 + j, i))
+      end do
+      sv(sv_f, i) = c_f(i)
+      sv(sv_status, i) = 0.0_dp
+    end do
+  end subroutine scatter_elastic
+
   !> umat_block's scatter of a run of n particles every output of which is
   !> finite: stress, strain, the STATEV slots (engineering plastic shears).
   pure subroutine scatter_run(n, nt, ns, nd, ne, nv, c_sig, c_ep, c_z, c_dl, c_avg, c_zeta, &
@@ -368,21 +438,8 @@ contains
     real(dp), intent(in), dimension(block_chunk) :: c_z, c_dl, c_avg, c_zeta, c_f, c_st
     real(dp), intent(in) :: d(nd, n)
     real(dp), intent(inout) :: s(ns, n), e(ne, n), sv(nv, n)
-    integer :: i, j
-    do j = 1, nt
-      do i = 1, n
-        s(j, i) = c_sig(i, j)
-      end do
-    end do
-    if (ne == nt .and. nd == nt) then
-      call add_run(nt*n, d, e)     ! one run of memory: it vectorises
-    else
-      do i = 1, n
-        do j = 1, nt
-          e(j, i) = e(j, i) + d(j, i)
-        end do
-      end do
-    end if
+    integer :: i
+    call put_stress_strain(n, nt, ns, nd, ne, c_sig, d, s, e)
     do i = 1, n
       call store_statev(i, c_z, c_dl, c_avg, c_zeta, c_f, c_st, c_ep, sv(:, i))
     end do
@@ -407,6 +464,28 @@ contains
     sv(sv_f) = c_f(i)
     sv(sv_status) = c_st(i)
   end subroutine store_statev
+
+  !> A run's stress from the chunk's columns and its strain + d.
+  pure subroutine put_stress_strain(n, nt, ns, nd, ne, c_sig, d, s, e)
+    integer, intent(in) :: n, nt, ns, nd, ne
+    real(dp), intent(in) :: c_sig(block_chunk, 6), d(nd, n)
+    real(dp), intent(inout) :: s(ns, n), e(ne, n)
+    integer :: i, j
+    do j = 1, nt
+      do i = 1, n
+        s(j, i) = c_sig(i, j)
+      end do
+    end do
+    if (ne == nt .and. nd == nt) then
+      call add_run(nt*n, d, e)     ! one run of memory: it vectorises
+    else
+      do i = 1, n
+        do j = 1, nt
+          e(j, i) = e(j, i) + d(j, i)
+        end do
+      end do
+    end if
+  end subroutine put_stress_strain
 
   !> Negative when a point's scalar outputs are not finite or its status
   !> is negative (deferred).
