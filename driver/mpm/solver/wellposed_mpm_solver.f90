@@ -21,10 +21,10 @@
 !> One step, in order: hand-off of particles to the rank of their cell
 !> layer -> shape weights and the support check -> P2G (mass, momentum,
 !> f_int with sigma - q I) -> ghost sum -> load -> grid update and boundary
-!> conditions -> G2P (FLIP velocity, position) -> [MUSL: momentum P2G,
-!> ghost sum, velocity] -> velocity gradient, strain increment, F and
-!> volume, bulk artificial viscosity, Jaumann rotation (2D) -> UMAT
-!> (Algorithm 1) -> bookkeeping. Units SI, tension positive.
+!> conditions -> G2P (FLIP velocity, position) [MUSL: with the momentum
+!> P2G in the same pass; ghost sum, velocity] -> velocity gradient, strain
+!> increment, F and volume, bulk artificial viscosity, Jaumann rotation
+!> (2D) -> UMAT (Algorithm 1) -> bookkeeping. Units SI, tension positive.
 !>
 !> Bulk artificial viscosity (shared reference B): q = rho (A1 c |D_kk| dx +
 !> A2 D_kk^2 dx^2) when D_kk < 0, else 0; q enters the internal force as
