@@ -24,7 +24,7 @@ module wellposed_mpm_transfer
   use wellposed_mpm_particles, only: particles_t
   implicit none
   private
-  public :: p2g, p2g_momentum, grid_update, velocity_from_momentum, g2p, velocity_gradients
+  public :: p2g, grid_update, velocity_from_momentum, g2p, velocity_gradients
 
 contains
 
@@ -88,87 +88,39 @@ contains
     end do
   end subroutine p2g_bar
 
-  !> The momentum alone of a bar's particles (MUSL's rebuild), as p2g_bar.
-  pure subroutine momentum_bar(n, m, node, phi, mass, v, glo, ghi, gp)
-    integer, value :: m
-    integer, intent(in) :: n, glo, ghi, node(m, *)
-    real(dp), intent(in) :: phi(m, *), mass(*), v(*)
-    real(dp), intent(inout) :: gp(glo:ghi)
-    integer :: p, k, i
-    real(dp) :: w
-    do p = 1, n
-      do k = 1, m
-        i = node(k, p)
-        w = phi(k, p)*mass(p)
-        gp(i) = gp(i) + w*v(p)
-      end do
-    end do
-  end subroutine momentum_bar
-
-  !> The momentum of particles 1 .. n alone on the grid (MUSL's rebuild).
-  subroutine p2g_momentum(g, pt, n, nnz)
-    type(grid_t), intent(inout) :: g
-    type(particles_t), intent(in) :: pt
-    integer, intent(in) :: n
-    integer, intent(in), optional :: nnz(:)
-    call zero(g%momentum, size(g%momentum))
-    if (g%ndim == 1) then
-      select case (pt%nsup)
-      case (3)
-        call momentum_bar(n, 3, pt%node, pt%phi, pt%mass, pt%v, g%glo, g%ghi, g%momentum)
-      case (2)
-        call momentum_bar(n, 2, pt%node, pt%phi, pt%mass, pt%v, g%glo, g%ghi, g%momentum)
-      case default
-        call momentum_bar(n, pt%nsup, pt%node, pt%phi, pt%mass, pt%v, g%glo, g%ghi, g%momentum)
-      end select
-    else
-      call p2g_plate(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
-                     size(pt%stress, 1), g%glo, g%ghi, g%momentum, nnz=nnz)
-    end if
-  end subroutine p2g_momentum
-
-  !> p2g of a plate on plain arrays (as p2g_bar, also without gm and gf);
-  !> the force V (sigma G), eq. 4.5.
+  !> p2g of a plate on plain arrays (as p2g_bar); the force V (sigma G),
+  !> eq. 4.5.
   pure subroutine p2g_plate(n, m, node, phi, grad, mass, v, vol, stress, ns, glo, ghi, gp, gm, &
                             gf, q, nnz)
     integer, intent(in) :: n, m, ns, glo, ghi, node(m, *)
     real(dp), intent(in) :: phi(m, *), grad(2, m, *), mass(*), v(2, *), vol(*), stress(ns, *)
-    real(dp), intent(inout) :: gp(2, glo:ghi)
-    real(dp), intent(inout), optional :: gm(glo:ghi), gf(2, glo:ghi)
+    real(dp), intent(inout) :: gp(2, glo:ghi), gm(glo:ghi), gf(2, glo:ghi)
     real(dp), intent(in), optional :: q(*)
     integer, intent(in), optional :: nnz(*)
     integer :: p, k, i, mk
     real(dp) :: w, qp, s11, s22, s12, vl, f1, f2, mp, v1, v2
     mk = m
-    s11 = 0.0_dp
-    s22 = 0.0_dp
-    s12 = 0.0_dp
-    vl = 0.0_dp
     do p = 1, n
       qp = 0.0_dp
       if (present(q)) qp = q(p)
       if (present(nnz)) mk = nnz(p)
-      if (present(gf)) then
-        s11 = stress(1, p) - qp
-        s22 = stress(2, p) - qp
-        s12 = stress(4, p)
-        vl = vol(p)
-      end if
+      s11 = stress(1, p) - qp
+      s22 = stress(2, p) - qp
+      s12 = stress(4, p)
+      vl = vol(p)
       mp = mass(p)
       v1 = v(1, p)
       v2 = v(2, p)
       do k = 1, mk
         i = node(k, p)
         w = phi(k, p)*mp
-        if (present(gm)) gm(i) = gm(i) + w
+        gm(i) = gm(i) + w
         gp(1, i) = gp(1, i) + w*v1
         gp(2, i) = gp(2, i) + w*v2
-        if (present(gf)) then
-          f1 = s11*grad(1, k, p) + s12*grad(2, k, p)
-          f2 = s12*grad(1, k, p) + s22*grad(2, k, p)
-          gf(1, i) = gf(1, i) - vl*f1
-          gf(2, i) = gf(2, i) - vl*f2
-        end if
+        f1 = s11*grad(1, k, p) + s12*grad(2, k, p)
+        f2 = s12*grad(1, k, p) + s22*grad(2, k, p)
+        gf(1, i) = gf(1, i) - vl*f1
+        gf(2, i) = gf(2, i) - vl*f2
       end do
     end do
   end subroutine p2g_plate
@@ -267,7 +219,8 @@ contains
 
   !> FLIP velocity (eq. 4.13) and position (eq. 4.12) of particles 1 .. n;
   !> with `musl`, also MUSL's rebuild of the grid momentum from the updated
-  !> velocities (p2g_momentum's sums, in its order, in the same pass).
+  !> velocities (sum over the particles in order of phi m v, as P2G's), in
+  !> the same pass.
   subroutine g2p(g, pt, n, dt, nnz, musl)
     type(grid_t), intent(inout) :: g
     type(particles_t), intent(inout) :: pt
