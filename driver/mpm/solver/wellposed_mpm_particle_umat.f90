@@ -1,7 +1,8 @@
 !> The stress update of one material point through the UMAT host, written
 !> once for ndim = 1 and 2: the step's strain increment in the UMAT's NTENS
-!> (the dimension's kernel: uniaxial strain into 6 components, plane strain
-!> into 4, engineering shear) and the call with the particle's identity
+!> (the dimension's kernel: uniaxial strain into 6 components in the bar's
+!> bar_kinematics, plane strain into 4 here, engineering shear) and the
+!> call with the particle's identity
 !> (docs/mpm.md, "Hosting a UMAT in the MPM"). The host's rules apply:
 !> PNEWDT < 0 or a non-finite result is an error naming the particle, a
 !> cut-back splits the increment.
@@ -32,28 +33,18 @@ module wellposed_mpm_particle_umat
 
 contains
 
-  !> The strain increment of a step dt from the velocity gradient lg
-  !> (ndim x ndim, lg(a, b) = d v_a / d x_b; eq. 4.11) in the UMAT's order:
-  !> ndim 1, uniaxial strain (11, 0, 0, 0, 0, 0); ndim 2, plane strain
-  !> (11, 22, 33 = 0, 12 engineering). de: NTENS = 6 (ndim 1) or 4.
+  !> The plane-strain increment of a step dt from the velocity gradient lg
+  !> (2 x 2, lg(a, b) = d v_a / d x_b; eq. 4.11) in the UMAT's order: 11,
+  !> 22, 33 = 0, 12 engineering (NTENS = 4). A bar's uniaxial increment is
+  !> bar_kinematics' (wellposed_mpm_bar).
   pure subroutine strain_increment(lg, dt, de)
-    real(dp), intent(in) :: lg(:, :), dt
-    real(dp), intent(out) :: de(:)
-    ! element by element: no array constructor (a temporary) nor a fill
-    ! (a library call) per particle
-    if (size(lg, 1) == 1) then
-      de(1) = lg(1, 1)*dt
-      de(2) = 0.0_dp
-      de(3) = 0.0_dp
-      de(4) = 0.0_dp
-      de(5) = 0.0_dp
-      de(6) = 0.0_dp
-    else
-      de(1) = dt*lg(1, 1)
-      de(2) = dt*lg(2, 2)
-      de(3) = dt*0.0_dp
-      de(4) = dt*(lg(1, 2) + lg(2, 1))
-    end if
+    real(dp), intent(in) :: lg(2, 2), dt
+    real(dp), intent(out) :: de(4)
+    ! element by element: no array constructor (a temporary) per particle
+    de(1) = dt*lg(1, 1)
+    de(2) = dt*lg(2, 2)
+    de(3) = dt*0.0_dp
+    de(4) = dt*(lg(1, 2) + lg(2, 1))
   end subroutine strain_increment
 
   !> One particle through the UMAT: s, sv, e (STRESS, STATEV, STRAN, in
