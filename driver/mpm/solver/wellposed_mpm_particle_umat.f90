@@ -160,7 +160,8 @@ contains
   !> every particle so updated, its end, with dlambda; done(p) is set for
   !> those. A particle left (deferred, not finite) is not touched. The
   !> UMAT's conversions: engineering shears halved in the strains and
-  !> doubled in the plastic strain (STATEV 8-10), exact in binary. Nothing
+  !> doubled in the plastic strain (STATEV 8-10), as the UMAT does them
+  !> (exact but for subnormal numbers, which round the same way). Nothing
   !> is done when PROPS are refused or the model has no closed form.
   subroutine umat_block(props, ntens, nstatv, dt, idx, de, stress, statev, stran, dlambda, &
                         done, avg, ndone)
