@@ -6,10 +6,12 @@
 !> with a plastic point then computes the cone for every point too, and
 !> selects by masks, so the loops over points have no call and no branch
 !> and the compiler vectorises them (with -fno-trapping-math, CMakeLists.txt).
-!> Points whose answer is neither (the apex, a zero
-!> deviator, no admissible stress) are marked deferred and left to
-!> point_update, one by one; they are rare. Same arithmetic, in the same
-!> order, as point_closed_form: the results are bitwise its results.
+!> A chunk with a point past the cone's reach computes the apex return for
+!> every point as well (apex_return; without Duvaut-Lions). Points whose
+!> answer is none of these (a zero deviator, no admissible stress, the
+!> apex under Duvaut-Lions) are marked deferred and left to point_update,
+!> one by one; they are rare. Same arithmetic, in the same order, as
+!> point_closed_form: the results are bitwise its results.
 module wellposed_dp_block
   use wellposed_kinds, only: dp
   use wellposed_tensor, only: sqrt2
@@ -28,8 +30,8 @@ contains
 
   !> Advance points 1 to n <= block_chunk: inputs sig0, eps_p0, z0, zeta0
   !> (start of increment), avg_dlambda (the host's <dlambda>), de; outputs
-  !> sig, eps_p, z, zeta, dlambda, f and status (0 elastic, 1 cone, or -1:
-  !> deferred, the outputs not to be used), and the elastic trial stress.
+  !> sig, eps_p, z, zeta, dlambda, f and status (0 elastic, 1 cone, 2 apex,
+  !> or -1: deferred, the outputs not to be used), and the elastic trial stress.
   !> Status is real, as the STATEV slot it goes to, so that every quantity
   !> of the loop is a double. `p` must serve the closed form
   !> (has_closed_form). block_trial, then the elastic answer or
@@ -166,8 +168,9 @@ contains
       ! tiny and x clipped to [0, x_max], so that no lane divides by zero or
       ! overflows. A plastic point is deferred when q or x_max < tiny (the
       ! guards would change them), x > x_max (no admissible cone stress) or
-      ! the apex is reached (f_tr - (a + h) x_max > 0, beta > 0): each
-      ! condition is the sign of a difference, so no logical is stored.
+      ! the apex is reached (f_tr - (a + h) x_max > 0, beta > 0; apex_return
+      ! then takes most of these): each condition is the sign of a
+      ! difference, so no logical is stored.
       qs = max(q, tiny(1.0_dp))
       x_max = qs*p%n_m/(sqrt2*shear)
       x = f_tr/rate
@@ -196,6 +199,13 @@ contains
       pl = merge(1.0_dp, 0.0_dp, f_tr > 0.0_dp)
       status(i) = pl - 2.0_dp*pl*merge(1.0_dp, 0.0_dp, bad > 0.0_dp)
     end do
+    ! The apex: a second branch-free pass, only for a chunk with a deferred
+    ! point, on a cone with an apex and without Duvaut-Lions.
+    if (apex_on > 0.0_dp .and. p%tau == 0.0_dp) then
+      if (any(status(1:n) < 0.0_dp)) call apex_return(p, n, eps_p0, z0, trial, q_trial, &
+                                                      f_trial, zeta_trial, sig, eps_p, z, &
+                                                      dlambda, f, status)
+    end if
     if (p%tau > 0.0_dp) then
       ! Duvaut-Lions (eq. 2.10, backward Euler): relax the cone points toward
       ! the trial, in a second, scalar pass so that the rate-independent pass
@@ -229,5 +239,84 @@ contains
       end do
     end if
   end subroutine block_return
+
+  !> The apex return of point_closed_form for the points block_return
+  !> deferred (status -1) whose trial lies beyond the cone's reach (beta > 0,
+  !> f_tr > (a + h) x_max): sigma = s_ap I, s_ap = k(z + d)/(3 beta), d eps^p
+  !> = C^-1 : (sigma_trial - sigma_apex), d = ||d eps^p|| the root of a
+  !> quadratic. Every point is computed, with its divisor kept away from zero,
+  !> and a point takes the answer (status 2) only where point_closed_form
+  !> finds one (disc >= 0, 0 <= d <= huge); any other point stays deferred.
+  !> The same operations in the same order: bitwise point_closed_form's.
+  pure subroutine apex_return(p, n, eps_p0, z0, trial, q_trial, f_trial, zeta_trial, sig, &
+                              eps_p, z, dlambda, f, status)
+    type(dp_params_t), intent(in) :: p
+    integer, intent(in) :: n
+    real(dp), intent(in) :: eps_p0(block_chunk, 6), z0(block_chunk), trial(block_chunk, 6)
+    real(dp), intent(in) :: q_trial(block_chunk), f_trial(block_chunk), zeta_trial(block_chunk)
+    real(dp), intent(inout) :: sig(block_chunk, 6), eps_p(block_chunk, 6), z(block_chunk)
+    real(dp), intent(inout) :: dlambda(block_chunk), f(block_chunk), status(block_chunk)
+    real(dp) :: bulk, shear, rate, c1, a2, st(6), s(6), i1_tr, q, x_max, k_n, c0, b2, c2, disc
+    real(dp) :: sd, num, den, x, s_ap, dep(6), dz, fa, take, r
+    ! Local copies, the inputs and block_return's answers: a load that GCC
+    ! sinks under a selection might trap, and `x = merge(new, x, mask)` would
+    ! become a conditional store; either stops vectorising.
+    real(dp) :: tr(block_chunk, 6), ep0(block_chunk, 6), o_sig(block_chunk, 6)
+    real(dp) :: o_ep(block_chunk, 6), o_z(block_chunk), o_dl(block_chunk), o_f(block_chunk)
+    real(dp) :: o_st(block_chunk)
+    integer :: i, j
+    tr(1:n, :) = trial(1:n, :)
+    ep0(1:n, :) = eps_p0(1:n, :)
+    o_sig(1:n, :) = sig(1:n, :)
+    o_ep(1:n, :) = eps_p(1:n, :)
+    o_z(1:n) = z(1:n)
+    o_dl(1:n) = dlambda(1:n)
+    o_f(1:n) = f(1:n)
+    o_st(1:n) = status(1:n)
+    bulk = p%el%bulk
+    shear = p%el%shear
+    rate = p%a_m + p%hard%h
+    c1 = p%hard%h/(9.0_dp*bulk*p%beta)
+    a2 = 1.0_dp - 3.0_dp*c1**2
+    do i = 1, n
+      st = tr(i, :)
+      i1_tr = st(1) + st(2) + st(3)
+      s(1:3) = st(1:3) - i1_tr/3.0_dp
+      s(4:6) = st(4:6)
+      q = q_trial(i)
+      x_max = q*p%n_m/(sqrt2*shear)
+      k_n = p%hard%k0 + p%hard%h*z0(i) + zeta_trial(i)
+      c0 = (i1_tr - k_n/p%beta)/(9.0_dp*bulk)
+      b2 = 3.0_dp*c0*c1
+      c2 = (q/(2.0_dp*shear))**2 + 3.0_dp*c0**2
+      disc = b2**2 + a2*c2
+      sd = sqrt(max(disc, 0.0_dp))
+      num = merge(c2, sd - b2, b2 >= 0.0_dp)
+      den = merge(b2 + sd, a2, b2 >= 0.0_dp)
+      ! 1 where the answer is the apex's, a product of 0/1 masks (a logical
+      ! .and. would put branches in the loop).
+      take = merge(1.0_dp, 0.0_dp, o_st(i) < 0.0_dp)*merge(1.0_dp, 0.0_dp, disc >= 0.0_dp)* &
+             merge(1.0_dp, 0.0_dp, f_trial(i) - rate*x_max > 0.0_dp)* &
+             merge(1.0_dp, 0.0_dp, abs(den) >= tiny(1.0_dp))
+      x = num/merge(den, 1.0_dp, take > 0.0_dp)
+      take = take*merge(1.0_dp, 0.0_dp, x >= 0.0_dp)*merge(1.0_dp, 0.0_dp, x <= huge(x))
+      x = merge(x, 0.0_dp, take > 0.0_dp)
+      s_ap = (k_n + p%hard%h*x)/(3.0_dp*p%beta)
+      dep = s/(2.0_dp*shear)
+      dep(1:3) = dep(1:3) + (i1_tr - 3.0_dp*s_ap)/(9.0_dp*bulk)
+      dz = sqrt(dep(1)**2 + dep(2)**2 + dep(3)**2 + 2.0_dp*(dep(4)**2 + dep(5)**2 + dep(6)**2))
+      fa = 3.0_dp*p%beta*s_ap - (p%hard%k0 + p%hard%h*(z0(i) + dz)) - zeta_trial(i)
+      do j = 1, 6
+        sig(i, j) = merge(merge(s_ap, 0.0_dp, j <= 3), o_sig(i, j), take > 0.0_dp)
+        r = ep0(i, j) + dep(j)
+        eps_p(i, j) = merge(r, o_ep(i, j), take > 0.0_dp)
+      end do
+      r = z0(i) + dz
+      z(i) = merge(r, o_z(i), take > 0.0_dp)
+      dlambda(i) = merge(dz, o_dl(i), take > 0.0_dp)
+      f(i) = merge(fa, o_f(i), take > 0.0_dp)
+      status(i) = merge(2.0_dp, o_st(i), take > 0.0_dp)
+    end do
+  end subroutine apex_return
 
 end module wellposed_dp_block
