@@ -17,6 +17,7 @@
 !>    inside the run.
 module wellposed_mpm_deck_checks
   use wellposed_kinds, only: dp
+  use wellposed_finite, only: all_finite
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_config, only: mpm_config_t, bc_free, pulse_ramp_sine
@@ -134,6 +135,9 @@ contains
       'it so on purpose)'
     sb = surface_stress(cfg, 0.0_dp)
     sx = cfg%stress0(1)
+    ! A non-finite stress or load is the scene's to name (no ordered
+    ! comparison with a NaN: a trap under -ffpe-trap=invalid).
+    if (.not. all_finite([sb, sx, cfg%load_peak])) return
     scale = max(abs(sb), abs(sx), abs(cfg%load_peak))
     if (abs(sb - sx) > equilibrium_tol*scale) then
       call new_error(err, status_invalid, 'stress', path//': &initial: stress(1) = '// &

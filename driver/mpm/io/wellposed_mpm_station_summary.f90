@@ -106,7 +106,12 @@ contains
     else
       call sm%not_applicable('c_plastic_head', head%what)
     end if
-    call sm%add('c_head_over_c_plastic', meas%c_head/c_h, 'c_head/c_plastic_head', no_head)
+    ! divided only where c_h > 0 (a division by 0 traps under -ffpe-trap)
+    if (c_h > 0.0_dp) then
+      call sm%add('c_head_over_c_plastic', meas%c_head/c_h, 'c_head/c_plastic_head', no_head)
+    else
+      call sm%not_applicable('c_head_over_c_plastic', no_head)
+    end if
     call sm%add('c_tail_over_c_elastic', meas%c_tail/c_e, why=no_speed)
     call sm%add('separation_rate', meas%c_head - meas%c_tail, &
                 'm/s, head minus tail speed (ideal Sandler-Rubin: C_P - C_E)', no_speed)
