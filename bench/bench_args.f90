@@ -4,6 +4,7 @@
 !> is measured.
 module bench_args
   use, intrinsic :: iso_fortran_env, only: error_unit, dp => real64
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   implicit none
   private
   public :: int_arg, real_arg, most_args
@@ -43,8 +44,13 @@ contains
     integer :: ios
     call get_command_argument(i, arg)
     read (arg, *, iostat=ios) v
-    ! not (lo <= v <= hi) also refuses NaN
-    if (ios /= 0 .or. .not. (v >= lo .and. v <= hi)) then
+    ! a NaN or infinity refused before any ordered comparison (which traps
+    ! on a NaN in a Debug build, -ffpe-trap=invalid)
+    if (ios == 0) then
+      if (.not. ieee_is_finite(v)) ios = 1
+    end if
+    if (ios /= 0) v = lo - 1.0_dp   ! below the range: refused below
+    if (.not. (v >= lo .and. v <= hi)) then
       range = 'a number from '//num_text(lo)//' to '//num_text(hi)
       call refuse(prog, what, trim(range), arg)
     end if

@@ -7,6 +7,7 @@ subroutine umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpl
                 stran, dstran, time, dtime, temp, dtemp, predef, dpred, cmname, &
                 ndi, nshr, ntens, nstatv, props, nprops, coords, drot, pnewdt, &
                 celent, dfgrd0, dfgrd1, noel, npt, layer, kspt, kstep, kinc)
+  use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   implicit none
   integer, parameter :: dp = kind(1.0d0)
   character(len=80), intent(in) :: cmname
@@ -17,7 +18,7 @@ subroutine umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpl
   real(dp), intent(in) :: predef(*), dpred(*), props(nprops), coords(3), drot(3, 3)
   real(dp), intent(inout) :: pnewdt
   real(dp), intent(in) :: celent, dfgrd0(3, 3), dfgrd1(3, 3)
-  real(dp) :: lam, zero
+  real(dp) :: lam
   integer :: i, mode
   mode = nint(props(3))
   if (mode == 1) then
@@ -45,7 +46,7 @@ subroutine umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpl
   stress = stress + matmul(ddsdde, dstran)
   statev(1) = statev(1) + 1.0_dp
   if (mode == 2 .and. kinc >= 3) then
-    zero = 0.0_dp*time(1)
-    stress(2) = zero/zero
+    ! a quiet NaN (0/0 would trap in a Debug build, -ffpe-trap=invalid)
+    stress(2) = ieee_value(stress(2), ieee_quiet_nan)
   end if
 end subroutine umat
