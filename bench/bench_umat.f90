@@ -123,9 +123,9 @@ program bench_umat
       t_vumat(icase, i)/merge(t_mixed, t_case(min(icase, 3), 2), icase == 4), i = 1, 4)
   end do
   write (output_unit, '(a)') '    (mixed: elastic and cone points in turn, every 16th an apex '// &
-    'point.) Where a point goes: elastic and cone points are one vectorised pass; a chunk '// &
-    'of 64 with an apex point adds a second vectorised pass, the apex return, for all 64 '// &
-    '(under Duvaut-Lions apex points go one by one, point_update); a block of 1 to 3 points goes point by point '// &
+    'point.) Where a point goes: elastic and cone points are one vectorised pass; the apex '// &
+    'points of a chunk of 64 are gathered into a list and take the apex return in a second '// &
+    'vectorised pass (under Duvaut-Lions one by one, point_update); a block of 1 to 3 points goes point by point '// &
     '(point_update) and pays the per-block PROPS and finiteness checks alone'
   write (output_unit, '(a)') '  extended flow rule (beta_p = beta), cone case:'// &
     ' DDSDDE ns  /regular  explicit ns  /regular'

@@ -7,7 +7,8 @@
 !> selects by masks, so the loops over points have no call and no branch
 !> and the compiler vectorises them (with -fno-trapping-math, CMakeLists.txt).
 !> A chunk with a point past the cone's reach computes the apex return for
-!> every point as well (apex_return; without Duvaut-Lions). Points whose
+!> its deferred points, a compact list, in one more vectorised loop
+!> (apex_return; without Duvaut-Lions). Points whose
 !> answer is none of these (a zero deviator, no admissible stress, the
 !> apex under Duvaut-Lions) are marked deferred and left to point_update,
 !> one by one; they are rare. Same arithmetic, in the same order, as
@@ -244,10 +245,12 @@ contains
   !> deferred (status -1) whose trial lies beyond the cone's reach (beta > 0,
   !> f_tr > (a + h) x_max): sigma = s_ap I, s_ap = k(z + d)/(3 beta), d eps^p
   !> = C^-1 : (sigma_trial - sigma_apex), d = ||d eps^p|| the root of a
-  !> quadratic. Every point is computed, with its divisor kept away from zero,
-  !> and a point takes the answer (status 2) only where point_closed_form
-  !> finds one (disc >= 0, 0 <= d <= huge); any other point stays deferred.
-  !> The same operations in the same order: bitwise point_closed_form's.
+  !> quadratic. The deferred points are gathered into a compact list (the
+  !> cost follows their number, not the chunk's), computed there branch-free
+  !> with divisors kept away from zero, and a point takes the answer (status
+  !> 2) only where point_closed_form finds one (disc >= 0, 0 <= d <= huge);
+  !> any other stays deferred. The same operations in the same order:
+  !> bitwise point_closed_form's.
   pure subroutine apex_return(p, n, eps_p0, z0, trial, q_trial, f_trial, zeta_trial, sig, &
                               eps_p, z, dlambda, f, status)
     type(dp_params_t), intent(in) :: p
@@ -257,35 +260,43 @@ contains
     real(dp), intent(inout) :: sig(block_chunk, 6), eps_p(block_chunk, 6), z(block_chunk)
     real(dp), intent(inout) :: dlambda(block_chunk), f(block_chunk), status(block_chunk)
     real(dp) :: bulk, shear, rate, c1, a2, st(6), s(6), i1_tr, q, x_max, k_n, c0, b2, c2, disc
-    real(dp) :: sd, num, den, x, s_ap, dep(6), dz, fa, take, r
-    ! Local copies, the inputs and block_return's answers: a load that GCC
-    ! sinks under a selection might trap, and `x = merge(new, x, mask)` would
-    ! become a conditional store; either stops vectorising.
-    real(dp) :: tr(block_chunk, 6), ep0(block_chunk, 6), o_sig(block_chunk, 6)
-    real(dp) :: o_ep(block_chunk, 6), o_z(block_chunk), o_dl(block_chunk), o_f(block_chunk)
-    real(dp) :: o_st(block_chunk)
-    integer :: i, j
-    tr(1:n, :) = trial(1:n, :)
-    ep0(1:n, :) = eps_p0(1:n, :)
-    o_sig(1:n, :) = sig(1:n, :)
-    o_ep(1:n, :) = eps_p(1:n, :)
-    o_z(1:n) = z(1:n)
-    o_dl(1:n) = dlambda(1:n)
-    o_f(1:n) = f(1:n)
-    o_st(1:n) = status(1:n)
+    real(dp) :: sd, num, den, x, s_ap, dz
+    ! The compact list: inputs and answers in local arrays only, so that
+    ! no load can trap and no store is conditional (either would stop GCC
+    ! vectorising the loop).
+    real(dp) :: tr(block_chunk, 6), ep0(block_chunk, 6), ft(block_chunk), zt(block_chunk)
+    real(dp) :: zc(block_chunk), qt(block_chunk), dep(block_chunk, 6), a_ap(block_chunk)
+    real(dp) :: a_dz(block_chunk), a_f(block_chunk), take(block_chunk)
+    integer :: i, j, k, m, idx(block_chunk)
+    m = 0
+    do i = 1, n
+      if (status(i) < 0.0_dp) then
+        m = m + 1
+        idx(m) = i
+      end if
+    end do
+    do k = 1, m
+      i = idx(k)
+      tr(k, :) = trial(i, :)
+      ep0(k, :) = eps_p0(i, :)
+      ft(k) = f_trial(i)
+      zt(k) = zeta_trial(i)
+      zc(k) = z0(i)
+      qt(k) = q_trial(i)
+    end do
     bulk = p%el%bulk
     shear = p%el%shear
     rate = p%a_m + p%hard%h
     c1 = p%hard%h/(9.0_dp*bulk*p%beta)
     a2 = 1.0_dp - 3.0_dp*c1**2
-    do i = 1, n
-      st = tr(i, :)
+    do k = 1, m
+      st = tr(k, :)
       i1_tr = st(1) + st(2) + st(3)
       s(1:3) = st(1:3) - i1_tr/3.0_dp
       s(4:6) = st(4:6)
-      q = q_trial(i)
+      q = qt(k)
       x_max = q*p%n_m/(sqrt2*shear)
-      k_n = p%hard%k0 + p%hard%h*z0(i) + zeta_trial(i)
+      k_n = p%hard%k0 + p%hard%h*zc(k) + zt(k)
       c0 = (i1_tr - k_n/p%beta)/(9.0_dp*bulk)
       b2 = 3.0_dp*c0*c1
       c2 = (q/(2.0_dp*shear))**2 + 3.0_dp*c0**2
@@ -295,27 +306,35 @@ contains
       den = merge(b2 + sd, a2, b2 >= 0.0_dp)
       ! 1 where the answer is the apex's, a product of 0/1 masks (a logical
       ! .and. would put branches in the loop).
-      take = merge(1.0_dp, 0.0_dp, o_st(i) < 0.0_dp)*merge(1.0_dp, 0.0_dp, disc >= 0.0_dp)* &
-             merge(1.0_dp, 0.0_dp, f_trial(i) - rate*x_max > 0.0_dp)* &
-             merge(1.0_dp, 0.0_dp, abs(den) >= tiny(1.0_dp))
-      x = num/merge(den, 1.0_dp, take > 0.0_dp)
-      take = take*merge(1.0_dp, 0.0_dp, x >= 0.0_dp)*merge(1.0_dp, 0.0_dp, x <= huge(x))
-      x = merge(x, 0.0_dp, take > 0.0_dp)
+      take(k) = merge(1.0_dp, 0.0_dp, disc >= 0.0_dp)* &
+                merge(1.0_dp, 0.0_dp, ft(k) - rate*x_max > 0.0_dp)* &
+                merge(1.0_dp, 0.0_dp, abs(den) >= tiny(1.0_dp))
+      x = num/merge(den, 1.0_dp, take(k) > 0.0_dp)
+      take(k) = take(k)*merge(1.0_dp, 0.0_dp, x >= 0.0_dp)*merge(1.0_dp, 0.0_dp, x <= huge(x))
+      x = merge(x, 0.0_dp, take(k) > 0.0_dp)
       s_ap = (k_n + p%hard%h*x)/(3.0_dp*p%beta)
-      dep = s/(2.0_dp*shear)
-      dep(1:3) = dep(1:3) + (i1_tr - 3.0_dp*s_ap)/(9.0_dp*bulk)
-      dz = sqrt(dep(1)**2 + dep(2)**2 + dep(3)**2 + 2.0_dp*(dep(4)**2 + dep(5)**2 + dep(6)**2))
-      fa = 3.0_dp*p%beta*s_ap - (p%hard%k0 + p%hard%h*(z0(i) + dz)) - zeta_trial(i)
       do j = 1, 6
-        sig(i, j) = merge(merge(s_ap, 0.0_dp, j <= 3), o_sig(i, j), take > 0.0_dp)
-        r = ep0(i, j) + dep(j)
-        eps_p(i, j) = merge(r, o_ep(i, j), take > 0.0_dp)
+        dep(k, j) = s(j)/(2.0_dp*shear)
       end do
-      r = z0(i) + dz
-      z(i) = merge(r, o_z(i), take > 0.0_dp)
-      dlambda(i) = merge(dz, o_dl(i), take > 0.0_dp)
-      f(i) = merge(fa, o_f(i), take > 0.0_dp)
-      status(i) = merge(2.0_dp, o_st(i), take > 0.0_dp)
+      do j = 1, 3
+        dep(k, j) = dep(k, j) + (i1_tr - 3.0_dp*s_ap)/(9.0_dp*bulk)
+      end do
+      dz = sqrt(dep(k, 1)**2 + dep(k, 2)**2 + dep(k, 3)**2 + &
+                2.0_dp*(dep(k, 4)**2 + dep(k, 5)**2 + dep(k, 6)**2))
+      a_ap(k) = s_ap
+      a_dz(k) = dz
+      a_f(k) = 3.0_dp*p%beta*s_ap - (p%hard%k0 + p%hard%h*(zc(k) + dz)) - zt(k)
+    end do
+    do k = 1, m
+      if (take(k) == 0.0_dp) cycle
+      i = idx(k)
+      sig(i, 1:3) = a_ap(k)
+      sig(i, 4:6) = 0.0_dp
+      eps_p(i, :) = ep0(k, :) + dep(k, :)
+      z(i) = zc(k) + a_dz(k)
+      dlambda(i) = a_dz(k)
+      f(i) = a_f(k)
+      status(i) = 2.0_dp
     end do
   end subroutine apex_return
 
