@@ -19,7 +19,7 @@ module wellposed_vumat_adapter
   use wellposed_tensor, only: ntens6
   use wellposed_dp_params, only: dp_params_t
   use wellposed_dp_point, only: point_update, has_closed_form
-  use wellposed_dp_block, only: closed_form_block, block_chunk
+  use wellposed_dp_block, only: closed_form_block, block_chunk, deferred_points
   use wellposed_hardening, only: hardening_t
   use wellposed_generalized_dl, only: gdl_update
   use wellposed_umat_adapter, only: check_props, explain, fault_non_finite
@@ -109,13 +109,7 @@ contains
         call gather(k0, n)
         call closed_form_block(p, n, c_sig0, c_ep0, c_z0, c_zeta0, c_avg, c_de, dt, c_sig, &
                                c_ep, c_z, c_zeta, c_dl, c_f, c_st, c_trial)
-        ndefer = 0
-        do i = 1, n
-          if (c_st(i) < 0.0_dp) then
-            ndefer = ndefer + 1
-            defer(ndefer) = i
-          end if
-        end do
+        call deferred_points(n, c_st, defer, ndefer)
         do j = 1, ndefer
           i = defer(j)
           sig = c_sig0(i, :)

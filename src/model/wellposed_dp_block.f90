@@ -19,7 +19,8 @@ module wellposed_dp_block
   use wellposed_dp_params, only: dp_params_t
   implicit none
   private
-  public :: closed_form_block, block_trial, block_return, elastic_answer, block_chunk
+  public :: closed_form_block, block_trial, block_return, elastic_answer, block_chunk, &
+            deferred_points
 
   !> Points per call of closed_form_block (the leading dimension of its
   !> arrays, a constant so that the compiler sees the columns apart).
@@ -268,13 +269,7 @@ contains
     real(dp) :: zc(block_chunk), qt(block_chunk), dep(block_chunk, 6), a_ap(block_chunk)
     real(dp) :: a_dz(block_chunk), a_f(block_chunk), take(block_chunk)
     integer :: i, j, k, m, idx(block_chunk)
-    m = 0
-    do i = 1, n
-      if (status(i) < 0.0_dp) then
-        m = m + 1
-        idx(m) = i
-      end if
-    end do
+    call deferred_points(n, status, idx, m)
     do k = 1, m
       i = idx(k)
       tr(k, :) = trial(i, :)
@@ -337,5 +332,20 @@ contains
       status(i) = 2.0_dp
     end do
   end subroutine apex_return
+
+  !> The points of 1 to n the kernel deferred (status < 0): idx(1:m).
+  pure subroutine deferred_points(n, status, idx, m)
+    integer, intent(in) :: n
+    real(dp), intent(in) :: status(block_chunk)
+    integer, intent(out) :: idx(block_chunk), m
+    integer :: i
+    m = 0
+    do i = 1, n
+      if (status(i) < 0.0_dp) then
+        m = m + 1
+        idx(m) = i
+      end if
+    end do
+  end subroutine deferred_points
 
 end module wellposed_dp_block
