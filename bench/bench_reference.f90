@@ -4,8 +4,10 @@
 !> the consistent tangent, in Abaqus layout (NTENS = 6, engineering shear
 !> strains), with no validation, no finiteness checks, no hardening or
 !> optional features and no status or energies: the arithmetic a UMAT
-!> cannot avoid. props = K, G, beta, beta_p, k0. Kept in its own file (no
-!> link-time inlining) so that it is a real call, as the library's umat is.
+!> cannot avoid, with a reciprocal wherever one replaces several divisions
+!> (a lower bound should be as fast as it can be). props = K, G, beta,
+!> beta_p, k0. Kept in its own file (no link-time inlining) so that it is a
+!> real call, as the library's umat is.
 subroutine bench_reference(stress, statev, ddsdde, dstran, props, tangent)
   use wellposed_kinds, only: dp
   implicit none
@@ -14,24 +16,24 @@ subroutine bench_reference(stress, statev, ddsdde, dstran, props, tangent)
   logical, intent(in) :: tangent
   real(dp), parameter :: r2 = 1.4142135623730950488_dp
   real(dp) :: bulk, shear, beta, beta_p, tr, sig(6), s(6), i1, q, f, n_m, a, x, x_max, sh(6)
-  real(dp) :: cm(6), cn(6), g2, dep(6)
+  real(dp) :: cm(6), cn(6), g2, dep(6), rn, rq
   integer :: i, j
 
   bulk = props(1); shear = props(2); beta = props(3); beta_p = props(4)
   tr = dstran(1) + dstran(2) + dstran(3)
-  sig(1:3) = stress(1:3) + 2.0_dp*shear*(dstran(1:3) - tr/3.0_dp) + bulk*tr
+  sig(1:3) = stress(1:3) + 2.0_dp*shear*(dstran(1:3) - tr*(1.0_dp/3.0_dp)) + bulk*tr
   sig(4:6) = stress(4:6) + shear*dstran(4:6)
   i1 = sig(1) + sig(2) + sig(3)
-  s(1:3) = sig(1:3) - i1/3.0_dp
+  s(1:3) = sig(1:3) - i1*(1.0_dp/3.0_dp)
   s(4:6) = sig(4:6)
   q = sqrt(s(1)**2 + s(2)**2 + s(3)**2 + 2.0_dp*(s(4)**2 + s(5)**2 + s(6)**2))
-  f = q/r2 + beta*i1 - props(5)
+  f = q*(1.0_dp/r2) + beta*i1 - props(5)
   if (f <= 0.0_dp) then
     stress = sig
     statev(12) = 0.0_dp
     if (tangent) then
       ddsdde = 0.0_dp
-      ddsdde(1:3, 1:3) = bulk - 2.0_dp*shear/3.0_dp
+      ddsdde(1:3, 1:3) = bulk - 2.0_dp*shear*(1.0_dp/3.0_dp)
       do i = 1, 3
         ddsdde(i, i) = ddsdde(i, i) + 2.0_dp*shear
         ddsdde(i + 3, i + 3) = shear
@@ -40,15 +42,17 @@ subroutine bench_reference(stress, statev, ddsdde, dstran, props, tangent)
     return
   end if
   n_m = sqrt(0.5_dp + 3.0_dp*beta_p**2)
-  a = (shear + 9.0_dp*bulk*beta*beta_p)/n_m
+  rn = 1.0_dp/n_m
+  a = (shear + 9.0_dp*bulk*beta*beta_p)*rn
   x = f/a
-  x_max = q*n_m/(r2*shear)
+  x_max = q*n_m*(1.0_dp/r2)/shear
   if (x < x_max) then
-    sh = s/q
+    rq = 1.0_dp/q
+    sh = s*rq
     stress = (1.0_dp - x/x_max)*s
-    stress(1:3) = stress(1:3) + (i1 - 9.0_dp*bulk*beta_p*x/n_m)/3.0_dp
-    dep = (x/(r2*n_m))*sh
-    dep(1:3) = dep(1:3) + x*beta_p/n_m
+    stress(1:3) = stress(1:3) + (i1 - 9.0_dp*bulk*beta_p*x*rn)*(1.0_dp/3.0_dp)
+    dep = (x*rn*(1.0_dp/r2))*sh
+    dep(1:3) = dep(1:3) + x*beta_p*rn
     statev(5:10) = statev(5:10) + dep*[1, 1, 1, 2, 2, 2]
     statev(1) = statev(1) + x
     statev(12) = 1.0_dp
@@ -57,14 +61,14 @@ subroutine bench_reference(stress, statev, ddsdde, dstran, props, tangent)
       cn = cm
       cm(1:3) = cm(1:3) + 3.0_dp*bulk*beta_p
       cn(1:3) = cn(1:3) + 3.0_dp*bulk*beta
-      cm = cm/(n_m*a)
-      g2 = x*2.0_dp*r2*shear**2/(n_m*q)
+      cm = cm*(rn/a)
+      g2 = x*2.0_dp*r2*shear**2*rn*rq
       do j = 1, 6
         do i = 1, 6
           ddsdde(i, j) = g2*sh(i)*sh(j) - cm(i)*cn(j)
         end do
       end do
-      ddsdde(1:3, 1:3) = ddsdde(1:3, 1:3) + bulk - 2.0_dp*shear/3.0_dp + g2/3.0_dp
+      ddsdde(1:3, 1:3) = ddsdde(1:3, 1:3) + bulk + (g2 - 2.0_dp*shear)*(1.0_dp/3.0_dp)
       do i = 1, 3
         ddsdde(i, i) = ddsdde(i, i) + 2.0_dp*shear - g2
         ddsdde(i + 3, i + 3) = ddsdde(i + 3, i + 3) + shear - 0.5_dp*g2
@@ -72,9 +76,10 @@ subroutine bench_reference(stress, statev, ddsdde, dstran, props, tangent)
     end if
   else
     ! Apex (perfect plasticity): sigma = k0/(3 beta) I, d eps^p = C^-1 : (trial - apex).
-    dep = s/(2.0_dp*shear)
-    dep(1:3) = dep(1:3) + (i1 - props(5)/beta)/(9.0_dp*bulk)
-    stress(1:3) = props(5)/(3.0_dp*beta)
+    rq = 1.0_dp/beta
+    dep = s*(0.5_dp/shear)
+    dep(1:3) = dep(1:3) + (i1 - props(5)*rq)*((1.0_dp/9.0_dp)/bulk)
+    stress(1:3) = props(5)*rq*(1.0_dp/3.0_dp)
     stress(4:6) = 0.0_dp
     statev(5:10) = statev(5:10) + dep*[1, 1, 1, 2, 2, 2]
     statev(1) = statev(1) + sqrt(dep(1)**2 + dep(2)**2 + dep(3)**2 + &
