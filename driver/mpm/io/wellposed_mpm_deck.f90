@@ -22,6 +22,7 @@ module wellposed_mpm_deck
   use wellposed_mpm_materials, only: first_material
   use wellposed_mpm_config
   use wellposed_mpm_reference, only: check_reference
+  use wellposed_text, only: int_text, real_text
   implicit none
   private
   public :: read_mpm_deck, mpm_options_t
@@ -91,17 +92,44 @@ contains
     cfg%pulse = word(pulse, pulse_names, 'load', 'pulse'); if (allocated(err)) return
     cfg%stress0 = stress; cfg%velocity0 = velocity; cfg%out_of_equilibrium = out_of_equilibrium
     call check_finite(path, 'initial', 'stress', stress, err); if (allocated(err)) return
+    call check_finite(path, 'initial', 'velocity', velocity, err); if (allocated(err)) return
+    call load_keys(); if (allocated(err)) return
     cfg%load_base = base; cfg%load_peak = peak; cfg%load_duration = duration
     cfg%load_start = start
     call ramp_sine_keys(); if (allocated(err)) return
     cfg%station_first = first; cfg%station_spacing = spacing; cfg%nstations = count
     call check_range(path, 'stations', 'count', count, 0, 1000, err)
     if (allocated(err)) return
+    call check_finite(path, 'stations', 'first', first, err); if (allocated(err)) return
+    call check_finite(path, 'stations', 'spacing', spacing, err); if (allocated(err)) return
+    if (count > 1 .and. .not. spacing > 0.0_dp) then
+      call new_error(err, status_invalid, 'spacing', path//': &stations: spacing = '// &
+        real_text(spacing)//' m must be > 0 with count = '//int_text(count)//' (stations at '// &
+        'distinct points of the bar)'); return
+    end if
     opts%plot = sh%plot
     opts%reference = trim(sh%reference); opts%reference_label = trim(sh%reference_label)
     call check_reference(path, cfg%name, opts%reference, err); if (allocated(err)) return
 
   contains
+
+    !> &load base, peak, duration and start finite, duration and start >= 0
+    !> (a pulse that ended before t = 0 would leave the run unloaded).
+    subroutine load_keys()
+      character(len=*), parameter :: keys(4) = [character(len=8) :: 'base', 'peak', &
+                                                'duration', 'start']
+      real(dp) :: values(4)
+      integer :: j
+      values = [base, peak, duration, start]
+      do j = 1, 4
+        call check_finite(path, 'load', trim(keys(j)), values(j), err)
+        if (allocated(err)) return
+        if (j >= 3 .and. values(j) < 0.0_dp) then
+          call new_error(err, status_invalid, trim(keys(j)), path//': &load: '// &
+            trim(keys(j))//' = '//real_text(values(j))//' s must be >= 0'); return
+        end if
+      end do
+    end subroutine load_keys
 
     !> The keys of pulse = 'ramp_sine' (eq. of wellposed_mpm_loads): all
     !> three given and finite, frequency > 0, and |amplitude| 2 pi frequency

@@ -38,6 +38,7 @@ module wellposed_mpm_deck_shared
                                              nl_scheme_id, nl_sweep_names, nl_sweep_id
   use wellposed_mpm_nonlocal_deck, only: resolve_nonlocal
   use wellposed_mpm_config, only: scheme_names, mass_names
+  use wellposed_text, only: real_text
   implicit none
   private
   public :: shared_deck_t, read_shared_deck, max_cases, shared_groups
@@ -151,13 +152,13 @@ contains
       case ('grid')
         call read_grid(given, ios, msg, unit, line)
         if (kind /= scene_kind_bar .and. is_set(given%length)) call note('grid', 'length')
-        if (kind /= scene_kind_bar .and. len_trim(given%far_end) > 0) &
+        if (kind /= scene_kind_bar .and. given%far_end /= achar(0)) &
           call note('grid', 'far_end')
       case ('time')
         call read_time(given, ios, msg, unit, line)
         if (ios /= 0) return
         if (kind /= scene_kind_bar) then
-          if (len_trim(given%mass) > 0) call note('time', 'mass')
+          if (given%mass /= achar(0)) call note('time', 'mass')
           return
         end if
         ! a logical has no unset value: read again from the opposite value;
@@ -185,7 +186,7 @@ contains
         if (is_set(given%band_time)) call note('output', 'band_time')
         if (is_set(given%band_drop)) call note('output', 'band_drop')
         if (is_set(given%band_onset_strain)) call note('output', 'band_onset_strain')
-        if (len_trim(given%band_axis) > 0) call note('output', 'band_axis')
+        if (given%band_axis /= achar(0)) call note('output', 'band_axis')
       end select
     end subroutine read_group
 
@@ -203,12 +204,13 @@ contains
     type(shared_deck_t), intent(out) :: sh
     sh%name = achar(0); sh%title = achar(0)
     sh%length = unset; sh%dx = unset; sh%ppc = -huge(1); sh%pad_cells = -huge(1)
-    sh%shape = ''; sh%far_end = ''; sh%scheme = ''; sh%mass = ''
+    ! words: achar(0), so that a word given as '' is checked (and refused)
+    sh%shape = achar(0); sh%far_end = achar(0); sh%scheme = achar(0); sh%mass = achar(0)
     sh%t_end = unset; sh%cfl = unset; sh%stop_on_cutback = .false.
     sh%visc_a1 = unset; sh%visc_a2 = unset
     sh%sample_dt = unset; sh%snapshot_dt = unset
-    sh%band_y = unset; sh%band_x = unset; sh%band_time = unset; sh%band_axis = ''
-    sh%band_drop = unset; sh%band_onset_strain = unset
+    sh%band_y = unset; sh%band_x = unset; sh%band_time = unset
+    sh%band_drop = unset; sh%band_onset_strain = unset; sh%band_axis = achar(0)
   end subroutine blank
 
   !> The values given (not sentinels) over the defaults in `sh`.
@@ -221,10 +223,10 @@ contains
     if (is_set(g%dx)) sh%dx = g%dx
     if (g%ppc /= -huge(1)) sh%ppc = g%ppc
     if (g%pad_cells /= -huge(1)) sh%pad_cells = g%pad_cells
-    if (len_trim(g%shape) > 0) sh%shape = g%shape
-    if (len_trim(g%far_end) > 0) sh%far_end = g%far_end
-    if (len_trim(g%scheme) > 0) sh%scheme = g%scheme
-    if (len_trim(g%mass) > 0) sh%mass = g%mass
+    if (g%shape /= achar(0)) sh%shape = g%shape
+    if (g%far_end /= achar(0)) sh%far_end = g%far_end
+    if (g%scheme /= achar(0)) sh%scheme = g%scheme
+    if (g%mass /= achar(0)) sh%mass = g%mass
     if (is_set(g%t_end)) sh%t_end = g%t_end
     if (is_set(g%cfl)) sh%cfl = g%cfl
     if (is_set(g%visc_a1)) sh%visc_a1 = g%visc_a1
@@ -237,7 +239,7 @@ contains
     if (is_set(g%band_time)) sh%band_time = g%band_time
     if (is_set(g%band_drop)) sh%band_drop = g%band_drop
     if (is_set(g%band_onset_strain)) sh%band_onset_strain = g%band_onset_strain
-    if (len_trim(g%band_axis) > 0) sh%band_axis = g%band_axis
+    if (g%band_axis /= achar(0)) sh%band_axis = g%band_axis
     sh%reference = g%reference
     sh%reference_label = g%reference_label
     sh%progress = g%progress
@@ -265,6 +267,13 @@ contains
     call check_finite(path, 'time', 'cfl', sh%cfl, err); if (allocated(err)) return
     call check_viscosity(path, 'a1', sh%visc_a1, err); if (allocated(err)) return
     call check_viscosity(path, 'a2', sh%visc_a2, err); if (allocated(err)) return
+    call check_finite(path, 'output', 'sample_dt', sh%sample_dt, err); if (allocated(err)) return
+    call check_finite(path, 'output', 'snapshot_dt', sh%snapshot_dt, err)
+    if (allocated(err)) return
+    if (sh%snapshot_dt < 0.0_dp) then
+      call new_error(err, status_invalid, 'snapshot_dt', path//': &output: snapshot_dt = '// &
+        real_text(sh%snapshot_dt)//' s must be >= 0 (0: no snapshots)'); return
+    end if
     select case (lower(trim(sh%band_axis)))
     case ('x', 'y')
       sh%band_axis = lower(trim(sh%band_axis))
