@@ -387,10 +387,27 @@ contains
     if (allocated(err)) return
     if (value < lo .or. value > hi) then
       call new_error(err, status_invalid, key, path//': &'//group//': '//key//' = '// &
-        real_str(value)//' is out of range: valid is ['//real_str(lo)//', '// &
-        real_str(hi)//']')
+        real_str(value)//' is out of range: valid is '//range_text(lo, hi))
     end if
   end subroutine check_range_real
+
+  !> "[lo, hi]", or "> 0", ">= lo", "<= hi" where a bound is tiny or huge
+  !> (a bound no deck means to state).
+  pure function range_text(lo, hi) result(text)
+    real(dp), intent(in) :: lo, hi
+    character(len=:), allocatable :: text
+    if (hi >= huge(1.0_dp)) then
+      if (lo == tiny(1.0_dp)) then
+        text = '> 0'
+      else
+        text = '>= '//real_str(lo)
+      end if
+    else if (lo <= -huge(1.0_dp)) then
+      text = '<= '//real_str(hi)
+    else
+      text = '['//real_str(lo)//', '//real_str(hi)//']'
+    end if
+  end function range_text
 
   !> Error unless lo <= value <= hi.
   subroutine check_range_int(path, group, key, value, lo, hi, err)
@@ -422,7 +439,8 @@ contains
       text = real_text(x)
       return
     end if
-    if (abs(x) >= 1.0e-3_dp .and. abs(x) < 1.0e6_dp .or. x == 0.0_dp) then
+    ! plain decimals from 0.1 (g0 writes smaller ones as 0.1...E-1)
+    if (abs(x) >= 0.1_dp .and. abs(x) < 1.0e6_dp .or. x == 0.0_dp) then
       write (buffer, '(g0)') x
       text = trim(adjustl(buffer))
       ! trim trailing zeros of g0's long mantissa
@@ -433,8 +451,7 @@ contains
         if (text(len(text):len(text)) == '.') text = text//'0'
       end if
     else
-      write (buffer, '(es12.5)') x
-      text = trim(adjustl(buffer))
+      text = real_text(x)
     end if
   end function real_str
 

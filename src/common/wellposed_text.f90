@@ -1,6 +1,7 @@
 !> Numbers as short text for messages: the one place that formats them, so
 !> every error names values the same way.
 module wellposed_text
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   implicit none
   private
@@ -26,7 +27,18 @@ contains
     character(len=:), allocatable :: text
     character(len=32) :: buffer
     integer :: e, last
-    write (buffer, '(es15.7e2)') x
+    logical :: wide
+    ! three exponent digits where two cannot hold it (ES with E2 writes
+    ! asterisks for 1e-300 or huge()); nested: no ordered comparison of a NaN
+    wide = .false.
+    if (ieee_is_finite(x)) then
+      if (x /= 0.0_dp) wide = abs(x) >= 9.99999995e99_dp .or. abs(x) < 1.0e-99_dp
+    end if
+    if (wide) then
+      write (buffer, '(es16.7e3)') x
+    else
+      write (buffer, '(es15.7e2)') x
+    end if
     text = trim(adjustl(buffer))
     e = index(text, 'E')
     if (e == 0) return
