@@ -50,6 +50,8 @@ program wellposed_batch_main
       i = i + 1
       figure_list = get_arg(i)
     case default
+      if (len(arg) == 0) call die('an empty argument where DRIVER or BATCHFILE was expected')
+      if (arg(1:1) == '-') call die('unknown option "'//arg//'" (see --help)')
       if (len(driver) == 0) then
         driver = arg
       else

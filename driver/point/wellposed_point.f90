@@ -59,9 +59,11 @@ program wellposed_point
       if (trim(arg) == '--out') then
         call get_command_argument(i, arg)
         out_root = trim(arg)
+        if (len(out_root) == 0) call fail_usage('--out needs a non-empty value')
       else
         call get_command_argument(i, arg)
         batch_file = trim(arg)
+        if (len(batch_file) == 0) call fail_usage('--batch needs a non-empty value')
       end if
     case ('-h', '--help')
       write (output_unit, '(a)') 'usage: wellposed-point DECK [--no-plot] [--out ROOT]', &
@@ -72,6 +74,8 @@ program wellposed_point
         '  --batch FILE: one deck per line (# comments); summary in ROOT/<FILE name>/'
       stop
     case default
+      if (len_trim(arg) == 0) call fail_usage('an empty argument where a DECK was expected')
+      if (arg(1:1) == '-') call fail_usage('unknown option "'//trim(arg)//'"')
       if (len(deck_path) > 0) call fail_usage('more than one deck given: '//trim(arg))
       deck_path = trim(arg)
     end select
@@ -424,7 +428,8 @@ contains
   subroutine fail_usage(message)
     character(len=*), intent(in) :: message
     write (error_unit, '(a)') 'wellposed-point: '//message, &
-      'usage: wellposed-point DECK [--no-plot]'
+      'usage: wellposed-point DECK [--no-plot] [--out ROOT] | --batch FILE [--out ROOT] '// &
+      '[--no-plot] (see --help)'
     stop 2, quiet=.true.
   end subroutine fail_usage
 

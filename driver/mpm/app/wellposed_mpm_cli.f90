@@ -74,7 +74,10 @@ contains
       case ('--batch')
         call value_of(cli%batch_file); if (allocated(err)) return
       case default
-        if (index(arg, '=') > 0) then
+        if (len(arg) == 0) then
+          call bad('an empty argument where a DECK or group.key=value was expected')
+          return
+        else if (index(arg, '=') > 0) then
           cli%overrides = [character(len=512) :: cli%overrides, arg]
         else if (arg(1:min(1, len(arg))) == '-') then
           call bad('unknown option "'//arg//'" (see --help)')
@@ -103,6 +106,7 @@ contains
       end if
       i = i + 1
       v = argument(i)
+      if (len(v) == 0) call bad('option "'//arg//'" needs a non-empty value')
     end subroutine value_of
 
     subroutine bad(text)
