@@ -32,7 +32,7 @@
 module wellposed_mpm_ps_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_text, only: int_text
+  use wellposed_text, only: int_text, real_text
   use wellposed_deck, only: check_finite, unset, is_set, lower, check_word
   use, intrinsic :: iso_fortran_env, only: error_unit
   use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck, max_cases
@@ -101,6 +101,7 @@ contains
     character(len=32) :: label(max_cases)
     character(len=16) :: bottom, top, sides, top_lateral, platen
     real(dp) :: top_velocity, ramp_time, x(max_stations), y(max_stations)
+    real(dp) :: line_default(2)  !< band_x, band_y when the deck gives none
     namelist /plate/ width, height, weak_x, weak_y, weak_k0
     namelist /boundary/ bottom, top, sides, top_velocity, ramp_time, top_lateral, platen
     namelist /study/ dx, scale, label
@@ -114,6 +115,10 @@ contains
     sh%mdef%named = 0.0_dp
     sh%mdef%named(1:6) = [76.0e9_dp, 26.0e9_dp, 0.0_dp, 0.0_dp, 400.0e6_dp, -4.0e9_dp]
     sh%nonlocal = cfg%nonlocal
+    ! the measuring line: unset here, so that a line the deck gives is
+    ! checked against the plate and a default one is not (band_line)
+    line_default = [sh%band_x, sh%band_y]
+    sh%band_x = unset; sh%band_y = unset
     call read_shared_deck(path, overrides, scene_kind_plate, plate_groups, shape2d_names, &
                           [character(len=1) ::], sh, text, err)
     if (allocated(err)) return
@@ -131,8 +136,9 @@ contains
     if (allocated(err)) return
 
     call shared_into_config(); if (allocated(err)) return
-    call check_finite(path, 'plate', 'width', [width, height], err)
-    if (allocated(err)) return
+    call check_finite(path, 'plate', 'width', width, err); if (allocated(err)) return
+    call check_finite(path, 'plate', 'height', height, err); if (allocated(err)) return
+    call band_line(); if (allocated(err)) return
     cfg%width = width; cfg%height = height
     call legacy_weak_zone(); if (allocated(err)) return
     call first_material(cfg%materials, cfg%props, cfg%nprops, cfg%nstatv)
@@ -141,6 +147,35 @@ contains
     call station_points()
 
   contains
+
+    !> &output band_y, band_x (the measuring line, on the unscaled plate)
+    !> and band_time (>= 0; 0: at the end) finite, and a line the deck
+    !> gives on the plate: off it, it would measure nothing and say so
+    !> only at the end. A default line is left to the measure.
+    subroutine band_line()
+      logical :: given(2)
+      given = [is_set(sh%band_x), is_set(sh%band_y)]
+      if (.not. given(1)) sh%band_x = line_default(1)
+      if (.not. given(2)) sh%band_y = line_default(2)
+      cases%band_x = sh%band_x; cases%band_y = sh%band_y
+      call check_finite(path, 'output', 'band_y', sh%band_y, err); if (allocated(err)) return
+      call check_finite(path, 'output', 'band_x', sh%band_x, err); if (allocated(err)) return
+      call check_finite(path, 'output', 'band_time', sh%band_time, err)
+      if (allocated(err)) return
+      if (given(2) .and. (sh%band_y < 0.0_dp .or. sh%band_y > height)) then
+        call new_error(err, status_invalid, 'band_y', path//': &output: band_y = '// &
+          real_text(sh%band_y)//' m is off the plate [0, '//real_text(height)//'] m (&plate '// &
+          'height)'); return
+      end if
+      if (given(1) .and. (sh%band_x < 0.0_dp .or. sh%band_x > width)) then
+        call new_error(err, status_invalid, 'band_x', path//': &output: band_x = '// &
+          real_text(sh%band_x)//' m is off the plate [0, '//real_text(width)//'] m (&plate '// &
+          'width)'); return
+      end if
+      if (sh%band_time < 0.0_dp) call new_error(err, status_invalid, 'band_time', path// &
+        ': &output: band_time = '//real_text(sh%band_time)//' s must be >= 0 (0: at the end '// &
+        'of each case)')
+    end subroutine band_line
 
     !> &stations x(:), y(:): as many of each, finite, without gaps.
     subroutine station_points()
@@ -246,7 +281,9 @@ contains
         return
       end select
       cfg%platen = word(platen, platen_names, 'boundary', 'platen'); if (allocated(err)) return
-      call check_finite(path, 'boundary', 'top_velocity', [top_velocity, ramp_time], err)
+      call check_finite(path, 'boundary', 'top_velocity', top_velocity, err)
+      if (allocated(err)) return
+      call check_finite(path, 'boundary', 'ramp_time', ramp_time, err)
     end subroutine boundaries
 
     !> The cases of &study (or &grid dx) into cases and the first case's dx.
@@ -289,8 +326,9 @@ contains
       if (.not. is_set(weak_k0)) weak_k0 = 375.0e6_dp
       if (.not. all(is_set(weak_x))) weak_x = [0.0_dp, 1.0_dp]
       if (.not. all(is_set(weak_y))) weak_y = [0.0_dp, 1.0_dp]
-      call check_finite(path, 'plate', 'weak_k0', [weak_k0, weak_x, weak_y], err)
-      if (allocated(err)) return
+      call check_finite(path, 'plate', 'weak_k0', weak_k0, err); if (allocated(err)) return
+      call check_finite(path, 'plate', 'weak_x', weak_x, err); if (allocated(err)) return
+      call check_finite(path, 'plate', 'weak_y', weak_y, err); if (allocated(err)) return
       if (weak_k0 == 0.0_dp) return
       np = cfg%materials%nprops(1)
       if (np < prop_k0) then
