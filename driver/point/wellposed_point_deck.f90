@@ -338,9 +338,24 @@ contains
     if (allocated(err)) return
     call check_finite(deck%path, 'initial', 'statev', statev, err)
     if (allocated(err)) return
+    call check_statev_reach(); if (allocated(err)) return
     deck%stress0 = stress
     deck%strain0 = strain
     deck%statev0 = statev
+  contains
+    !> A statev slot past every material's NSTATV would be dropped unread.
+    subroutine check_statev_reach()
+      integer :: reach, k
+      reach = maxval(deck%materials%nstatv)
+      do k = reach + 1, max_statev
+        if (statev(k) /= 0.0_dp) then
+          call new_error(err, status_invalid, 'statev', deck%path//': &initial: statev('// &
+            int_text(k)//') = '//real_str(statev(k))//' lies past every material''s '// &
+            'NSTATV (the largest is '//int_text(reach)//'): no UMAT would read it')
+          return
+        end if
+      end do
+    end subroutine check_statev_reach
   end subroutine read_initial
 
   subroutine read_legs(deck, unit, err)
