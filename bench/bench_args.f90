@@ -42,15 +42,15 @@ contains
     real(dp), intent(in) :: lo, hi
     character(len=256) :: arg, range
     integer :: ios
+    logical :: ok
     call get_command_argument(i, arg)
     read (arg, *, iostat=ios) v
-    ! a NaN or infinity refused before any ordered comparison (which traps
-    ! on a NaN in a Debug build, -ffpe-trap=invalid)
-    if (ios == 0) then
-      if (.not. ieee_is_finite(v)) ios = 1
-    end if
-    if (ios /= 0) v = lo - 1.0_dp   ! below the range: refused below
-    if (.not. (v >= lo .and. v <= hi)) then
+    ! nested: a NaN or infinity is refused before any ordered comparison
+    ! (which traps on a NaN in a Debug build, -ffpe-trap=invalid)
+    ok = ios == 0
+    if (ok) ok = ieee_is_finite(v)
+    if (ok) ok = v >= lo .and. v <= hi
+    if (.not. ok) then
       range = 'a number from '//num_text(lo)//' to '//num_text(hi)
       call refuse(prog, what, trim(range), arg)
     end if

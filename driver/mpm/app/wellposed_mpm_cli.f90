@@ -79,7 +79,7 @@ contains
           return
         else if (index(arg, '=') > 0) then
           cli%overrides = [character(len=512) :: cli%overrides, arg]
-        else if (arg(1:min(1, len(arg))) == '-') then
+        else if (arg(1:1) == '-') then
           call bad('unknown option "'//arg//'" (see --help)')
           return
         else if (len(cli%deck_path) == 0) then

@@ -135,10 +135,10 @@ contains
     end do
     if (allocated(err)) return
 
-    call shared_into_config(); if (allocated(err)) return
     call check_finite(path, 'plate', 'width', width, err); if (allocated(err)) return
     call check_finite(path, 'plate', 'height', height, err); if (allocated(err)) return
     call band_line(); if (allocated(err)) return
+    call shared_into_config(); if (allocated(err)) return
     cfg%width = width; cfg%height = height
     call legacy_weak_zone(); if (allocated(err)) return
     call first_material(cfg%materials, cfg%props, cfg%nprops, cfg%nstatv)
@@ -157,7 +157,6 @@ contains
       given = [is_set(sh%band_x), is_set(sh%band_y)]
       if (.not. given(1)) sh%band_x = line_default(1)
       if (.not. given(2)) sh%band_y = line_default(2)
-      cases%band_x = sh%band_x; cases%band_y = sh%band_y
       call check_finite(path, 'output', 'band_y', sh%band_y, err); if (allocated(err)) return
       call check_finite(path, 'output', 'band_x', sh%band_x, err); if (allocated(err)) return
       call check_finite(path, 'output', 'band_time', sh%band_time, err)
