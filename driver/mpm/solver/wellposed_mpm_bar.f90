@@ -9,6 +9,7 @@ module wellposed_mpm_bar
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_mpm_config
+  use wellposed_mpm_cfl_limit, only: cfl_limit
   use wellposed_mpm_grid, only: grid_t
   use wellposed_mpm_shape, only: support_size
   use wellposed_mpm_loads, only: surface_stress
@@ -134,7 +135,8 @@ contains
   pure subroutine check_scene(cfg, err)
     type(mpm_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
-    real(dp) :: ncell
+    real(dp) :: ncell, limit
+    character(len=12) :: lim_text, cfl_text, ppc_text
     if (.not. (cfg%dx > 0.0_dp .and. ieee_is_finite(cfg%dx))) then
       call bad('grid', 'dx', 'must be a finite cell size > 0 m', err); return
     end if
@@ -158,6 +160,16 @@ contains
     if (.not. (cfg%cfl > 0.0_dp .and. cfg%cfl <= 1.0_dp)) then
       call bad('time', 'cfl', 'the CFL fraction must lie in (0, 1]: dt = cfl*dx/c_max, and '// &
         'above 1 the explicit update is unstable', err); return
+    end if
+    limit = cfl_limit(cfg%scheme, cfg%mass, cfg%ppc)
+    if (cfg%cfl > limit) then
+      write (lim_text, '(f6.4)') limit
+      write (cfl_text, '(g0.4)') cfg%cfl
+      write (ppc_text, '(i0)') cfg%ppc
+      call bad('time', 'cfl', '= '//trim(cfl_text)//' is above '//trim(lim_text)//', where '// &
+        'scheme = '''//trim(scheme_names(cfg%scheme))//''' with mass = '''// &
+        trim(mass_names(cfg%mass))//''' turns unstable at ppc = '//trim(ppc_text)// &
+        ' (the linearised step; docs/timestep.md)', err); return
     end if
     if (.not. (cfg%t_end > 0.0_dp .and. ieee_is_finite(cfg%t_end))) then
       call bad('time', 't_end', 'must be a finite end time > 0 s', err); return

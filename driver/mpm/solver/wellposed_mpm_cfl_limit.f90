@@ -1,0 +1,68 @@
+!> The largest stable &time cfl of a bar (docs/timestep.md, "Where a
+!> bar's step is stable"): the step of eq. 4.9-4.13, linearised on
+!> an elastic bar whose ppc particles per cell sit evenly and at rest. Per
+!> grid Fourier mode theta, with the lumped mass 1 and cfl = c dt/dx:
+!>   mu    = a + 2 b cos(theta)   the particles' mass matrix M_P,
+!>   w0^2  = 4 sin^2(theta/2)     the stiffness,
+!>   alpha = 1 (lumped), 1/mu (consistent), 2/(mu (1 + mu)) (blended),
+!> the grid acceleration being alpha times the force. MUSL's step maps
+!> (grid velocity, stress) with determinant 1: stable iff
+!> cfl^2 w0^2 mu alpha <= 4. USL's has determinant 1 - cfl^2 w0^2 alpha
+!> (1 - mu) (its damping): stable iff cfl^2 w0^2 alpha (2 - mu) <= 4.
+!> GIMP weights at rest are the linear ones (each particle's domain lies in
+!> its cell). tests/regression/mpm/mpm_bloch.py checks these limits against
+!> the eigenvalues of the whole discrete step.
+module wellposed_mpm_cfl_limit
+  use wellposed_kinds, only: dp
+  use wellposed_mpm_config, only: scheme_musl, mass_lumped, mass_consistent
+  implicit none
+  private
+  public :: cfl_limit
+
+contains
+
+  !> The limit for `scheme`, `mass` (wellposed_mpm_config's codes) and `ppc`;
+  !> huge() where M_P is singular at rest (one particle per cell: a
+  !> node-to-node alternation no particle sees) and the solve has none.
+  pure function cfl_limit(scheme, mass, ppc) result(limit)
+    integer, intent(in) :: scheme, mass, ppc
+    real(dp) :: limit
+    integer, parameter :: nt = 4096   ! theta in (0, pi]: the lumped maximum is inside
+    real(dp), parameter :: pi = 3.14159265358979323846_dp
+    real(dp) :: a, b, x, th, mu, w2, alpha, worst
+    integer :: k
+
+    ! M_P's row, lumped mass 1: particles at (k - 1/2)/ppc of a cell, mass 1/ppc
+    a = 0.0_dp
+    b = 0.0_dp
+    do k = 1, ppc
+      x = (k - 0.5_dp)/ppc
+      a = a + ((1.0_dp - x)**2 + x**2)/ppc
+      b = b + x*(1.0_dp - x)/ppc
+    end do
+    if (mass /= mass_lumped .and. a - 2.0_dp*b <= 1.0e-12_dp) then
+      limit = huge(1.0_dp)
+      return
+    end if
+    worst = 0.0_dp
+    do k = 1, nt
+      th = pi*k/nt
+      mu = a + 2.0_dp*b*cos(th)
+      w2 = 4.0_dp*sin(0.5_dp*th)**2
+      if (mass == mass_lumped) then
+        alpha = 1.0_dp
+      else if (mass == mass_consistent) then
+        alpha = 1.0_dp/mu
+      else
+        alpha = 2.0_dp/(mu*(1.0_dp + mu))
+      end if
+      if (scheme == scheme_musl) then
+        worst = max(worst, w2*mu*alpha)
+      else
+        worst = max(worst, w2*alpha*(2.0_dp - mu))
+      end if
+    end do
+    limit = 2.0_dp/sqrt(worst)
+  end function cfl_limit
+
+end module wellposed_mpm_cfl_limit
