@@ -4,7 +4,7 @@
 !> A 200 000-particle CPDI plate in pure shear (every particle plastic): S1 on
 !> rank 0 alone, W1 its lower half on rank 0, P on all ranks, timed in
 !> interleaved rounds. Prints measures and ratios (target: strong >= 85 % on
-!> 2 ranks), never a pass/fail on wall time. Scene and method: docs/performance.md.
+!> 2 ranks), never a pass/fail on wall time. Scene and method: docs/scaling.md.
 !> Then the overlocal plate of fig. 4.4 (h = 0.125 m, Algorithm 1 with the
 !> sweep each rank count takes by default) the same way, O1 on rank 0 and OP
 !> on all ranks in the plastic phase, and O1J on rank 0 with OP's Jacobi
