@@ -197,10 +197,13 @@ contains
     if (.not. (cfg%sample_dt > 0.0_dp)) then
       call bad('output', 'sample_dt', 'must be > 0 s', err); return
     end if
-    if (cfg%mass /= mass_lumped .and. cfg%shape == shape_linear .and. cfg%ppc == 1) then
-      call bad('time', 'mass', '= '''//trim(mass_names(cfg%mass))//''' needs ppc >= 2 or '// &
-        'GIMP weights: with one particle per cell and linear weights the particles'' '// &
-        'mass matrix is singular (a node-to-node alternation no particle sees)', err); return
+    ! GIMP's weights of a particle whose domain fills its cell are the linear
+    ! ones: M_P is singular at rest for both shapes (GIMP ran: energy error 30)
+    if (cfg%mass /= mass_lumped .and. cfg%ppc == 1) then
+      call bad('time', 'mass', '= '''//trim(mass_names(cfg%mass))//''' needs ppc >= 2: '// &
+        'with one particle per cell the particles'' mass matrix is singular (a '// &
+        'node-to-node alternation no particle sees; GIMP''s weights at rest are the '// &
+        'linear ones)', err); return
     end if
   contains
     pure subroutine bad(group, key, what, e)
