@@ -55,6 +55,7 @@ def load(path):
         s = f["stations/sigma_xx"][()]
         nums = dict(zip(text_attr(f, "numbers_names").split(), f.attrs["numbers"]))
         nums["props"] = list(f.attrs["props"]) if "props" in f.attrs else []
+        nums["mass"] = text_attr(f, "mass") if "mass" in f.attrs else "lumped"
         nums["heads"] = f["measures/t_head"][()] * 1e3 if "measures/t_head" in f else None
         nums["tails"] = f["measures/t_tail"][()] * 1e3 if "measures/t_tail" in f else None
         title = text_attr(f, "title")
@@ -171,8 +172,8 @@ def draw(run, out, reference=None, label=None, make=None):
     ax.axhline(nums["load_peak"] / 1e6, color="0.5", lw=0.5, ls=":")
     ax.set_xlabel("time (ms)")
     ax.set_ylabel(r"$\sigma_{xx} - \sigma_{xx}^0$ (MPa, tension +)")
-    sub = (f"dx = {nums['dx']:g} m, CFL {nums['cfl']:g}; ticks: measured head/tail at half "
-           f"the load peak")
+    sub = (f"dx = {nums['dx']:g} m, CFL {nums['cfl']:g}, {nums['mass']} mass; ticks: measured "
+           f"head/tail at half the load peak")
     if ref is not None and drawn:
         sub += f"; dashed: {label}"
     for s in skipped:

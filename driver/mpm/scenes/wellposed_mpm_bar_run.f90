@@ -400,6 +400,7 @@ contains
       call sm%add('git_revision', wellposed_git_revision)
       call sm%add('shape', trim(shape_names(cfg%shape)))
       call sm%add('scheme', trim(scheme_names(cfg%scheme)))
+      call sm%add('mass', trim(mass_names(cfg%mass)), 'the grid acceleration''s mass matrix')
       call sm%add('dx', cfg%dx, 'm')
       call sm%add('ppc', cfg%ppc)
       call sm%add('cfl', cfg%cfl)
@@ -508,6 +509,7 @@ contains
       call h5%write_attr('props', cfg%props(1:cfg%nprops))
       call h5%write_attr('shape', trim(shape_names(cfg%shape)))
       call h5%write_attr('scheme', trim(scheme_names(cfg%scheme)))
+      call h5%write_attr('mass', trim(mass_names(cfg%mass)))
       call h5%write_attr('numbers', [cfg%dx, scene%dt, cfg%cfl, c_e, c_p, cfg%load_peak, &
                                      cfg%load_duration, cfg%density, real(cfg%ppc, dp)])
       call h5%write_attr('numbers_names', 'dx dt cfl c_elastic c_plastic load_peak '// &
