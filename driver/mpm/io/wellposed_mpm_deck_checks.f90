@@ -68,6 +68,13 @@ contains
         ' s, past the end of the run (&time t_end = '//real_text(cfg%t_end)//' s)')
       return
     end if
+    if (cfg%pulse /= pulse_ramp_sine .and. cfg%load_peak /= 0.0_dp .and. &
+        cfg%load_duration == 0.0_dp) then
+      call fail('load', 'a pulse of peak = '//real_text(cfg%load_peak)//' Pa and '// &
+        'duration = 0 s carries nothing: give duration > 0 s, or peak = 0 for the base '// &
+        'load alone')
+      return
+    end if
     if (.not. cfg%out_of_equilibrium) then
       call check_equilibrium(path, cfg, err)
       if (allocated(err)) return
