@@ -61,19 +61,19 @@ contains
     end if
     call check_times(path, cfg%t_end, cfg%sample_dt, cfg%snapshot_dt, err)
     if (allocated(err)) return
-    if (cfg%pulse /= pulse_ramp_sine .and. cfg%load_peak /= 0.0_dp .and. &
-        cfg%load_start + cfg%load_duration > cfg%t_end) then
-      call fail('load', 'the pulse runs from start = '//real_text(cfg%load_start)// &
-        ' s to start + duration = '//real_text(cfg%load_start + cfg%load_duration)// &
-        ' s, past the end of the run (&time t_end = '//real_text(cfg%t_end)//' s)')
-      return
-    end if
-    if (cfg%pulse /= pulse_ramp_sine .and. cfg%load_peak /= 0.0_dp .and. &
-        cfg%load_duration == 0.0_dp) then
-      call fail('load', 'a pulse of peak = '//real_text(cfg%load_peak)//' Pa and '// &
-        'duration = 0 s carries nothing: give duration > 0 s, or peak = 0 for the base '// &
-        'load alone')
-      return
+    if (cfg%pulse /= pulse_ramp_sine .and. cfg%load_peak /= 0.0_dp) then   ! a pulse
+      if (cfg%load_start + cfg%load_duration > cfg%t_end) then
+        call fail('load', 'the pulse runs from start = '//real_text(cfg%load_start)// &
+          ' s to start + duration = '//real_text(cfg%load_start + cfg%load_duration)// &
+          ' s, past the end of the run (&time t_end = '//real_text(cfg%t_end)//' s)')
+        return
+      end if
+      if (cfg%load_duration == 0.0_dp) then
+        call fail('load', 'a pulse of peak = '//real_text(cfg%load_peak)//' Pa and '// &
+          'duration = 0 s carries nothing: give duration > 0 s, or peak = 0 for the base '// &
+          'load alone')
+        return
+      end if
     end if
     if (.not. cfg%out_of_equilibrium) then
       call check_equilibrium(path, cfg, err)
