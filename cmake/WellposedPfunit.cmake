@@ -9,7 +9,7 @@
 # the .pf files and gen_funit.py writes their `funit` module, at build
 # time. MAX_PES <n>: the files hold MPI tests (@test(npes=[...])), run
 # under mpirun on n ranks, through pFUnit when it was built with MPI, else
-# through pfunit_lite's `pfunit` module. See docs/testing.md.
+# through pfunit_lite's `pfunit` module. See docs/guide/testing.md.
 
 include_guard(GLOBAL)
 

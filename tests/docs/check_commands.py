@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Check the commands of the documentation: every fenced ```bash block of
-README.md and docs/*.md is split into commands (and so is every inline code
+README.md and docs/**/*.md is split into commands (and so is every inline code
 span that is a whole command, as in the figure tables), and for each the
 scripts, programs (build/bin/<name>), decks and files it names must exist,
 and every --option it gives a program must be one that program knows (named
@@ -14,7 +14,7 @@ its headings.
 usage: check_commands.py --root REPO --bin BINDIR [--build BUILDDIR]
                          [--doc FILE ...] [--expect-failure-naming TEXT]
 
---doc       the Markdown files to read (default: REPO/README.md, REPO/docs/*.md)
+--doc       the Markdown files to read (default: REPO/README.md and every REPO/docs/**/*.md)
 --expect-failure-naming TEXT
             the check itself must fail and its report must name TEXT (for
             the test that shows a broken document is caught); exit 0 then.
@@ -328,7 +328,8 @@ def main():
     opts = parser.parse_args()
     root = os.path.abspath(opts.root)
     docs = opts.doc or ([os.path.join(root, "README.md")]
-                        + sorted(glob.glob(os.path.join(root, "docs", "*.md"))))
+                        + sorted(glob.glob(os.path.join(root, "docs", "**", "*.md"),
+                                           recursive=True)))
     checker = Checker(root, os.path.abspath(opts.bin),
                       os.path.abspath(opts.build) if opts.build else None)
     ncommands = 0

@@ -6,7 +6,7 @@
                                 writes one per case) and fails, naming file,
                                 line and key, on any value that is NaN or
                                 Inf; a figure that does not apply must read
-                                `not_applicable  # why` (docs/decks.md).
+                                `not_applicable  # why` (docs/guide/decks.md).
                                 A batch summary's quoted error lines
                                 (`error: ...`, e.g. of the bad decks, which
                                 name the Inf they refused) are not figures.

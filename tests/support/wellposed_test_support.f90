@@ -1,6 +1,6 @@
 !> Helpers shared by the unit tests: a UMAT call with the contract's
 !> defaults, a central-difference tangent of the UMAT itself, and the
-!> case-study properties (docs/cases.md, case A).
+!> case-study properties (docs/research/cases.md, case A).
 module wellposed_test_support
   use wellposed_kinds, only: dp
   use wellposed_umat_interface, only: umat

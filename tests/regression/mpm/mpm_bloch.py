@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The bar's step linearised (docs/timestep.md): stability
+"""The bar's step linearised (docs/research/timestep.md): stability
 limits and group velocities from the eigenvalues of the whole discrete step.
 
 usage: mpm_bloch.py [--check EXE DECK]

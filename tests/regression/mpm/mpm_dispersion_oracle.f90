@@ -5,7 +5,7 @@
 !> Solves omega = kappa c(kappa) by bisection, rho c^2 from
 !> overlocal_uniaxial_modulus (Fourier transform of eq. 2.15/4.27); prints
 !> the bounds and phase and group velocities. Arguments and output:
-!> docs/verification.md. Exit status 1 with a message on bad arguments.
+!> docs/research/verification.md. Exit status 1 with a message on bad arguments.
 program mpm_dispersion_oracle
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use wellposed_kinds, only: dp

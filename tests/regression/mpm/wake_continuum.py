@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The MPM's wake behind a plastic 1D pulse against the continuum's own
-(docs/waves.md, "Against the continuum").
+(docs/research/waves.md, "Against the continuum").
 
 usage: wake_continuum.py EXE DECK NAME [overrides...] [dev<X] [dev>X] [--fe-dx DX]
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Where the elastic wake behind a short 1D pulse comes from: a minimal MPM
-against a finite-element bar with the same lumped mass (docs/waves.md,
+against a finite-element bar with the same lumped mass (docs/research/waves.md,
 "The grid velocity rebuilt from the particles").
 
 usage: wake_transfer_model.py [--check]

@@ -2,7 +2,7 @@
 !> scene spread over ranks (save_scene, restore_scene) written
 !> and read back on the same or another number of ranks; every rank must get
 !> exactly its particles back, bit for bit, in id order, with time, step and
-!> partial sums. Cases: docs/verification.md. Exits non-zero on any failure.
+!> partial sums. Cases: docs/research/verification.md. Exits non-zero on any failure.
 program parallel_restart_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use wellposed_kinds, only: dp

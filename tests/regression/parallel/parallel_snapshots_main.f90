@@ -1,7 +1,7 @@
 !> [mpirun -np N] parallel_snapshots_main MODE DIR [ARG]: the snapshot store
 !> of the MPM programs (wellposed_mpm_snapshots) on its own, rows scattered
 !> over the ranks as particles are, against the serial writer's file. Modes
-!> reference, write, read, old, downgrade: docs/verification.md.
+!> reference, write, read, old, downgrade: docs/research/verification.md.
 !> Row g of snapshot k holds k*1000 + g + c/8 in value c (exact).
 !> Exits non-zero on any failure.
 program parallel_snapshots_main

@@ -3,7 +3,7 @@
 !> (`serial DIR`), on every rank in each row order (`write DIR`), through the
 !> error paths (`error DIR`) and timed (`bench DIR N`).
 !> check_parallel_h5.py compares the files with the reference bitwise.
-!> Modes and files: docs/verification.md.
+!> Modes and files: docs/research/verification.md.
 program parallel_h5_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
   use wellposed_kinds, only: dp

@@ -8,7 +8,7 @@ usage: test_plate_yield.py RUN_DIR             (the deck's clamped platen)
 The particle nearest each top corner of the deformable body under the
 clamped platen reaches sqrt(J2) = 400 MPa before any weak-zone particle
 reaches 375 MPa, on both meshes, and sooner on the finer one (the corner's
-stress concentration grows with 1/h: docs/bands.md, "The clamped corner
+stress concentration grows with 1/h: docs/research/bands.md, "The clamped corner
 yields first"). Measured: corner 4.77, 3.74 ms; weak zone 5.30, 5.43 ms.
 Times within 0.15 ms: snapshots every 0.1 ms, interpolated linearly, and
 the stress rings with a period of about 1 ms.
@@ -17,7 +17,7 @@ With the frictionless platen (--contact) there is no corner singularity:
 the weak zone reaches its yield stress first on both meshes (measured 6.07,
 5.99 ms; the corner particle 6.67, 6.57 ms) and at 4 ms the corner particle
 is not above the middle of its row (0.95 of it on both meshes; under the
-clamped platen 1.8 and 2.6): docs/bands.md, "Where bands start: a
+clamped platen 1.8 and 2.6): docs/research/bands.md, "Where bands start: a
 frictionless platen".
 """
 import os

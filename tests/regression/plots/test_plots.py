@@ -15,7 +15,7 @@ the ideal arrivals as not_applicable (C_P < C_E), nor a viscoplastic head
 guide where the measured head runs more than 2 % off C_P; the overlocal head guide
 at the low-frequency speed C_P(h_eta + h_zeta), whose closed form is
 checked against C_P = 2045.09 m/s (h = 0, point_fig2_4) and the local
-speeds 2132.37 / 1989.18 m/s of docs/figures.md (fig. 2.10 left).
+speeds 2132.37 / 1989.18 m/s of docs/research/figures.md (fig. 2.10 left).
 plot_point.py: chapter3.png warns when a fit residual exceeds
 RESIDUAL_WARN, and only then.
 """
@@ -39,7 +39,7 @@ sys.path.insert(0, os.path.join(ROOT, 'driver', 'point', 'plots'))
 import mpm_stations  # noqa: E402
 import plot_point  # noqa: E402
 
-# Sandler-Rubin case (docs/cases.md, A): K, G, beta, beta_p, k0, h, k_lim,
+# Sandler-Rubin case (docs/research/cases.md, A): K, G, beta, beta_p, k0, h, k_lim,
 # z_ref, P_v, P_d, tau, h_zeta, L
 PROPS = [4.0e9, 1.5e9, 0.315, 0.0, 5.066e6, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
 

@@ -1,4 +1,4 @@
-!> A user's UMAT that follows the nonlocal contract of docs/umat.md: it
+!> A user's UMAT that follows the nonlocal contract of docs/guide/umat.md: it
 !> writes its plastic multiplier increment to STATEV(2) and reads the
 !> host's nonlocal average of it from STATEV(3). Its own PROPS layout:
 !> PROPS(1:7) = K, G, beta, k0, h_eta, h_zeta, L (Drucker-Prager with
@@ -29,7 +29,7 @@ subroutine umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpl
     pnewdt = -1.0_dp
     return
   end if
-  ! wellposed's layout (docs/umat.md): K, G, beta, beta_p, k0, h, k_lim,
+  ! wellposed's layout (docs/guide/umat.md): K, G, beta, beta_p, k0, h, k_lim,
   ! z_ref, P_v, P_d, tau, h_zeta, L, explicit host
   pr = 0.0_dp
   pr([1, 2, 3, 5, 6, 12, 13]) = props(1:7)
