@@ -18,7 +18,7 @@ reference.py compare-all REF_ROOT RUN_ROOT [--tolerance T] [NAME ...]
 reference.py check --exe EXE --out ROOT NAME [--tolerance T]
     the regression test: runs deck NAME of decks.txt through EXE into
     ROOT/NAME and compares its summary.txt with the stored reference
-    expected/NAME/summary.txt (see docs/guide/mpm.md for their origin),
+    expected/NAME/summary.txt (docs/guide/mpm.md; their history is in git),
     bitwise but for the keys of TOLERANCES (with --tolerance T, every
     figure within T relative: a build other than Release, see
     CMakeLists.txt).
