@@ -1,22 +1,11 @@
 !> bench_mpm1d: CPU nanoseconds per particle per step of the 1D explicit MPM
-!> (wellposed_mpm_solver, the step of `wellposed-mpm`) on the default
-!> Sandler-Rubin scene (700 m, dx = 0.25 m, 2 particles per cell, 5600
-!> particles, plastic Drucker-Prager), for linear and GIMP weights, as a
-!> ratio to the elastic trial stress (bench_trial_clock) timed in the same
-!> run; the shares of the step in the stress update (Algorithm 1 and the
-!> UMAT or block calls), the transfers (shape weights, P2G, G2P, MUSL,
-!> velocity gradient, F) and the grid update; bytes per particle. Target:
-!> GIMP <= 6x the trial. Never a pass/fail on wall time. A third row runs
-!> the GIMP scene with every particle through its own UMAT call (the path
-!> a user's UMAT takes; ours goes a block of particles at a time), and a
-!> fourth with &time mass = 'blended' (the particles' mass matrix solved in
-!> the grid update: its cost against the lumped row).
-!>
-!> After `nwarm` warm-up steps (the pulse is then inside the body), `nrounds`
-!> rounds each time the trial and nsteps/nrounds steps; the fastest round of
-!> each is kept, so that other users of a shared machine inflate neither.
-!> Usage: bench_mpm1d [NSTEPS [ROW]] (NSTEPS default 2000, 50 is enough under
-!> callgrind; ROW 1-4 runs that row alone, for an instruction profile of one).
+!> on the default Sandler-Rubin scene (5600 plastic particles, dx = 0.25 m)
+!> for linear and GIMP weights, as a ratio to the elastic trial stress
+!> (bench_trial_clock) timed in the same run, with the step's shares; rows 3
+!> and 4: every particle through its own UMAT call, and &time mass =
+!> 'blended'. The fastest of `nrounds` rounds is kept. Never a pass/fail.
+!> Usage: bench_mpm1d [NSTEPS [ROW]] (ROW 1-4: that row alone, for a
+!> profile). Targets and method: docs/performance.md.
 program bench_mpm1d
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp

@@ -1,23 +1,11 @@
 !> bench_mpm2d: CPU nanoseconds per particle per step of the plane-strain
-!> MPM (wellposed_mpm_solver) with the plastic UMAT, as a ratio to the
-!> elastic trial stress (bench_trial_clock) timed in the same run, with the
-!> shares of the step in the stress update (Algorithm 1 and the UMAT or
-!> block calls), the transfers (shape weights, P2G, G2P, MUSL, velocity
-!> gradient, F) and the grid update; then the cost of one nonlocal sweep
-!> (Algorithm 1) against a local stress update. Target: the CPDI plate with
-!> every particle plastic <= 20x the trial; the nonlocal sweep <= 1.5x a
-!> local update. Never a pass/fail on wall time.
-!>
-!> Scenes: the 4 m x 5 m plate at h = 0.25 m (1280 particles, 2 x 2 per
-!> cell), von Mises k0 = 40 MPa with a weak corner, loaded by the platen
-!> (linear, GIMP, CPDI: most particles plastic after ~60 steps); and the
-!> same plate in CPDI with free edges in an initial pure shear v = (-100 x,
-!> 100 y) 1/s, every particle plastic after a few steps (the target's row;
-!> 20 warm-up steps and rounds of 10 steps, before the free plate has
-!> moved far). After the warm-up, `nrounds` rounds each time the trial and
-!> the round's steps; the fastest round of each is kept.
-!> Usage: bench_mpm2d [ROW] (ROW 1-3 the loaded plates, 4 the sheared one,
-!> 5 the nonlocal sweep: that row alone, for an instruction profile of it).
+!> MPM with the plastic UMAT, as a ratio to the elastic trial stress
+!> (bench_trial_clock) timed in the same run, with the step's shares, on
+!> the 4 m x 5 m plate at h = 0.25 m (linear, GIMP, CPDI under the platen;
+!> CPDI in free pure shear, every particle plastic), then one nonlocal
+!> sweep against a local update. The fastest of `nrounds` rounds is kept;
+!> never a pass/fail. Usage: bench_mpm2d [ROW] (ROW 1-5: that row alone).
+!> Targets and method: docs/performance.md.
 program bench_mpm2d
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp

@@ -1,13 +1,9 @@
 !> The minimal reference bench_umat compares the UMAT against: the elastic
-!> trial plus the closed-form return of the linear Drucker-Prager cone
-!> (perfect plasticity, regular flow rule, eq. 4.36) or to its apex, and
-!> the consistent tangent, in Abaqus layout (NTENS = 6, engineering shear
-!> strains), with no validation, no finiteness checks, no hardening or
-!> optional features and no status or energies: the arithmetic a UMAT
-!> cannot avoid, with a reciprocal wherever one replaces several divisions
-!> (a lower bound should be as fast as it can be). props = K, G, beta,
-!> beta_p, k0. Kept in its own file (no link-time inlining) so that it is a
-!> real call, as the library's umat is.
+!> trial, the closed-form return of the linear Drucker-Prager cone (perfect
+!> plasticity, eq. 4.36) or to its apex, and the consistent tangent, NTENS
+!> = 6, with no validation, checks, options, status or energies: the
+!> arithmetic a UMAT cannot avoid. props = K, G, beta, beta_p, k0. In its
+!> own file (no link-time inlining), so it is a real call as umat is.
 subroutine bench_reference(stress, statev, ddsdde, dstran, props, tangent)
   use wellposed_kinds, only: dp
   implicit none

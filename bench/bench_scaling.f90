@@ -1,16 +1,11 @@
-!> bench_scaling: strong and weak scaling of the plane-strain MPM over ranks
-!> and the cost of a checkpoint, measured in one run:
+!> bench_scaling: strong and weak scaling of the plane-strain MPM over
+!> ranks and the cost of a checkpoint, in one run:
 !>   mpirun -np 2 bench_scaling [CHECKPOINT_DIR | --overlocal]
-!> A 200 000-particle CPDI plate in pure shear (every particle plastic): S1 on
-!> rank 0 alone, W1 its lower half on rank 0, P on all ranks, timed in
-!> interleaved rounds. Prints measures and ratios (target: strong >= 85 % on
-!> 2 ranks), never a pass/fail on wall time. Scene and method: docs/scaling.md.
-!> Then the overlocal plate of fig. 4.4 (h = 0.125 m, Algorithm 1 with the
-!> sweep each rank count takes by default) the same way, O1 on rank 0 and OP
-!> on all ranks in the plastic phase, and O1J on rank 0 with OP's Jacobi
-!> sweep: strong scaling against both, and the share of a step in Algorithm
-!> 1's sweeps and in their exchanges (docs/parallel.md); --overlocal: this
-!> part alone.
+!> A 200 000-particle CPDI plate in pure shear (S1, W1, P timed in
+!> interleaved rounds), then the overlocal plate of fig. 4.4 (O1, OP, O1J:
+!> Algorithm 1's sweeps and exchanges); --overlocal: that part alone.
+!> Prints measures and ratios, never a pass/fail on wall time.
+!> Scene, targets and method: docs/scaling.md, docs/parallel.md.
 program bench_scaling
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp

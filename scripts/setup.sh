@@ -23,6 +23,7 @@ WELLPOSED_PACKAGES=(
   libhdf5-dev libhdf5-openmpi-dev
   libopenmpi-dev openmpi-bin
   python3 python3-matplotlib python3-h5py python3-h5py-serial
+  doxygen
 )
 
 wellposed_setup() {

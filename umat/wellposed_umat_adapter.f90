@@ -25,11 +25,13 @@ module wellposed_umat_adapter
   !> PNEWDT requested on status -2 (a smaller increment may succeed).
   real(dp), parameter :: cutback_factor = 0.5_dp
 
-  ! What the checks of umat_update find, in the order they check.
+  !> What the checks of umat_update find, in the order they check.
   integer, parameter :: fault_layout = 1, fault_nstatv = 2, fault_nprops = 3, &
                         fault_extra_prop = 4, fault_params = 5, fault_explicit = 6, &
                         fault_dtime = 7, fault_non_finite = 8, fault_dl_form = 9, &
                         fault_nstatv_gdl = 10
+  !> @var fault_non_finite
+  !> The fault of a non-finite input (the VUMAT names it per point too).
 
 contains
 

@@ -28,26 +28,30 @@ module wellposed_umat_layout
   !> Appended slot: 1 selects the generalized Duvaut-Lions form (a tracked
   !> quasi-static state, needs NSTATV >= nstatv_gdl); 0 the default form.
   integer, parameter :: prop_dl_form = 15
+  !> PROPS slots the UMAT reads; any further nonzero slot is refused.
   integer, parameter :: nprops_known = 15
   !> K, G, beta, beta_p and k0 have no valid zero default.
   integer, parameter :: nprops_min = 5
-
+  !> The symbol of every PROPS slot, for messages.
   character(len=8), parameter :: prop_names(nprops_known) = [character(len=8) :: 'K', 'G', &
     'beta', 'beta_p', 'k0', 'h', 'k_lim', 'z_ref', 'P_v', 'P_d', 'tau', 'h_zeta', 'L', 'explicit', &
     'dl_form']
 
   integer, parameter :: sv_z = 1            !< cumulative equivalent plastic strain
   integer, parameter :: sv_dlambda = 2      !< dlambda of this increment (output)
-  integer, parameter :: sv_avg_dlambda = 3  !< <dlambda> from a nonlocal host (input)
+  integer, parameter :: sv_avg_dlambda = 3  !< `<dlambda>` from a nonlocal host (input)
   integer, parameter :: sv_zeta = 4         !< nonlocal strength zeta
   integer, parameter :: sv_eps_p = 5        !< first of six plastic strain slots (5-10)
   integer, parameter :: sv_f = 11           !< yield function at the end
   integer, parameter :: sv_status = 12      !< status code
+  !> The STATEV slots every model needs (1-12).
   integer, parameter :: nstatv_min = 12
   !> With PROPS(15) = 1: the overstress sigma - sigma_qs (eq. 2.8, six
   !> slots 13-18, order 11, 22, 33, 12, 13, 23) and z - z_qs (slot 19).
   integer, parameter :: sv_over = 13
+  !> The slot of z - z_qs.
   integer, parameter :: sv_over_z = 19
+  !> NSTATV the generalized Duvaut-Lions form needs.
   integer, parameter :: nstatv_gdl = 19
 
 contains

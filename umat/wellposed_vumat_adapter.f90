@@ -1,15 +1,10 @@
 !> The Abaqus/Explicit VUMAT contract on typed arguments: a block of nblock
-!> points per call, PROPS, layout and DTIME checked once per block (the same
-!> checks and messages as the UMAT), every point's inputs checked for
-!> finiteness, then the same point update as the UMAT (wellposed_dp_point).
-!>
-!> Abaqus/Explicit layout: arrays (nblock, ndir + nshr), components
-!> 11, 22, 33, 12, 23, 31 (ndir = 3, nshr = 3) or 11, 22, 33, 12 (plane
-!> strain, nshr = 1), TENSOR shear strains. STATEV slots as the UMAT's, with
-!> the plastic strain (slots 5-10) in this same order and convention.
-!> Energies are per unit mass: the internal energy grows by the trapezoidal
-!> stress power (sigma_old + sigma_new) : d eps/(2 rho), the inelastic one
-!> by (sigma_old + sigma_new) : d eps^p/(2 rho). Contract: docs/umat.md.
+!> points, PROPS, layout and DTIME checked once per block (the UMAT's checks
+!> and messages), every point's inputs checked for finiteness, then the
+!> UMAT's point update. Arrays (nblock, ndir + nshr), components 11, 22, 33,
+!> 12, 23, 31 (or 11, 22, 33, 12), tensor shears; STATEV as the UMAT's.
+!> Energies per unit mass by the trapezoidal rule:
+!> (sigma_old + sigma_new) : d eps/(2 rho). Contract: docs/umat.md.
 module wellposed_vumat_adapter
   use wellposed_kinds, only: dp
   use, intrinsic :: iso_fortran_env, only: int64
@@ -35,8 +30,7 @@ module wellposed_vumat_adapter
   integer, parameter :: comp(ntens6) = [1, 2, 3, 4, 6, 5]
   !> Blocks of fewer points go point by point (point_update, the same
   !> arithmetic): below four points the chunk's copies and the vectorised
-  !> pass cost more than they save (callgrind: 1,657 against 2,608
-  !> instructions for one elastic point, 969 against 1,011 per point of four).
+  !> pass cost more than they save.
   integer, parameter :: min_chunk_block = 4
 
 contains
@@ -279,7 +273,7 @@ contains
     ! Column by column (contiguous, no temporaries) into one carry: the
     ! usual all-valid block costs a few vectorised passes and one branch.
     ! Plain loops, not finite_carry per column: its vector prologue per
-    ! column cost 5 % more on small blocks (1,571 against 1,490 per point).
+    ! column costs more than it saves on small blocks.
     carry = 0
     do k = 1, nblock
       carry = ior(carry, ior(nonfinite_bits(density(k)), ior(nonfinite_bits(ener_intern_old(k)), &

@@ -1,12 +1,9 @@
-!> Deck reading for the drivers. A deck is a plain-text file of Fortran
-!> namelist groups (`&group key = value, ... /`), the format a legacy batch
-!> job can write with one WRITE statement and a person can edit; `!` starts
-!> a comment. A driver declares one variable per key, sets each to its
-!> default (or to the sentinel `unset` for required keys), reads the group
-!> with `read (unit, nml=group, iostat=ios, iomsg=msg)` and turns a failure
-!> into a message with `namelist_error`, then validates every value with
-!> `check_required`, `check_finite` and `check_range`. Every message names
-!> the file, the group, the key and what was expected.
+!> Deck reading for the drivers: a deck is a text file of Fortran namelist
+!> groups (`&group key = value, ... /`, `!` a comment). A driver defaults
+!> every key (required ones to `unset`), reads the group, turns a failure
+!> into a message (`namelist_error`) and validates each value
+!> (`check_required`, `check_finite`, `check_range`); every message names
+!> the file, the group, the key and what was expected. Decks: docs/decks.md.
 module wellposed_deck
   use, intrinsic :: iso_fortran_env, only: iostat_end
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite

@@ -1,13 +1,9 @@
-!> HDF5 output of the drivers, one process writing (the HDF5 adapter is this
-!> module, wellposed_h5_read for reading back, and wellposed_h5_parallel,
-!> with wellposed_h5_mpio, for one file written by many ranks). A file is
-!> written under a temporary name (`<path>.tmp.<pid>`) and renamed to `path`
-!> by `close`, so a crashed run never leaves a file that looks complete.
-!> Dataset names may contain '/' (groups are created as needed). A 2-D
-!> Fortran array a(n_rows, n_cols) is stored so that C and Python readers
-!> (h5py) see the same shape and indices: f['x'][i, j] == a(i+1, j+1).
-!> `write` and `write_attr` do not return an error each: the first failure
-!> is kept and reported by `close`, which then leaves no file behind.
+!> HDF5 output of the drivers, one process writing (wellposed_h5_read reads
+!> back; wellposed_h5_parallel writes one file from many ranks). A file is
+!> written as `<path>.tmp.<pid>` and renamed by `close`, so a crashed run
+!> leaves no file that looks complete. a(n_rows, n_cols) is stored so that
+!> h5py sees f['x'][i, j] == a(i+1, j+1). `write` keeps its first failure
+!> for `close` to report, which then leaves no file behind.
 module wellposed_h5
   use hdf5
   use wellposed_kinds, only: dp

@@ -1,19 +1,8 @@
 !> The Abaqus/Standard utility routines legacy UMATs call, as external
-!> subroutines with Abaqus' names and arguments, linked into every driver
-!> (Abaqus User Subroutines Reference, "Utility routines"; docs/hosting.md):
-!>   XIT                         end the run now (the run folder stays .partial)
-!>   STDB_ABQERR(LOP, STRING, INTV, REALV, CHARV)
-!>                               message; LOP = 1 note, -1 warning, -2 error
-!>                               (the host stops the run after this call),
-!>                               -3 error and end now; %I, %R, %S in STRING
-!>                               take the next INTV, REALV, CHARV entries
-!>   SINV(S, SINV1, SINV2, NDI, NSHR)       SINV1 = trace/3, SINV2 = Mises
-!>   SPRINC(S, PS, LSTR, NDI, NSHR)         principal values (ascending)
-!>   SPRIND(S, PS, AN, LSTR, NDI, NSHR)     and directions, AN(K, :) of PS(K)
-!>   ROTSIG(S, R, SPRIME, LSTR, NDI, NSHR)  SPRIME = R S R^T
-!>   GETOUTDIR(OUTDIR, LENOUTDIR)           the run's output folder
-!>   GETJOBNAME(JOBNAME, LENJOBNAME)        the run's name
-!> LSTR = 1: stress; 2: strain with engineering shears.
+!> subroutines with Abaqus' names and arguments (Abaqus User Subroutines
+!> Reference, "Utility routines"; docs/hosting.md): XIT, STDB_ABQERR, SINV,
+!> SPRINC, SPRIND, ROTSIG, GETOUTDIR, GETJOBNAME. LSTR = 1: stress; 2: strain
+!> with engineering shears.
 
 !> XIT: end the run at once with a clear message (no output is finished).
 subroutine xit()
@@ -23,6 +12,8 @@ subroutine xit()
 end subroutine xit
 
 !> STDB_ABQERR: a note, warning or error of the UMAT on standard error.
+!> LOP = 1 note, -1 warning, -2 error (the host stops the run after the
+!> call), -3 error and end now; %I, %R, %S take the next INTV, REALV, CHARV.
 subroutine stdb_abqerr(lop, string, intv, realv, charv)
   use, intrinsic :: iso_fortran_env, only: error_unit
   use wellposed_kinds, only: dp

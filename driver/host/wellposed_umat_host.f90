@@ -1,30 +1,10 @@
-!> The one caller of a UMAT in wellposed's drivers (the contract:
-!> docs/umat.md; docs/hosting.md). Every driver (point,
-!> MPM, demo) reaches a material only through here, so ours and a user's own
-!> Abaqus UMAT are driven alike.
-!>
-!> API (everything else is private):
-!>  - `umat_host_t`: the bundled per-point arguments. `new_umat_host` sets it
-!>    up once (NTENS 4 or 6, NSTATV, CMNAME, what a point is called); the
-!>    driver then sets per call only what changes (TIME, DTIME, KSTEP, KINC,
-!>    NOEL, NPT, COORDS, CELENT, DROT, DFGRD0/1) and reads back DDSDDE
-!>    (`host_tangent`) and PNEWDT. Nothing is allocated or cleared per call:
-!>    a loop over particles reuses one host. `ours` says whether the UMAT
-!>    follows wellposed's named slots (PROPS(14) explicit, STATEV 2/3 of the
-!>    nonlocal Algorithm 1) or only the Abaqus contract.
-!>  - `host_call`: one UMAT call and the one verdict on what came back:
-!>    `verdict_refused` (PNEWDT < 0 or NaN, or an error raised through
-!>    STDB_ABQERR: the run stops), `verdict_cutback` (0 <= PNEWDT < 1: retry
-!>    smaller, or stop where the driver cannot), `verdict_nonfinite` (a NaN or
-!>    Inf in STRESS or STATEV: the run stops), `verdict_ok`.
-!>  - `host_error`: the error value of a verdict, naming the point.
-!>  - `host_update`: `host_call` with the cut-back rule applied (the
-!>    increment split into 2, 4, ... 2**max_halvings equal parts from the
-!>    saved start state) and STRAN advanced; errors as values.
-!>  - `host_probe`: the stress change of one increment from a given state,
-!>    which is left unchanged (wave speeds, time-step bounds, stiffness).
-!> Components are Abaqus's (11, 22, 33, 12[, 13, 23]), engineering shears,
-!> tension positive.
+!> The one caller of a UMAT in the drivers (docs/umat.md, docs/hosting.md):
+!> every driver reaches a material only through here, so ours and a user's
+!> Abaqus UMAT are driven alike. `umat_host_t` bundles a point's arguments
+!> (set up once, reused over particles); `host_call` makes one call and
+!> gives its verdict; `host_update` adds the cut-back rule (halvings from
+!> the saved state); `host_probe` asks the stress change of an increment.
+!> Abaqus components (11, 22, 33, 12[, 13, 23]), engineering shears.
 module wellposed_umat_host
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback

@@ -1,13 +1,9 @@
-!> The single-element driver's view of a material: a PROPS array, an
-!> STATEV length (Abaqus signature, docs/umat.md), reached only through the
-!> UMAT host (driver/host: wellposed_umat_host), so a user's own UMAT linked
-!> instead of ours is driven the same way. The element is a unit cube at the
-!> origin (CELENT = 1, COORDS = 0), strained homogeneously without rotation
-!> (DROT = I, F = I + eps: the host's default kinematics); KSTEP is the leg,
-!> KINC the increment within it, TIME(1) the time since the leg began and
-!> TIME(2) the total time.
-!> Vectors are in Abaqus order (11, 22, 33, 12, 13, 23) with engineering
-!> shear strains; NDI = 3, NSHR = 3, NTENS = 6; tension positive.
+!> The single-element driver's view of a material: PROPS and an STATEV
+!> length (docs/umat.md), reached only through the UMAT host, so a user's
+!> own UMAT is driven alike. The element is a unit cube (CELENT = 1, COORDS
+!> = 0) strained homogeneously without rotation (DROT = I, F = I + eps);
+!> KSTEP is the leg, KINC the increment, TIME(1) the leg's time, TIME(2) the
+!> total. Abaqus order (11, 22, 33, 12, 13, 23), engineering shears, NTENS 6.
 module wellposed_point_material
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t

@@ -1,9 +1,9 @@
-!> Finiteness tests for hot paths. ieee_arithmetic's ieee_is_finite makes
-!> gfortran save and restore the floating-point environment around every
-!> procedure that uses the module (hundreds of cycles per UMAT call), and an
-!> ordered comparison such as abs(x) <= huge(x) raises the invalid flag for a
-!> NaN (a trap under -ffpe-trap=invalid). Reading the exponent bits does
-!> neither: an IEEE double is NaN or +-Inf exactly when they are all ones.
+!> Finiteness tests for hot paths, by a bit test: an IEEE double is NaN or
+!> +-Inf exactly when its exponent bits are all ones. Not ieee_is_finite:
+!> the IEEE module makes gfortran save and restore the floating-point
+!> environment around every procedure that uses it. Not abs(x) <= huge(x):
+!> an ordered comparison raises the invalid flag for a NaN (a trap under
+!> -ffpe-trap=invalid).
 module wellposed_finite
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp

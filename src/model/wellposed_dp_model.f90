@@ -1,6 +1,6 @@
 !> One strain increment of the wellposed Drucker-Prager model: the typed
 !> entry point behind the UMAT, usable directly by Fortran hosts.
-!> Order: nonlocal strength zeta += h_zeta <dlambda> (eq. 4.24), elastic
+!> Order: nonlocal strength zeta += h_zeta `<dlambda>` (eq. 4.24), elastic
 !> trial, rate-independent return (regular, or the EFR of eq. 2.7), and when
 !> tau > 0 the Duvaut-Lions relaxation (eq. 2.10) by backward Euler,
 !> sigma = sigma_qs + w (sigma_trial - sigma_qs), w = tau/(tau + dt).
@@ -37,7 +37,7 @@ contains
 
   !> Advance `sig` (Mandel, in: start of increment, out: end) and `state` by
   !> the strain increment `deps` over `dtime`. `avg_dlambda` is the host's
-  !> nonlocal average <dlambda> (0 for a local host). `tangent`, when present,
+  !> nonlocal average `<dlambda>` (0 for a local host). `tangent`, when present,
   !> is d sigma/d deps of this increment; leave it out when the host does not
   !> use it (explicit hosts) and no tangent is computed. On error `sig` and
   !> `state` are left as they came in.

@@ -15,7 +15,9 @@ module wellposed_tensor
 
   !> Number of Mandel components.
   integer, parameter :: ntens6 = 6
+  !> sqrt(2), the factor of Mandel's shear components.
   real(dp), parameter :: sqrt2 = 1.4142135623730950488_dp
+  !> sqrt(3).
   real(dp), parameter :: sqrt3 = 1.7320508075688772935_dp
   !> Second-order identity I.
   real(dp), parameter :: identity2(ntens6) = [1.0_dp, 1.0_dp, 1.0_dp, 0.0_dp, 0.0_dp, 0.0_dp]

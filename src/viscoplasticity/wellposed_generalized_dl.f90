@@ -1,17 +1,9 @@
-!> Generalized Duvaut-Lions viscoplasticity (eq. 2.8-2.10, section 2.5.3,
-!> after Brannon): a quasi-static state (sigma_qs, z_qs) is integrated by
-!> the rate-independent model on the same strain path as the actual one,
-!> and the overstress a = sigma - sigma_qs obeys, from eq. 2.9 and 2.10,
-!>   da/dt = C : deps/dt - dsigma_qs/dt - a/tau.
-!> With the strain rate and dsigma_qs/dt constant over the increment this
-!> integrates exactly to
-!>   a_{n+1} = e a_n + r (C : de - dsigma_qs),  e = exp(-dt/tau),
-!>   r = (1 - e) tau/dt,
-!> exact in both limits: dt/tau -> infinity gives sigma_qs, tau -> infinity
-!> the elastic trial. z relaxes toward z_qs by the same law. Viscoplastic
-!> flow continues while a /= 0, also where sigma_qs is inside the yield
-!> surface. The state carries a and z - z_qs (zero for a host that starts
-!> at rest, whatever its initial stress). Derivation: docs/theory.md.
+!> Generalized Duvaut-Lions viscoplasticity (eq. 2.8-2.10, section 2.5.3):
+!> the overstress a = sigma - sigma_qs over the rate-independent quasi-static
+!> state obeys da/dt = C : deps/dt - dsigma_qs/dt - a/tau, integrated exactly
+!> for constant rates: a_{n+1} = e a_n + r (C : de - dsigma_qs),
+!> e = exp(-dt/tau), r = (1 - e) tau/dt; z relaxes toward z_qs alike.
+!> The state carries a and z - z_qs. Derivation: docs/theory.md.
 module wellposed_generalized_dl
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t

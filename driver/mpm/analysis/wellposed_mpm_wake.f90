@@ -1,14 +1,8 @@
 !> The wake behind a 1D pulse at a station (docs/waves.md, "The wake
-!> oscillation"): once the pulse has passed, the continuum's stress at the
-!> station is at or near its initial value (the surface load is back at its
-!> base; behind a plastic pulse a smooth signal remains), so what remains is
-!> mostly the scheme's. Measured over the window t >= t_from = x/C_E + 2 tau
-!> (the ideal elastic tail, x/C_E + tau, plus one more pulse duration) to
-!> the end of the record: the largest |sigma_xx(t) - sigma_xx(0)| and its
-!> root mean square, and the grid-scale part alone: the largest |sigma_xx(t)
-!> - its centred moving average over a window of 4 cells' transit time,
-!> 4 dx/C_E| (a smooth continuum signal passes the average, a wave of 2 to
-!> 5 cells does not; samples whose window leaves the record are skipped).
+!> oscillation"): over t >= x/C_E + 2 tau to the end of the record, the
+!> largest |sigma_xx(t) - sigma_xx(0)|, its RMS, and the grid-scale part:
+!> the largest deviation from a centred moving average over 4 dx/C_E (a
+!> smooth continuum signal passes the average, a wave of 2 to 5 cells not).
 module wellposed_mpm_wake
   use wellposed_kinds, only: dp
   implicit none

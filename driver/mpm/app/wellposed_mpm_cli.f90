@@ -1,13 +1,10 @@
 !> The command line of wellposed-mpm, read once for every scene kind:
-!>
 !>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot]
 !>       [--checkpoint-every STEPS] [--restart | --restart-from FILE]
 !>       [DECK] [group.key=value ...]
 !>   [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] [--no-plot]
-!>
-!> A word with '=' is an override of the deck, a word starting with '-' an
-!> option (an unknown one is refused, not taken for a deck), anything else
-!> the deck. Errors are returned as values; the caller says them.
+!> A word with '=' overrides the deck, one starting with '-' is an option
+!> (an unknown one is refused), anything else the deck. Errors as values.
 module wellposed_mpm_cli
   use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_error, only: error_t, new_error, status_invalid

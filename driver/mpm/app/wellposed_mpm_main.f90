@@ -1,18 +1,10 @@
-!> wellposed-mpm: the explicit material point method of the dissertation's
-!> section 4.3, one program for every MPM deck: the 1D uniaxial-strain bars of
-!> chapter 2 and the plane-strain plates of chapter 4. The deck's &scene kind
-!> ('bar' or 'plate'; wellposed_mpm_scene_kind) picks the scene; the command
-!> line (wellposed_mpm_cli) is the same for both:
-!>
-!>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot]
-!>       [--checkpoint-every STEPS] [--restart | --restart-from FILE]
-!>       [DECK] [group.key=value ...]
-!>   [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] [--no-plot]
-!>
-!> Without DECK: inputs/sandler_rubin_default.nml. Results go to ROOT/NAME/
-!> (written as ROOT/NAME.partial and renamed when done); errors go to
-!> standard error with exit status 1. `wellposed-mpm2d` is an alias of this
-!> program (a link to it) kept for one release.
+!> wellposed-mpm: the explicit material point method of section 4.3 for
+!> every MPM deck, the 1D bars of chapter 2 and the plane-strain plates of
+!> chapter 4; the deck's &scene kind picks the scene, the command line is
+!> wellposed_mpm_cli's. Without DECK: inputs/sandler_rubin_default.nml.
+!> Results go to ROOT/NAME/ (renamed from ROOT/NAME.partial when done);
+!> errors to standard error, exit status 1. `wellposed-mpm2d` is an alias.
+!> Usage: docs/mpm.md.
 program wellposed_mpm
   use, intrinsic :: iso_fortran_env, only: error_unit
   use wellposed_error, only: error_t

@@ -1,12 +1,9 @@
-!> The background grid of the MPM (section 4.3): a uniform structured
-!> grid of nodes holding lumped mass (eq. 4.4), momentum, internal and
-!> external force (eq. 4.5) and the velocity and acceleration of the grid
-!> update (eq. 4.9-4.10). Node arrays are indexed by GLOBAL node number and
-!> allocated over this process's patch [glo, ghi], which includes ghost
-!> nodes: a domain-decomposed run gives each rank its own patch and sums the
-!> ghost contributions (wellposed_mpm_exchange) without touching the loops
-!> that read and write these arrays. Field arrays are (ndim, node) so the
-!> same layout serves 2D (node number = i + nx*j).
+!> The background grid of the MPM (section 4.3): uniform structured nodes
+!> with lumped mass (eq. 4.4), momentum, internal and external force
+!> (eq. 4.5), velocity and acceleration (eq. 4.9-4.10). Node arrays are
+!> indexed by global node number over this rank's patch [glo, ghi], ghosts
+!> included, so a decomposed run sums ghosts (wellposed_mpm_exchange)
+!> without touching the loops; fields are (ndim, node), node = i + nx*j.
 module wellposed_mpm_grid
   use wellposed_kinds, only: dp
   implicit none

@@ -1,18 +1,10 @@
-!> The grid acceleration of a bar with the particles' mass matrix instead of
-!> the lumped one (&time mass; docs/waves.md, "The wake oscillation").
-!>
-!> Each step the MPM rebuilds the grid velocity from the particles'
-!> momentum, m_i v_i = sum_p phi_ip m_p v_p, and FLIP moves the particles by
-!> the grid acceleration interpolated back, v_p += dt sum_i phi_ip a_i. The
-!> rebuilt velocity therefore changes by M_L^-1 M_P a, M_L the lumped mass
-!> (eq. 4.4), M_P = sum_p m_p phi_p phi_p^T the particles' mass matrix: with
-!> eq. 4.9's a = M_L^-1 f short waves get a second M_L^-1 M_P (a smoothing),
-!> travel slower than on a finite-element grid and trail a pulse. Solving
-!> M_P a = f ('consistent') makes the rebuilt velocity change by M_L^-1 f,
-!> the lumped-mass finite-element update; M_P a = M_L H^-1 f with
-!> H = (M_L + M_P)/2 ('blended') makes it change by H^-1 f, whose dispersion
-!> error of linear elements cancels to second order. Banded (a 1D support
-!> spans at most 3 nodes), factored by LAPACK every step; one rank only.
+!> The grid acceleration of a bar with the particles' mass matrix
+!> M_P = sum_p m_p phi_p phi_p^T instead of the lumped M_L (eq. 4.4; &time
+!> mass): 'consistent' solves M_P a = f, the lumped-mass finite-element
+!> update of the rebuilt velocity; 'blended' solves M_P a = M_L H^-1 f,
+!> H = (M_L + M_P)/2, whose dispersion error cancels to second order.
+!> Banded (3 nodes), factored by LAPACK every step; one rank only.
+!> Why: docs/waves.md, "The wake oscillation".
 module wellposed_mpm_mass_matrix
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_cutback

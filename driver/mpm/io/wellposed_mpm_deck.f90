@@ -1,17 +1,10 @@
-!> The bar's MPM deck: the shared groups (&scene, &grid, &time, &viscosity,
-!> &material, &nonlocal, &output: wellposed_mpm_deck_shared, with the bar's defaults,
-!> the Sandler-Rubin case of shared reference A) and the bar's own:
-!>   &initial  stress (6 values, Pa, Abaqus order, tension +), velocity (m/s),
-!>             out_of_equilibrium (stress need not balance the load at t = 0)
-!>   &load     base, peak (Pa), duration, start (s), pulse ('triangle'|'cosine'|
-!>             'ramp_sine'); ramp_sine only: rate (Pa/s), amplitude (Pa),
-!>             frequency (Hz), required, with |amplitude| 2 pi frequency < |rate|
-!>             (the surface never unloads); peak and duration are not used
-!>   &stations first (m), spacing (m), count
-!> and the bar's keys of &output: reference, reference_label (the run drawn
-!> dashed in stations.png: wellposed_mpm_reference),
-!> into an mpm_config_t. Overrides from the command line, `group.key=value`,
-!> are read after the deck as one-line namelists, so they obey the same rules.
+!> The bar's MPM deck: the shared groups (wellposed_mpm_deck_shared, with
+!> the bar's defaults: the Sandler-Rubin case of shared reference A), the
+!> bar's own &initial (stress, velocity, out_of_equilibrium), &load (base,
+!> peak, duration, start, pulse; ramp_sine: rate, amplitude, frequency) and
+!> &stations (first, spacing, count), and &output's reference keys, into an
+!> mpm_config_t. Overrides `group.key=value` are read after the deck as
+!> one-line namelists, under the same rules. Keys: docs/decks.md.
 module wellposed_mpm_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

@@ -1,20 +1,10 @@
 !> Physical consistency of an MPM deck, checked after reading and before
-!> anything is set up or written (docs/decks.md, "Refused decks"). Each
-!> message names the deck and gives the numbers:
-!>  - the bar's initial stress is in equilibrium with the surface traction
-!>    at t = 0 (|sigma_b(0) - sigma_xx(0)| <= equilibrium_tol times the
-!>    larger stress of the two and the load peak) and, with a free far end,
-!>    with the free end (sigma_xx(0) = 0 there); &initial
-!>    out_of_equilibrium = .true. lets a deck start otherwise on purpose;
-!>  - the bar's initial stress is inside or on the yield surface of its
-!>    material, asked through the UMAT contract (docs/umat.md) alone: a
-!>    zero-increment call with DTIME = 0 and a Duvaut-Lions PROPS(11) > 0
-!>    answers the elastic trial with its yield function in STATEV(11)
-!>    (eq. 2.3, 2.10); a user's UMAT is asked whether a zero increment
-!>    moves the stress;
-!>  - stations inside the bar, samples and snapshots inside the run, the
-!>    load pulse over before t_end; for the plate the samples and snapshots
-!>    inside the run.
+!> anything is set up (docs/decks.md, "Refused decks"), every message with
+!> its numbers: the bar's initial stress balances the traction at t = 0
+!> (unless out_of_equilibrium) and lies inside the yield surface, asked
+!> through the UMAT contract alone (a zero increment: eq. 2.3, 2.10);
+!> stations inside the bar; samples, snapshots and the load pulse inside
+!> the run.
 module wellposed_mpm_deck_checks
   use wellposed_kinds, only: dp
   use wellposed_finite, only: all_finite

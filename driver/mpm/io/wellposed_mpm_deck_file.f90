@@ -1,13 +1,9 @@
-!> An MPM deck opened for reading, for every scene kind's reader: its whole
-!> text (to find groups, quote values and store in run.h5) and a unit on it
-!> for the namelist READs; a command-line override group.key=value as the
-!> one-line namelist the reader reads after the deck; and the sources of
-!> a reader's groups in turn, the deck's then the overrides' (the reader
-!> makes each READ, so no procedure of its is passed: no executable stack).
-!> A file that is not a deck (empty, comments only, not text, cut in the
-!> middle of a group) or that names no scene is refused here, before
-!> anything is set up: the default scene runs only when the program is
-!> given no deck at all.
+!> An MPM deck opened for reading: its whole text (to find groups, quote
+!> values, store in run.h5), a unit for the namelist READs, a command-line
+!> override group.key=value as a one-line namelist, and the sources of a
+!> group in turn, the deck's then the overrides'. A file that is not a deck
+!> (empty, comments only, not text, cut inside a group) or names no scene
+!> is refused before anything is set up.
 module wellposed_mpm_deck_file
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: read_deck_text, has_group, namelist_error, lower

@@ -1,29 +1,10 @@
-!> The groups every MPM deck shares, read once for every scene kind (bar,
-!> plate), with the wellposed_deck conventions (every message names file,
-!> group and key):
-!>   &scene    name, title, kind (wellposed_mpm_scene_kind)
-!>   &grid     dx (m), ppc, pad_cells, shape; bars: length (m), far_end
-!>   &time     t_end (s), cfl, scheme ('musl'|'usl'); plates: stop_on_cutback;
-!>             bars: mass ('lumped'|'consistent'|'blended')
-!>   &material one or more groups (wellposed_mpm_material_deck)
-!>   &viscosity a1, a2: the bulk artificial viscosity of the step
-!>             (wellposed_mpm_solver), q = rho (a1 c |D_kk| dx + a2 D_kk^2
-!>             dx^2) for D_kk < 0, each finite and >= 0 (0: that term off);
-!>             defaults: bars 0, 0 (off), plates 0.4, 4 (shared reference B)
-!>   &nonlocal scheme ('fixed_point'|'anderson'), sweep ('auto'|'gauss_seidel'|
-!>             'jacobi'|'coloured'), tolerance, rel_tolerance,
-!>             max_iterations, stall_iterations, max_rounds, anderson_depth,
-!>             anderson_mixing, weight_cutoff, L (m), h_zeta (Pa)
-!>             (wellposed_mpm_nonlocal_deck: L and h_zeta default to our
-!>             &material's)
-!>   &output   sample_dt, snapshot_dt (s), progress, plot; plates: band_y,
-!>             band_x (m), band_axis ('x'|'y'), band_time (s), band_drop,
-!>             band_onset_strain (wellposed_mpm_ps_deck); bars:
-!>             reference, reference_label (wellposed_mpm_reference)
-!> A key of another scene kind is refused, naming the kind it belongs to.
-!> The scene kind's own reader (wellposed_mpm_deck, wellposed_mpm_ps_deck)
-!> puts its defaults into a shared_deck_t, calls read_shared_deck, and reads
-!> its own groups. Overrides `group.key=value` are read after the deck.
+!> The groups every MPM deck shares (&scene, &grid, &time, &material,
+!> &viscosity, &nonlocal, &output), read once for every scene kind with the
+!> wellposed_deck conventions. The viscosity is q = rho (a1 c |D_kk| dx +
+!> a2 D_kk^2 dx^2) for D_kk < 0. A key of another scene kind is refused,
+!> naming its kind. A scene's reader puts its defaults into a shared_deck_t,
+!> calls read_shared_deck and reads its own groups; overrides come after
+!> the deck. Keys and defaults: docs/decks.md.
 module wellposed_mpm_deck_shared
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

@@ -1,19 +1,10 @@
 !> The &material groups of an MPM deck (bar and plate alike) into the
-!> scene's material set (wellposed_mpm_materials). A deck gives one or more
-!> &material groups; namelists cannot repeat a group in one READ, so each
-!> occurrence is one READ of the deck, in order. Keys of one group:
-!>   density (kg/m^3: one per scene), nstatv,
-!>   model ('wellposed': our UMAT by its named keys K, G, beta, beta_p, k0,
-!>     h, k_lim, z_ref, P_v, P_d, tau, h_zeta, L = PROPS 1-13, PROPS(14) = 1;
-!>     'umat': props = <list> passed as given; default: 'umat' when props
-!>     is given, else 'wellposed'),
-!>   nonlocal_contract (.true.: the UMAT reads STATEV(3) and writes
-!>     STATEV(2) as docs/umat.md says, so Algorithm 1 averages it; ours
-!>     always does),
-!>   region ('rest' or 'box'; default 'box' when x is given), x(2), y(2)
-!>     (m: the box's ranges, y for plates only).
-!> Overrides: material.key=value changes the first group, materialN.key=value
-!> the N-th.
+!> scene's material set (wellposed_mpm_materials); namelists cannot repeat a
+!> group in one READ, so each occurrence is one READ, in order. Keys:
+!> density, nstatv, model ('wellposed': our UMAT by its named keys, PROPS
+!> 1-13; 'umat': props as given), nonlocal_contract, region ('rest'|'box')
+!> with x(2), y(2). Overrides: material.key=value (the first group),
+!> materialN.key=value (the N-th). Keys: docs/decks.md.
 module wellposed_mpm_material_deck
   use, intrinsic :: iso_fortran_env, only: iostat_end
   use wellposed_kinds, only: dp

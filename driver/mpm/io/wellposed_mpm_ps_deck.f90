@@ -1,34 +1,10 @@
 !> The plate's MPM deck (chapter 4's plane-strain plate): the shared groups
-!> (&scene, &grid, &time, &viscosity, &material, &nonlocal, &output:
-!> wellposed_mpm_deck_shared, with the plate's defaults) and the plate's own,
-!> read into a ps_config_t plus the list of cases a figure needs:
-!>   &plate     width, height (m); deprecated: weak_x(2), weak_y(2) (m),
-!>              weak_k0 (Pa), read as a second &material (a copy of the
-!>              first with k0 = weak_k0) in the box weak_x by weak_y
-!>   &boundary  bottom ('roller'|'fixed'|'free'), top ('velocity'|'free'),
-!>              sides ('free'|'roller'), top_velocity (m/s), ramp_time (s),
-!>              top_lateral ('fixed': v_x = 0 on the top as the dissertation; 'free'),
-!>              platen ('surface': on the body's current top; 'grid': on the
-!>              fixed node row y = height; 'contact': a frictionless plane
-!>              pushing on the particles, with top_lateral 'free';
-!>              docs/bands.md, "The platen")
-!>   &stations  x(:), y(:) (m, up to max_stations points of the unscaled plate,
-!>              scaled with it): stress and velocity histories of the particle
-!>              nearest each point, sampled every &output sample_dt (> 0)
-!>   &study     dx(:) (m), scale(:): one run per entry, the plate, weak zone,
-!>              top velocity and t_end scaled by `scale` (fig. 4.6), the mesh
-!>              by dx; label(:) optional names. Absent: one run per &grid dx.
-!> Plate keys of shared groups: &time stop_on_cutback (end a case cleanly
-!> when a particle has softened to zero strength: the UMAT's cut-back);
-!> &output band_y (m, the line across the band where its width is
-!> measured, in units of the unscaled plate), band_axis ('x': along y =
-!> band_y; 'y': along x = band_x, for a column), band_x (m), band_time (s:
-!> when to measure it; 0: at the end of each case), band_drop (the stage
-!> where the band is measured normal to itself: the apparent stress this
-!> fraction below its peak; default 0.05), band_onset_strain (||eps^p||
-!> whose first crossing marks where the band starts; default 1e-3).
-!> Overrides from the command line, `group.key=value`, are read after the
-!> deck as one-line namelists.
+!> (wellposed_mpm_deck_shared, with the plate's defaults) and the plate's
+!> own &plate, &boundary, &stations and &study (one run per dx and scale,
+!> fig. 4.6), plus the plate's keys of &time (stop_on_cutback) and &output
+!> (band_y, band_x, band_axis, band_time, band_drop, band_onset_strain),
+!> into a ps_config_t and its list of cases. Overrides `group.key=value`
+!> are read after the deck. Keys: docs/decks.md; the platen: docs/bands.md.
 module wellposed_mpm_ps_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

@@ -1,13 +1,10 @@
 !> The station figures of a bar's summary.txt (wellposed_mpm_stations
-!> measures them): speeds of the head and tail of the pulse, per station its
-!> signed peak, arrivals and width beside the admissible solution of shared
-!> reference A (docs/cases.md), the station where the cone's apex was
-!> reached, and for a ramp with a sinusoid (fig. 2.10 left) the phase speed.
-!> The head is compared with the speed it runs at: C_P of the UMAT's
-!> loading modulus for a local material, and for an overlocal one the
-!> low-frequency limit of its dispersion relation (head_speed). A figure
-!> that does not apply is written `not_applicable  # why`, never NaN
-!> (docs/decks.md, "Summary figures").
+!> measures them): head and tail speeds, per station the signed peak,
+!> arrivals and width beside shared reference A (docs/cases.md), where the
+!> apex was reached, and the phase speed of a ramp with a sinusoid (fig.
+!> 2.10 left). The head is compared with C_P, or for an overlocal material
+!> with its dispersion relation's low-frequency limit (head_speed). A figure
+!> that does not apply is `not_applicable  # why` (docs/decks.md).
 module wellposed_mpm_station_summary
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp

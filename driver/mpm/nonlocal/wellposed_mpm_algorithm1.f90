@@ -1,36 +1,10 @@
 !> The dissertation's nonlocal Algorithm 1 for the MPM (eq. 4.46-4.50), one
-!> code for 1D and 2D grids. The material is reached through the host
-!> (wellposed_mpm_nonlocal_host): for an average <dlambda> it restores a
-!> particle's start of step, writes STATEV(3) = <dlambda>, calls the UMAT and
-!> reports STATEV(2): the fixed-point map of eq. 4.39 for one particle.
-!>
-!> Steps per time step:
-!>  1. every particle once with <dlambda> = 0 (eq. 4.41 without the
-!>     average); the plastic set is where dlambda > 0; project. With
-!>     h_zeta = 0 it stops here, bit for bit the local update.
-!>  2. sweeps over the plastic set: average, UMAT, and the nodal field
-!>     corrected by (m_p/m_i) phi_ip (dlambda^{k+1} - dlambda^k) (eq.
-!>     4.49-4.50), until max_p |dlambda^{k+1} - dlambda^k| <= tolerance +
-!>     rel_tolerance max_p dlambda. 'anderson' (beyond the dissertation)
-!>     accelerates the sweep as a fixed-point map (wellposed_anderson).
-!>  3. plastic diffusion: every elastic particle with a nonzero average is
-!>     called once with it; one that now yields joins the plastic set and
-!>     step 2 runs again.
-!> A sweep that stalls for `stall_iterations` or exceeds `max_iterations`
-!> is an error value; the bounds of eq. 4.43 and 4.45 are warned about.
-!>
-!> The sweeps (&nonlocal sweep; docs/parallel.md, "Algorithm 1 across
-!> ranks"): gauss_seidel, the dissertation's, in the serial order and
-!> pipelined across ranks (bitwise the serial pass); jacobi, every plastic
-!> particle from the previous sweep's field, relaxed by 2/(2 +- b) (b the
-!> sharp factor of eq. 4.43), one exchange a sweep on all ranks at once;
-!> coloured, the same in two half-sweeps over blocks of cell layers. The
-!> simultaneous sweeps (and their step 3) hand the host one list of
-!> independent calls, which it may do a block at a time. 'auto': Gauss-Seidel
-!> on one rank, Jacobi on more. A decomposed run passes `ranks` and `key`
-!> (each particle's place in the serial order); the field and the averages
-!> are patch arrays whose ghost layers cover the Gaussian's support
-!> (wellposed_mpm_nonlocal_grid); the order: wellposed_mpm_sweep_order.
+!> code for 1D and 2D grids; the material is reached through the host
+!> (wellposed_mpm_nonlocal_host), one UMAT call per particle and average:
+!> the fixed-point map of eq. 4.39. Sweeps gauss_seidel (the dissertation's,
+!> pipelined across ranks in the serial order), jacobi (relaxed by
+!> 2/(2 +- b), b of eq. 4.43) and coloured; 'anderson' accelerates the map.
+!> Across ranks: docs/parallel.md, "Algorithm 1 across ranks".
 module wellposed_mpm_algorithm1
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
@@ -53,17 +27,16 @@ module wellposed_mpm_algorithm1
 
 contains
 
-  !> One time step of Algorithm 1 (see the module comment). `x` (ndim, n)
-  !> are the particle positions (m), `mass` (kg), `node`/`phi` the shape
-  !> weights of this step (nsup, n). On return every particle's end-of-step
-  !> state is the host's last update of it. Diverging or non-converging
-  !> iterations, and host errors, return an error value. When `log_unit` is
-  !> given, warnings about the contraction bounds are written there before
-  !> iterating (once per run each). A run spread over ranks gives `ranks`
-  !> and `key` (n): the particles' places in the serial order (sweep_key,
-  !> unique); the solve is then collective, and its error values and the
-  !> step's measures (self%last, but umat_calls: this rank's) are the same
-  !> on every rank.
+  !> One time step of Algorithm 1: (1) every particle once with <dlambda> = 0
+  !> (eq. 4.41), the plastic set where dlambda > 0 (h_zeta = 0: the local
+  !> update); (2) sweeps over the plastic set, the field corrected by
+  !> (m_p/m_i) phi_ip (dlambda^{k+1} - dlambda^k) (eq. 4.49-4.50), to the
+  !> tolerances; (3) elastic particles with a nonzero average called once
+  !> more, and step 2 again if one yields. `x` (ndim, n) positions (m),
+  !> `mass` (kg), `node`/`phi` this step's shape weights (nsup, n). A stall,
+  !> divergence or host error is an error value; `log_unit` takes the
+  !> warnings of eq. 4.43 and 4.45's bounds. Over ranks: `ranks` and `key`
+  !> (sweep_key, unique), collective, errors and self%last alike on all.
   subroutine nonlocal_solve(self, host, x, mass, node, phi, err, log_unit, ranks, key)
     type(nonlocal_t), intent(inout) :: self
     class(nonlocal_host_t), intent(inout) :: host

@@ -1,18 +1,11 @@
-!> The grid-based nonlocal average of the dissertation (section 4.5) for
-!> the MPM, the same code for 1D and 2D grids: the nodal field, its
-!> projection from particles and the average at a particle, and the state
-!> Algorithm 1 (wellposed_mpm_algorithm1) keeps between steps.
-!>
-!> Grid-based nonlocal integral (eq. 4.46-4.48):
-!>   dlambda_i  = sum_p phi_ip m_p dlambda_p / m_i            (eq. 4.46)
-!>   <dlambda>_p = sum_i alpha(x_p - x_i) m_i dlambda_i / M_p  (eq. 4.47)
-!>   M_p        = sum_i alpha(x_p - x_i) m_i                  (eq. 4.48)
-!> with alpha the Gaussian of eq. 4.27, cut where alpha < weight_cutoff.
-!> Nodes without mass (outside the body) drop out of both sums, so a uniform
-!> field averages to itself exactly, also next to a free boundary. On the
-!> uniform grid the Gaussian factorises, alpha = alpha_x(i) alpha_y(j), so a
-!> particle's weights cost 2 (2R+1) exponentials, not (2R+1)^2, and nothing
-!> is stored between sweeps: no neighbour lists, as the dissertation intends.
+!> The grid-based nonlocal average of section 4.5 for the MPM, 1D and 2D:
+!>   dlambda_i   = sum_p phi_ip m_p dlambda_p / m_i             (eq. 4.46)
+!>   <dlambda>_p = sum_i alpha(x_p - x_i) m_i dlambda_i / M_p   (eq. 4.47)
+!>   M_p         = sum_i alpha(x_p - x_i) m_i                   (eq. 4.48)
+!> alpha the Gaussian of eq. 4.27, cut below weight_cutoff. Massless nodes
+!> drop out of both sums, so a uniform field averages to itself; the
+!> Gaussian factorises on the uniform grid, so nothing is stored between
+!> sweeps. Also the state Algorithm 1 keeps between steps.
 module wellposed_mpm_nonlocal_grid
   use, intrinsic :: iso_fortran_env, only: int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite

@@ -1,13 +1,9 @@
 !> The material's side of Algorithm 1 (wellposed_mpm_algorithm1): one UMAT
 !> call for particle p from its start-of-step copies with STATEV(3) = avg;
-!> dlambda = STATEV(2) afterwards; the result becomes p's end-of-step state
-!> (overwritten by the next call). A host implements `update`; it may
-!> override the two calls of many particles whose inputs do not depend on
-!> each other's answers, to do them a block at a time:
-!>  - `update_local`: step 1 (every particle with avg = 0);
-!>  - `update_list`: the particles of a list with their own averages (the
-!>    simultaneous sweeps, and step 3 when the sweeps are simultaneous).
-!> By default both call `update` per particle, in order.
+!> dlambda = STATEV(2) afterwards. A host implements `update`, and may
+!> override `update_local` (step 1, every particle with avg = 0) and
+!> `update_list` (a list of independent calls) to do them a block at a
+!> time; by default both call `update` per particle, in order.
 module wellposed_mpm_nonlocal_host
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t

@@ -1,14 +1,10 @@
 !> What Algorithm 1 (wellposed_mpm_algorithm1) needs from a run spread over
-!> ranks: node arrays are a patch's nodal values, values(1) at its first
-!> node. Two families of calls serve the two kinds of sweep:
-!>  - the pipeline of the Gauss-Seidel sweep in the serial order
-!>    (nodes_from_lower, nodes_to_higher, nodes_from_highest: collective in
-!>    rank order);
-!>  - the simultaneous sweeps (Jacobi, coloured): nodes_sum adds the
-!>    patches' partial sums at the nodes they share, one message per
-!>    neighbour, all ranks at once.
-!> The reductions serve both. The MPM's exchange (wellposed_mpm_exchange)
-!> extends this type; one process passes a stand-in whose calls do nothing.
+!> ranks, on a patch's nodal values: the pipeline of the Gauss-Seidel sweep
+!> in the serial order (nodes_from_lower, nodes_to_higher,
+!> nodes_from_highest), nodes_sum for the simultaneous sweeps (partial sums
+!> at shared nodes, all ranks at once), and the reductions. The MPM's
+!> exchange extends this type; one process passes a stand-in that does
+!> nothing. Design: docs/parallel.md, "Algorithm 1 across ranks".
 module wellposed_mpm_nonlocal_ranks
   use wellposed_kinds, only: dp
   implicit none

@@ -1,14 +1,9 @@
-!> The sweep order of Algorithm 1 (`sweep_key`): by the cell layer along the decomposition
-!> axis that decides the particle's owner (from its start-of-step position,
-!> where the hosts hand particles off), then by global id. The pipeline
-!> needs every key of rank r below every key of rank r+1; the global id
-!> alone is not, once a particle crosses to the rank below while a
-!> neighbour with a lower id stays above (the 2D plate under compression).
-!> The layer does not depend on the rank count, so the serial program
-!> passes the same keys and sweeps in the same order as every N. Within a
-!> layer the ids keep the storage order of a fresh scene; in 1D the ids
-!> follow x and particles keep their order, so there the order is the id
-!> order.
+!> The sweep order of Algorithm 1 (`sweep_key`): by the cell layer along the
+!> decomposition axis that owns the particle's start-of-step position, then
+!> by global id. The pipeline needs every key of rank r below every key of
+!> rank r+1, which the id alone is not once particles cross ranks; the
+!> layer does not depend on the rank count, so every N sweeps in the
+!> serial program's order (docs/parallel.md, "Algorithm 1 across ranks").
 module wellposed_mpm_sweep_order
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp

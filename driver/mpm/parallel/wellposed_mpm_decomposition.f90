@@ -1,31 +1,10 @@
-!> Domain decomposition of the MPM background grid over ranks.
-!>
-!> The grid is cut into strips of whole cell layers along one axis (x in
-!> 1D, the last axis in 2D), so that every rank's nodes form one contiguous
-!> range of global node numbers (node = i + nx*j numbers a layer of
-!> `layer_nodes` nodes contiguously) and grid_t keeps its [glo, ghi] arrays
-!> unchanged. Rank r owns the cell layers [cell_lo(r), cell_lo(r+1)-1] and
-!> the node layers of the same numbers (the last rank also the last node
-!> layer); its patch adds `ghost` node layers on either side of the nodes
-!> its cells touch, clamped to the grid:
-!>     patch node layers [cell_lo(r) - ghost, cell_lo(r+1) + ghost].
-!> `ghost` is the reach of the shape functions (1 for GIMP, 0 for linear)
-!> or, with nonlocal averaging, the Gaussian's support in cells, whichever
-!> is larger.
-!>
-!> Particles belong to the rank of the cell layer that holds their
-!> position (`owner_of_position`); `hand_off_particles` sends those that
-!> moved to another rank's cells there (all-to-all, any distance), keeping
-!> the order of the ones that stay and appending arrivals in rank order, so
-!> a run on N ranks is deterministic. Particle data travel whole, as the
-!> records of wellposed_mpm_particles.
-!>
-!> Ghost sums: a node held by several patches receives contributions on
-!> each; `sum_ghost_values` exchanges the shared node ranges pairwise and
-!> every holder adds the holders' partial sums in ascending rank order, so
-!> all copies of a node end bitwise equal without a second exchange. The
-!> result differs from the serial sum (which adds particle by particle) only
-!> by the order of the additions: 1e-16 relative per node.
+!> Domain decomposition of the MPM grid over ranks: strips of whole cell
+!> layers along the last axis, so a rank's nodes are one contiguous range
+!> [glo, ghi], with `ghost` node layers either side (the shape's reach, or
+!> the nonlocal Gaussian's). `hand_off_particles` moves particles to the
+!> rank owning their cell, in a deterministic order; `sum_ghost_values`
+!> adds the holders' partial sums in ascending rank order, so every copy of
+!> a node ends bitwise equal. Design: docs/parallel.md.
 module wellposed_mpm_decomposition
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

@@ -1,16 +1,9 @@
-!> What the MPM program's station histories need from a scene spread over
-!> ranks, so that they keep the serial values; they are rank 0's
-!> datasets of run.h5 (particle snapshots go from every rank:
-!> wellposed_mpm_snapshots).
-!>  - gather_particles: every particle on rank 0, in global-id order (the
-!>    order of a serial run), for setting up stations;
-!>  - station proxies: stations read a few particles by index; the proxy is
-!>    a small particle set holding just those particles, refreshed every
-!>    sample by one reduction (each particle's values come from the one rank
-!>    that holds it, the others add zeros, so the copy is exact), and the
-!>    stations are re-pointed at it. Station histories then equal the serial
-!>    ones whenever the particles do;
-!>  - put_stations / get_stations: a stations_t in a checkpoint, bit for bit.
+!> What the station histories need from a scene spread over ranks, so they
+!> keep the serial values: gather_particles (every particle on rank 0, in
+!> global-id order); station proxies, a small particle set refreshed every
+!> sample by one exact reduction (the holder gives the value, the others
+!> zeros); put_stations / get_stations, a stations_t in a checkpoint.
+!> Particle snapshots go from every rank: wellposed_mpm_snapshots.
 module wellposed_mpm_parallel_io
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

@@ -1,14 +1,10 @@
-!> The exchanges of an MPM scene (1D bar or 2D plate) spread over the ranks
-!> of an MPI communicator: the mpm_exchange_t the solver calls, filled with
-!> wellposed_mpm_decomposition (strips of cell layers, ghost sums, particle
-!> hand-off) and wellposed_mpi. On one rank every call is a no-op or an
-!> identity, so `mpirun -np 1` and a plain run are the serial program bit
-!> for bit. Also the nonlocal_ranks_t of Algorithm 1: the pipeline that
-!> keeps its Gauss-Seidel sweep in the serial order across ranks (see
-!> wellposed_mpm_nonlocal), built from pairwise exchanges with the two
-!> neighbouring ranks only: the patches are intervals of node layers in
-!> rank order, so whatever rank r-2 changed in rank r's patch lies in rank
-!> r-1's patch too and reaches r through it.
+!> The exchanges of an MPM scene (bar or plate) over the ranks of an MPI
+!> communicator: the solver's mpm_exchange_t, filled with
+!> wellposed_mpm_decomposition and wellposed_mpi; on one rank every call is
+!> an identity, so `mpirun -np 1` is the serial program bit for bit. Also
+!> Algorithm 1's nonlocal_ranks_t: the Gauss-Seidel pipeline in the serial
+!> order, from pairwise exchanges with the two neighbouring ranks (patches
+!> are intervals of node layers in rank order). Design: docs/parallel.md.
 module wellposed_mpm_ranks
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

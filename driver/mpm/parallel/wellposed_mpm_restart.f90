@@ -1,20 +1,11 @@
-!> The state of a running MPM scene (bar or plate) in a checkpoint
-!> (wellposed_checkpoint) and back (--restart), on any number of ranks.
-!> What the next step reads is saved bit for bit: time, step count, time
-!> step, the bookkeeping (every rank's partial sums of work and impulse, the
-!> top displacement, Algorithm 1's run totals) and every particle (all
-!> fields but the connectivity, rebuilt from x at the start of a step, with
-!> its viscous pressure and material) in every rank's order. The grid is
-!> not saved: every step rebuilds it from the particles. A scene restored
-!> into a fresh `new_scene` of the same deck therefore continues exactly as
-!> the uninterrupted run would.
-!>
-!> Entries are named `mpm/<field>`: `layout` (version, ndim, nsup, nstatv,
-!> particles, ranks, record length), `counts` (particles per rank),
-!> `particles` (the records, rank after rank), `partials` (internal and
-!> external work and impulse, 3 per rank), `scalars`, `steps`, `nonlocal`.
-!> A checkpoint of another layout, cell size or time step is refused with
-!> the reason instead of misread.
+!> The state of a running MPM scene (bar or plate) in a checkpoint and back
+!> (--restart), on any number of ranks: time, step, time step, every rank's
+!> partial sums, Algorithm 1's totals and every particle, bit for bit; the
+!> grid is rebuilt from the particles each step, so a restored scene
+!> continues exactly as the uninterrupted run. Entries `mpm/<field>`
+!> (layout, counts, particles, partials, scalars, steps, nonlocal); a
+!> checkpoint of another layout, cell size or time step is refused.
+!> Design: docs/parallel.md.
 module wellposed_mpm_restart
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

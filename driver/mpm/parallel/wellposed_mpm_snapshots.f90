@@ -1,28 +1,11 @@
-!> Particle snapshots of an MPM run (wellposed-mpm, wellposed-mpm2d), kept
-!> where they were taken: each rank holds only the rows of its own
-!> particles of every snapshot (global ids and field values), and every
-!> snapshot goes into run.h5 through the collective writer
-!> (wellposed_h5_parallel), row gid at [gid-1], so no rank ever holds
-!> another rank's particles for a snapshot.
-!>
-!> A restart must write into its fresh run.h5 every snapshot the
-!> interrupted run had written, so the store goes into checkpoints:
-!> `put` gathers the rows to rank 0 (which writes the checkpoint file), in
-!> global-id order per snapshot; `get` (every rank holds the checkpoint it
-!> read) gives each rank a contiguous block of ids of every snapshot, on
-!> any number of ranks, and `write_stored` writes them again. The restarted
-!> run's datasets are then those of the uninterrupted run, bit for bit.
-!>
-!> A snapshot is a group (e.g. `snapshots/0001/`), its time (a one-value
-!> dataset `<group>time`, rank 0's, written first or last) and one dataset
-!> per field: a field of width 1 is a vector of N rows, of width 2 an
-!> (N, 2) array (h5py's view), N the particles of the scene.
-!>
-!> Checkpoint entries, under a prefix (e.g. `snapshots/`): `layout`
-!> (version, snapshots, values per row, fields), `rows` (per snapshot, its
-!> N), `times`, `groups` (a text, one group per line) and `values` (the
-!> rows of every snapshot in id order, row after row). Every integer and
-!> real array starts with one padding value, so none is empty.
+!> Particle snapshots of an MPM run, kept where they were taken: each rank
+!> holds its own particles' rows and writes them collectively into run.h5
+!> (wellposed_h5_parallel, row gid at [gid-1]). For a restart, `put`
+!> gathers the rows to rank 0's checkpoint in id order and `get` hands each
+!> rank a block of ids on any rank count; `write_stored` writes them again,
+!> bit for bit. A snapshot is a group (`snapshots/0001/`) with its time and
+!> one dataset per field (width 1: N rows; width 2: (N, 2)).
+!> Entries and layout: docs/parallel.md.
 module wellposed_mpm_snapshots
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

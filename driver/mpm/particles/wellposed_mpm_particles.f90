@@ -1,12 +1,10 @@
-!> Material points of the MPM (section 4.3): each carries mass,
-!> volume, position, velocity, deformation gradient, stress and the UMAT's
-!> STATEV. Structure of arrays with the particle index last, so the core
-!> loops stream through memory; `gid` is a global identity that survives a
-!> hand-off between ranks, and `n` may be below the allocated
-!> capacity so particles can arrive and leave without reallocating.
-!> The connectivity (node, phi, grad) is recomputed each step from x.
-!> A particle travels (hand-off, checkpoint, snapshot gathers) as one record
-!> of reals: every field but the connectivity.
+!> Material points of the MPM (section 4.3): mass, volume, position,
+!> velocity, deformation gradient, stress and the UMAT's STATEV, as a
+!> structure of arrays with the particle index last. `gid` survives a
+!> hand-off between ranks; `n` may be below the capacity, so particles
+!> arrive and leave without reallocating. The connectivity (node, phi,
+!> grad) is rebuilt each step from x; a particle travels as one record of
+!> reals holding every other field.
 module wellposed_mpm_particles
   use wellposed_kinds, only: dp
   implicit none

@@ -1,17 +1,10 @@
-!> Where a plate's band starts and how wide it is at an equal stage of the
-!> post-peak response (docs/bands.md, "Where bands start", "The band normal to
-!> itself"), watched step by step through a case:
-!> - onset: the first particle whose ||eps^p|| exceeds the threshold
-!>   (&output band_onset_strain; the largest when several cross in one step),
-!>   its time and position, and whether it lies in the weak zone (the deck's
-!>   one box-region material, grown by one cell on every side);
-!> - stage: the first curve sample after the onset at which the apparent
-!>   stress has dropped by the fraction &output band_drop below its peak so
-!>   far; there the band is fitted and measured normal to itself
-!>   (wellposed_mpm_band) in the middle 60 % of the plate's height;
-!> - the platen's layer: the mean sigma_yy in the cell row under the
-!>   platen's lowest node row over that of the particle row(s) nearest
-!>   mid-height, after the last step (docs/bands.md, "The platen").
+!> Where a plate's band starts and how wide it is at an equal post-peak
+!> stage (docs/bands.md, "Where bands start", "The band normal to itself"),
+!> watched step by step: the onset (the first particle past &output
+!> band_onset_strain, and whether it is in the weak zone); the stage (the
+!> apparent stress band_drop below its peak), where the band is fitted
+!> normal to itself in the middle 60 % of the height; and the platen's
+!> layer stress after the last step (docs/bands.md, "The platen").
 !> Collective: every rank calls `step` each step with the same curve.
 module wellposed_mpm_band_watch
   use wellposed_kinds, only: dp

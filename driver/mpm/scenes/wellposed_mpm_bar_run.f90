@@ -1,23 +1,11 @@
-!> The bar scene of wellposed-mpm: the explicit material point method of
-!> the dissertation's section 4.3 on the 1D uniaxial-strain scenes of
-!> chapter 2 (Sandler-Rubin case study), run from a deck whose &scene kind
-!> is 'bar' (wellposed_mpm_scene_kind). Writes ROOT/NAME/ (ROOT = out,
-!> NAME = the deck's &scene name): the deck, run.h5 (station histories,
-!> particle snapshots, energies, metadata), run.xdmf (the snapshots for
-!> ParaView), summary.txt and stations.png. Everything is written into
-!> ROOT/NAME.partial and renamed at the end, so a failed run leaves nothing
-!> that looks finished. Errors go to standard error and the exit status is 1.
-!>
-!> On N ranks the scene is cut into strips of cells
-!> (wellposed_mpm_ranks). run.h5 is written by all ranks collectively
-!> (wellposed_h5_parallel: MPI-IO with parallel HDF5, else gathered to
-!> rank 0), particle snapshots by rows from the ranks that hold the
-!> particles (wellposed_mpm_snapshots); station histories, energies and
-!> metadata are rank 0's, and rank 0 writes the other files, all with the
-!> serial layout. Checkpoints go to
-!> ROOT/NAME.checkpoints/ every STEPS steps (default: a tenth of the run;
-!> 0: none; the newest two are kept, the folder is removed when the run
-!> finishes); --restart continues from the newest, on any number of ranks.
+!> The bar scene of wellposed-mpm: the explicit MPM of section 4.3 on the
+!> 1D uniaxial-strain scenes of chapter 2 (Sandler-Rubin case study), for a
+!> deck whose &scene kind is 'bar'. Writes ROOT/NAME/ (the deck, run.h5,
+!> run.xdmf, summary.txt, stations.png) through ROOT/NAME.partial, renamed
+!> at the end; errors to standard error, exit status 1. On N ranks the bar
+!> is cut into strips (wellposed_mpm_ranks) and run.h5 written collectively;
+!> checkpoints every STEPS steps, --restart on any number of ranks.
+!> Outputs: docs/mpm.md; ranks and checkpoints: docs/parallel.md.
 module wellposed_mpm_bar_run
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite

@@ -1,22 +1,11 @@
 !> The plate scene of wellposed-mpm: the plane-strain MPM on the plate of
-!> the dissertation's chapter 4 (fig. 4.1-4.6), one or more cases per deck
-!> (meshes, sizes: &study; wellposed_mpm_plate_cases). Writes ROOT/NAME/:
-!> the deck, run.h5 (per case: particle snapshots, the stress-strain curve,
-!> nonlocal iterations per step; metadata), one <case>.xdmf per case for
-!> ParaView, <case>_curve.csv, <case>_iterations.csv, summary.txt and the
-!> plots, all into ROOT/NAME.partial renamed at the end, so a failed run
-!> leaves nothing that looks finished.
-!>
-!> Ranks: each advances its strip (wellposed_mpm_solver) and writes run.h5
-!> collectively (snapshots by rows: wellposed_mpm_snapshots); rank 0 keeps
-!> curves and counts, gathers particles for band widths and writes the other
-!> files; every output has the serial layout.
-!>
-!> Checkpoints every STEPS steps (default a tenth of a case's; 0: none) into
-!> ROOT/NAME.checkpoints/checkpoint_<n>.h5 (n: steps of all cases so far; the
-!> newest two kept): scene, current case and curves, finished cases, summary
-!> and snapshots. `--restart` with the same deck and overrides gives the
-!> uninterrupted run's files bit for bit on as many ranks (wall times aside).
+!> chapter 4 (fig. 4.1-4.6), one or more cases per deck (&study;
+!> wellposed_mpm_plate_cases). Writes ROOT/NAME/ (the deck, run.h5, a
+!> <case>.xdmf, curve and iteration CSVs per case, summary.txt, plots)
+!> through ROOT/NAME.partial, renamed at the end. Ranks advance their strips
+!> and write run.h5 collectively; rank 0 writes the rest, in the serial
+!> layout. Checkpoints every STEPS steps; `--restart` gives the
+!> uninterrupted run's files bit for bit. Outputs: docs/mpm.md.
 module wellposed_mpm_plate_run
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
   use wellposed_kinds, only: dp

@@ -1,12 +1,9 @@
 !> The last complete step of a scene, for a run that ends at the step
-!> before the one whose material gave out (&time stop_on_cutback).
-!>
-!> A copy of the whole scene before every step cost 12 % of the fig. 4.4
-!> deck's run (callgrind and perf: the memmove of the copy). The keeper
-!> copies every `keep_every` steps instead and, when a step fails, replays
-!> the steps since its copy: `advance` is deterministic on any number of
-!> ranks, so the replayed scene is bitwise the one the run had (the
-!> reg_bar_local and reg_bar_overlocal references end early between copies).
+!> before the one whose material gave out (&time stop_on_cutback). A copy
+!> before every step is costly, so the keeper copies every `keep_every`
+!> steps and, when a step fails, replays the steps since its copy:
+!> `advance` is deterministic on any number of ranks, so the replayed scene
+!> is bitwise the one the run had.
 module wellposed_mpm_step_keeper
   use wellposed_error, only: error_t
   use wellposed_mpm_scene, only: mpm_scene_t

@@ -1,13 +1,9 @@
-!> Shape functions of the MPM in 1D (eq. 4.6-4.8): the weights phi_ip
-!> and gradient weights G_ip of a particle on the nodes of a uniform grid.
-!>  - linear (standard MPM, chi_p a Dirac delta): phi = S_i(x_p), the hat.
-!>  - uGIMP (chi_p = 1 on an undeforming domain of half-width lp; shared
-!>    reference A, "uGIMP 1D"): with h the cell size and xi = x_p - x_i,
-!>      |xi| <= lp:           S = 1 - (xi^2 + lp^2)/(2 h lp)
-!>      lp < |xi| <= h - lp:  S = 1 - |xi|/h
-!>      h - lp < |xi| < h+lp: S = (h + lp - |xi|)^2/(4 h lp)
-!>    and G = dS/dx_p (the average of dS_i/dx over the particle domain).
-!> 2D takes tensor products of these and adds CPDI.
+!> Shape functions of the MPM in 1D (eq. 4.6-4.8): the weights phi_ip and
+!> gradient weights G_ip of a particle on a uniform grid. Linear (standard
+!> MPM): the hat S_i(x_p). uGIMP (shared reference A, "uGIMP 1D"; h the
+!> cell, lp the half-width, xi = x_p - x_i): S = 1 - (xi^2 + lp^2)/(2 h lp)
+!> for |xi| <= lp, 1 - |xi|/h up to h - lp, (h + lp - |xi|)^2/(4 h lp) below
+!> h + lp; G = dS/dx_p. 2D takes tensor products and adds CPDI.
 module wellposed_mpm_shape
   use wellposed_kinds, only: dp
   use wellposed_mpm_config, only: shape_linear, shape_gimp
@@ -31,7 +27,7 @@ contains
   !> nint(s), the node nearest a particle at s cells from node 0 (halves
   !> away from zero), without the libm call (lround) gfortran makes for
   !> nint: truncate, then round the fraction s - int(s), which is exact for
-  !> |s| < 2**31. A fifth of a 1D GIMP particle's shape-weight instructions.
+  !> |s| < 2**31 (the weights of every particle and step call it).
   elemental integer function nearest_node(s) result(i)
     real(dp), intent(in) :: s
     real(dp) :: r

@@ -1,20 +1,11 @@
-!> Shape functions of the MPM in 2D (eq. 4.6-4.8) on a uniform grid of
-!> cell size h, node g = i + nx*j at origin + h*(i, j), i = 0 .. nx-1:
-!>  - linear: bilinear hats at the particle centre (4 nodes);
-!>  - uGIMP: the tensor product of the 1D uGIMP weights of
-!>    wellposed_mpm_shape (undeforming rectangle of half-widths lp(1:2));
-!>    phi = Sx Sy, G = (Sx' Sy, Sx Sy') (9 nodes);
-!>  - CPDI (Sadeghirad, Brannon & Burghardt 2011; shared reference "CPDI
-!>    2D"): the particle domain is the parallelogram with half side vectors
-!>    r1 = F (lx, 0), r2 = F (0, ly) (F the particle's deformation gradient,
-!>    lx, ly its initial half-widths), corners c1 = xp - r1 - r2,
-!>    c2 = xp + r1 - r2, c3 = xp + r1 + r2, c4 = xp - r1 + r2;
-!>    phi_ip = (1/4) sum_a S_i(c_a), and with V = 4 |r1 x r2|
-!>    G_ip = [ (S_i(c1) - S_i(c3)) (r1y - r2y, r2x - r1x)
-!>           + (S_i(c2) - S_i(c4)) (r1y + r2y, -r1x - r2x) ] / V
-!>    (up to 16 nodes: the bilinear supports of the four corners).
-!> Unused entries of a support carry the particle's first node with zero
-!> weight, so loops over nsup entries need no test. Units: m, 1/m.
+!> Shape functions of the MPM in 2D (eq. 4.6-4.8) on a uniform grid (node
+!> g = i + nx*j): linear (bilinear hats, 4 nodes); uGIMP, the tensor product
+!> of wellposed_mpm_shape's weights (9 nodes); CPDI (Sadeghirad, Brannon &
+!> Burghardt 2011; shared reference "CPDI 2D"): the parallelogram of half
+!> sides r1 = F (lx, 0), r2 = F (0, ly), phi_ip = (1/4) sum_a S_i(c_a) over
+!> its corners, G_ip from the corners' differences over V = 4 |r1 x r2|
+!> (up to 16 nodes). Unused support entries carry the first node with zero
+!> weight, so loops over nsup need no test. Units: m, 1/m.
 module wellposed_mpm_shape_2d
   use wellposed_kinds, only: dp
   use wellposed_mpm_shape, only: gimp_weight, nearest_node
@@ -120,8 +111,7 @@ contains
   !> place in the box of the corners' cells (a table of at most 4 x 4 slots)
   !> or, for a box wider than that (a particle stretched over more than two
   !> cells), by a search of the list. Only the unused entries are zeroed
-  !> (zeroing all 16 first cost 3 % of the sheared plate's step in time,
-  !> though fewer instructions).
+  !> (zeroing all 16 first is slower, though fewer instructions).
   pure subroutine cpdi_2d(xp, r1, r2, origin, h, nx, nodes, phi, grad, nused)
     real(dp), intent(in) :: xp(2), r1(2), r2(2), origin(2), h
     integer, intent(in) :: nx

@@ -1,17 +1,10 @@
-!> The largest stable &time cfl of a bar (docs/timestep.md, "Where a
-!> bar's step is stable"): the step of eq. 4.9-4.13, linearised on
-!> an elastic bar whose ppc particles per cell sit evenly and at rest. Per
-!> grid Fourier mode theta, with the lumped mass 1 and cfl = c dt/dx:
-!>   mu    = a + 2 b cos(theta)   the particles' mass matrix M_P,
-!>   w0^2  = 4 sin^2(theta/2)     the stiffness,
-!>   alpha = 1 (lumped), 1/mu (consistent), 2/(mu (1 + mu)) (blended),
-!> the grid acceleration being alpha times the force. MUSL's step maps
-!> (grid velocity, stress) with determinant 1: stable iff
-!> cfl^2 w0^2 mu alpha <= 4. USL's has determinant 1 - cfl^2 w0^2 alpha
-!> (1 - mu) (its damping): stable iff cfl^2 w0^2 alpha (2 - mu) <= 4.
-!> GIMP weights at rest are the linear ones (each particle's domain lies in
-!> its cell). tests/regression/mpm/mpm_bloch.py checks these limits against
-!> the eigenvalues of the whole discrete step.
+!> The largest stable &time cfl of a bar (docs/timestep.md, "Where a bar's
+!> step is stable"): eq. 4.9-4.13 linearised on an elastic bar at rest. Per
+!> Fourier mode theta, cfl = c dt/dx: mu = a + 2 b cos(theta) (the mass
+!> matrix M_P), w0^2 = 4 sin^2(theta/2), alpha = 1 (lumped), 1/mu
+!> (consistent), 2/(mu (1 + mu)) (blended). MUSL is stable iff
+!> cfl^2 w0^2 mu alpha <= 4, USL iff cfl^2 w0^2 alpha (2 - mu) <= 4.
+!> tests/regression/mpm/mpm_bloch.py checks these against the whole step.
 module wellposed_mpm_cfl_limit
   use wellposed_kinds, only: dp
   use wellposed_mpm_config, only: scheme_musl, mass_lumped, mass_consistent

@@ -1,17 +1,10 @@
 !> What a domain-decomposed run exchanges between ranks, as calls the MPM
-!> solver makes every step without knowing whether there are other ranks
-!> (1D bars and 2D plates alike). The solver holds a class(mpm_exchange_t):
-!>  - mpm_serial_t (here): one process owning the whole grid. Nothing to
-!>    exchange; a particle whose support leaves the grid is an error naming
-!>    it. Used when the scene is built without an exchange (tests, benches);
-!>  - mpm_ranks_t (driver/mpm/parallel/wellposed_mpm_ranks): Open MPI
-!>    through wellposed_mpi, the grid cut into strips of cell layers (cells
-!>    in 1D, cell rows in 2D) by wellposed_mpm_decomposition. With one rank
-!>    every call is a no-op or an identity, so one rank is the serial
-!>    program bit for bit.
-!> The core library keeps no MPI: the parallel type extends this one in
-!> the parallel library. It also serves Algorithm 1 (nonlocal_ranks_t: its node exchanges,
-!> reductions, sum_reals and nranks).
+!> solver makes every step without knowing whether there are other ranks.
+!> mpm_serial_t (here): one process owning the whole grid, nothing to
+!> exchange, a particle leaving the grid an error naming it. mpm_ranks_t
+!> (wellposed_mpm_ranks) extends it with MPI in the parallel library, so the
+!> core library keeps no MPI; one rank is the serial program bit for bit.
+!> Also Algorithm 1's node exchanges and reductions (nonlocal_ranks_t).
 module wellposed_mpm_exchange
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

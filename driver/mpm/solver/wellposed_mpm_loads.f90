@@ -1,16 +1,10 @@
-!> Surface load history of the case study (section 2.3, fig. 2.1): the
-!> axial stress prescribed at the free surface. Pulses:
-!> sigma_b(t) = base + peak * g((t - start)/duration), with g the triangle
-!> (rise over the first half, fall over the second; shared reference A) or a
-!> raised cosine g(s) = (1 - cos(2 pi s))/2 (smooth, for convergence
-!> studies). g = 0 outside 0 < s < 1.
-!> Ramp with a sinusoid (`ramp_sine`, the dispersion measurement of the dissertation's
-!> fig. 2.10 left): sigma_b(t) = base + rate s + amplitude sin(2 pi f s),
-!> s = t - start > 0, base before. With |amplitude| 2 pi f < |rate| the
-!> surface stress rate never changes sign, so a material that yields under
-!> the ramp keeps loading plastically everywhere the ramp has arrived, and
-!> the sinusoid travels with the linearised (dispersive) wave speed at f.
-!> Units: Pa, s, Hz.
+!> Surface load history of the case study (section 2.3, fig. 2.1), Pa:
+!> sigma_b(t) = base + peak g((t - start)/duration), g the triangle (shared
+!> reference A) or the raised cosine (1 - cos(2 pi s))/2, 0 outside
+!> 0 < s < 1; or a ramp with a sinusoid (fig. 2.10 left), base + rate s +
+!> amplitude sin(2 pi f s), s = t - start, where |amplitude| 2 pi f < |rate|
+!> keeps the surface loading so the sinusoid travels at the plastic
+!> (dispersive) wave speed at f.
 module wellposed_mpm_loads
   use wellposed_kinds, only: dp
   use wellposed_mpm_config, only: mpm_config_t, pulse_triangle, pulse_cosine, pulse_ramp_sine

@@ -1,19 +1,11 @@
-!> The stress update of one material point through the UMAT host, written
-!> once for ndim = 1 and 2: the step's strain increment in the UMAT's NTENS
-!> (the dimension's kernel: uniaxial strain into 6 components in the bar's
-!> bar_kinematics, plane strain into 4 here, engineering shear) and the
-!> call with the particle's identity
-!> (docs/mpm.md, "Hosting a UMAT in the MPM"). The host's rules apply:
-!> PNEWDT < 0 or a non-finite result is an error naming the particle, a
-!> cut-back splits the increment.
-!>
-!> Our own material (the linked UMAT is wellposed's, a closed-form model)
-!> also goes a block of particles at a time through the VUMAT's kernel
-!> (umat_block: closed_form_block, the same arithmetic as the UMAT's
-!> point update, so bitwise its answer); every particle the kernel defers
-!> (apex, zero deviator), whose input or output is not finite, or whose
-!> PROPS the contract refuses is left to the per-particle UMAT call, which
-!> applies the host's rules (PNEWDT, cut-back, the error naming it).
+!> The stress update of one material point through the UMAT host, for
+!> ndim = 1 and 2: the strain increment embedded in the UMAT's NTENS (6 for
+!> the bar's uniaxial strain, 4 for plane strain, engineering shear) and
+!> the call with the particle's identity, under the host's rules
+!> (docs/mpm.md, "Hosting a UMAT in the MPM"). Our own material also goes a
+!> block at a time through the VUMAT's kernel (umat_block, bitwise the
+!> UMAT's answer); what it defers, non-finite values and refused PROPS are
+!> left to the per-particle call.
 module wellposed_mpm_particle_umat
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp

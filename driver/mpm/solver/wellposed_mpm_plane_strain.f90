@@ -1,27 +1,11 @@
-!> The plate scene kind of the MPM in 2D plane strain (chapter 4's plate,
-!> fig. 4.1): a rectangular body [0, width] x [0, height] on a uniform grid
-!> (node g = i + nx*j), 2D GIMP, CPDI or linear weights
-!> (wellposed_mpm_shape_2d), the material through the UMAT with NTENS = 4
-!> (11, 22, 33, 12; engineering shear). The step is wellposed_mpm_solver's;
-!> here the plate's geometry, boundary kinds, time step and load kernel.
-!>
-!> Boundaries (deck): bottom 'roller' (v_y = 0 on nodes at y <= 0), 'fixed'
-!> or 'free'; top 'velocity' (the platen: nodes at and above the body's
-!> current top, or at y >= height with platen = 'grid', get (0, v_top),
-!> ramped over ramp_time, for 0 <= x <= width: the platen covers the top
-!> face and no more; with top_lateral_fixed = .false. only v_y; see
-!> platen_nodes; platen = 'contact': no node, a frictionless plane pushing
-!> on the particles, platen_push) or 'free'; sides
-!> 'free' or 'roller' (v_x = 0 on nodes at x <= 0 and x >= width). Nodes
-!> beyond a boundary line share its condition, so GIMP/CPDI supports
-!> reaching past it see the same velocity.
-!> Time step dt = cfl * dx / c_max, c_max = sqrt(M/rho) with the
-!> constrained modulus M probed through the UMAT; the artificial viscosity's
-!> sound speed sqrt(K/rho) with K probed likewise. SI units, tension +.
-!>
-!> Ranks: strips of whole cell rows (a strip is one range of node numbers)
-!> through the scene's exchange, ghost rows as wide as the shape's reach
-!> (shape2d_reach: linear 0, GIMP 1, CPDI 2) or the nonlocal Gaussian's.
+!> The plate scene kind of the MPM in 2D plane strain (chapter 4, fig.
+!> 4.1): a body [0, width] x [0, height] on a uniform grid, GIMP, CPDI or
+!> linear weights, the UMAT with NTENS = 4. Here the geometry, boundaries
+!> (bottom roller|fixed|free; top velocity|free with the platen on the
+!> surface, grid or by contact; sides free|roller; nodes past a boundary
+!> share its condition), dt = cfl dx / sqrt(M/rho) with M probed through the
+!> UMAT, and the load kernel; ranks are strips of cell rows. Deck keys:
+!> docs/decks.md; the platen: docs/bands.md.
 module wellposed_mpm_plane_strain
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

@@ -1,14 +1,10 @@
 !> The state of a running MPM scene, one type for the 1D bar (uniaxial
 !> strain, chapter 2) and the 2D plate (plane strain, chapter 4): grid,
-!> particles with their material and viscous pressure, time, the UMAT host,
-!> Algorithm 1's solver and the exchange with other ranks. The scene kinds
-!> (wellposed_mpm_bar, wellposed_mpm_plane_strain) build it; the one
-!> explicit step (wellposed_mpm_solver) advances it. Here also the host side
-!> of Algorithm 1 (one particle through the UMAT) and the sums over ranks a
-!> driver reports (energies, momentum, applied stress, counts).
-!>
-!> NTENS is 6 in 1D (uniaxial strain: only d eps_11 /= 0) and 4 in 2D
-!> (11, 22, 33, 12; engineering shear). SI units, tension positive.
+!> particles, time, the UMAT host, Algorithm 1's solver and the exchange
+!> with other ranks; built by wellposed_mpm_bar and wellposed_mpm_plane_strain,
+!> advanced by wellposed_mpm_solver. Also Algorithm 1's host side and the
+!> sums over ranks a driver reports. NTENS 6 in 1D, 4 in 2D (engineering
+!> shear); SI units, tension positive.
 module wellposed_mpm_scene
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp

@@ -1,43 +1,11 @@
-!> The explicit MPM of the dissertation's section 4.3, one step for the 1D
-!> uniaxial-strain bar and the 2D plane-strain plate: lumped mass (eq. 4.4),
-!> internal force (eq. 4.5), grid acceleration and forward-Euler velocity
-!> (eq. 4.9-4.10), velocity gradient (eq. 4.11), FLIP particle velocity and
-!> position update (eq. 4.12-4.13), and the stress update through the UMAT
-!> for every particle by the dissertation's Algorithm 1. Dimension-specific
-!> are only the small kernels: shape weights (1D linear/GIMP, 2D
-!> linear/GIMP/CPDI), the load (the bar's surface traction, the plate's
-!> platen velocity), the update of F and the volume, and the strain
-!> embedding (wellposed_mpm_particle_umat). The scene kinds are built by
-!> wellposed_mpm_bar and wellposed_mpm_plane_strain (new_scene here picks
-!> by the configuration's type).
-!>
-!> Update variant: MUSL by default (deck: scheme = 'musl' or 'usl'). USL is
-!> eq. 4.10-4.13 as the dissertation writes them: the strain rate comes from the
-!> updated grid velocity v_i^{n+1}. MUSL rebuilds the grid velocity from the
-!> updated particle velocities (v_i = sum_p phi_ip m_p v_p / m_i) before the
-!> strain rate: a node with a sliver of mass cannot produce a spurious
-!> strain spike, and it conserves energy better (Wallstedt and Guilkey 2008).
-!>
-!> One step, in order: hand-off of particles to the rank of their cell
-!> layer -> shape weights and the support check -> P2G (mass, momentum,
-!> f_int with sigma - q I) -> ghost sum -> load -> grid update and boundary
-!> conditions -> G2P (FLIP velocity, position) [MUSL: with the momentum
-!> P2G in the same pass; ghost sum, velocity] -> velocity gradient, strain
-!> increment, F and volume, bulk artificial viscosity, Jaumann rotation
-!> (2D) -> UMAT (Algorithm 1) -> bookkeeping. Units SI, tension positive.
-!>
-!> Bulk artificial viscosity (shared reference B): q = rho (A1 c |D_kk| dx +
-!> A2 D_kk^2 dx^2) when D_kk < 0, else 0; q enters the internal force as
-!> sigma - q I and is not part of the material state (plates: on by
-!> default; bars: off unless A1 or A2 > 0).
-!>
-!> Ranks: the scene talks to other ranks only through its exchange
-!> (wellposed_mpm_exchange): strips of cell layers (cells in 1D, cell rows
-!> in 2D) with ghost layers as wide as the shape support or the nonlocal
-!> Gaussian's; the grid update covers ghost nodes too, which hold the same
-!> sums as their owners, so no second exchange is needed. Algorithm 1 sweeps
-!> in the serial order (owning cell layer at the step's start, then the id;
-!> sweep_key) through the exchange's pipeline.
+!> The explicit MPM of section 4.3, one step for the 1D bar and the 2D
+!> plate: lumped mass (eq. 4.4), internal force with sigma - q I (eq. 4.5),
+!> grid update (eq. 4.9-4.10), velocity gradient (eq. 4.11), FLIP update
+!> (eq. 4.12-4.13) and the stress through the UMAT by Algorithm 1. MUSL by
+!> default (the grid velocity rebuilt from the particles before the strain
+!> rate: Wallstedt and Guilkey 2008), or USL. Bulk viscosity (shared
+!> reference B): q = rho (A1 c |D_kk| dx + A2 D_kk^2 dx^2) for D_kk < 0.
+!> Ranks only through the exchange. The step: docs/mpm.md, "The solver's layout".
 module wellposed_mpm_solver
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp

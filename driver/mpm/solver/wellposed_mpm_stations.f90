@@ -1,12 +1,9 @@
 !> Stations: stress and velocity histories at fixed material points (the
-!> dissertation's "locations", fig. 2.3-2.10: every 100 m), and the measures
-!> taken from them. In a bar a station at reference position X reads the two
-!> particles whose reference positions bracket X, linearly interpolated; in
-!> a plate (new_point_stations) a station at (X, Y) reads the particle whose
-!> reference position is nearest (the lowest id of equals). Histories are sampled
-!> at exact multiples of sample_dt by linear interpolation between steps, so
-!> runs with different dx or CFL fractions share one time axis (the mesh
-!> study subtracts them).
+!> dissertation's "locations", fig. 2.3-2.10) and the measures taken from
+!> them. A bar's station interpolates the two particles bracketing its
+!> reference position; a plate's reads the nearest particle. Histories are
+!> sampled at exact multiples of sample_dt, interpolated between steps, so
+!> runs with different dx or cfl share one time axis.
 module wellposed_mpm_stations
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use wellposed_kinds, only: dp

@@ -1,23 +1,11 @@
-!> The transfers of one explicit MPM step (the dissertation's section 4.3),
-!> written once for ndim = 1 and 2 on grid_t and particles_t: particle to
-!> grid (lumped mass eq. 4.4, momentum, internal force eq. 4.5), the grid
-!> update with its boundary conditions (eq. 4.9-4.10), grid to particle
-!> (FLIP velocity eq. 4.13, position eq. 4.12), the MUSL velocity rebuild
-!> and the velocity gradient (eq. 4.11). Every loop runs over the
-!> precomputed support of each particle (parts%node, phi, grad: the shape
-!> kernels' output, once per particle and step) and over the patch's nodes
-!> [glo, ghi]; sums over ranks are the caller's (between the calls).
-!>
-!> Two sums keep the order each dimension has always had, so that every
-!> bar and plate reproduces its reference bit for bit: the internal force
-!> of a bar is (V sigma) G, of a plate V (sigma G); G2P of a bar adds the
-!> weighted nodal values and then the step, a plate adds node by node.
-!> Each routine has one loop per dimension (no test of ndim inside the
-!> particle loop, no array temporaries); `nnz` (optional) is each
-!> particle's count of support nodes in use (a CPDI particle fills fewer
-!> than its room; the weights past it are 0 and are skipped, which leaves
-!> every sum unchanged). A bar's supports are always full (nnz = nsup, 2
-!> or 3): its loops take the node count as a constant and never read nnz.
+!> The transfers of one explicit MPM step (section 4.3) for ndim = 1 and 2:
+!> P2G (lumped mass eq. 4.4, momentum, internal force eq. 4.5), the grid
+!> update with its boundary conditions (eq. 4.9-4.10), G2P (FLIP eq. 4.13,
+!> position eq. 4.12), the MUSL rebuild and the velocity gradient (eq.
+!> 4.11), over each particle's precomputed support and the patch's nodes.
+!> Each dimension keeps its own order of summation, so every bar and plate
+!> reproduces its reference bit for bit; `nnz` skips a CPDI particle's
+!> unused support entries. Sums over ranks are the caller's.
 module wellposed_mpm_transfer
   use wellposed_kinds, only: dp
   use wellposed_mpm_grid, only: grid_t, grid_reset, zero

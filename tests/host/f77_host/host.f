@@ -1,12 +1,8 @@
-C     A Fortran 77 host, fixed form, as a legacy FE code would call a
-C     UMAT: no module, no interface block, the Abaqus argument list.
-C     It links against the installed libwellposed with nothing but
-C     -L<prefix>/lib -lwellposed -llapack -lblas, which shows that
-C     gfortran's ordinary name mangling (umat_) reaches our UMAT.
-C
-C     One elastic increment: K = 4e9, G = 1.5e9, beta = 0.315,
-C     beta_p = 0, k0 = 5.066e6 (NPROPS = 5, later slots count as 0),
-C     DSTRAN = (1e-6, 0, 0, 0, 0, 0) from a zero stress.
+C     A Fortran 77 host, fixed form, calling the UMAT as a legacy FE code
+C     would (no module, no interface, the Abaqus argument list), linked
+C     with only -lwellposed -llapack -lblas: gfortran's umat_ reaches ours.
+C     One elastic increment DSTRAN(1) = 1e-6 from zero stress with K = 4e9,
+C     G = 1.5e9, beta = 0.315, beta_p = 0, k0 = 5.066e6 (NPROPS = 5).
 C     Expected: STRESS(1) = (K + 4G/3)*1e-6 = 6000,
 C               STRESS(2) = STRESS(3) = (K - 2G/3)*1e-6 = 3000.
       PROGRAM HOSTF

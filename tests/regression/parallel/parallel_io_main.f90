@@ -1,12 +1,9 @@
 !> mpirun -np N parallel_io_main: the outputs of a scene spread over ranks
 !> (wellposed_mpm_parallel_io) equal the serial ones bit for bit. Every rank
-!> advances the same serial scene (the reference) and keeps only the
-!> particles of its cells after every step, as a decomposed run holds them;
-!> then
-!>  - stations set up on rank 0 over the gathered particles and read
-!>    through the station proxy give bitwise the serial station histories;
-!>  - gather_particles returns bitwise the serial particles in id order;
-!>  - stations survive a checkpoint round trip bit for bit.
+!> advances the same serial scene and keeps the particles of its cells, as
+!> a decomposed run holds them; then stations read through the proxy give
+!> the serial histories, gather_particles the serial particles in id order,
+!> and stations survive a checkpoint round trip, all bitwise.
 program parallel_io_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use wellposed_kinds, only: dp

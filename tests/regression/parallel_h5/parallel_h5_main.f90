@@ -383,7 +383,7 @@ contains
       do k = 1, 5
         t(r, k) = -1.0e-3_dp
         ! in place by points or hyperslab unions grows faster than the rows:
-        ! measured up to 20 000 rows per rank
+        ! those two ways only up to 20 000 rows per rank
         if ((k == 3 .or. k == 4) .and. n > 20000) cycle
         t(r, k) = timed(k, gids, xy)
       end do

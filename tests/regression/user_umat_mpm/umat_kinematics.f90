@@ -1,25 +1,10 @@
 !> A test UMAT that checks the kinematic arguments the MPM passes, then
-!> answers as linear elasticity (PROPS(1) = K, PROPS(2) = G; the order of
-!> operations of hooke_step.f). Per call it checks
-!>   STRAN   = the sum of the DSTRAN this particle was passed before
-!>             (kept in STATEV(22:21+NTENS));
-!>   DFGRD0  = the DFGRD1 of the particle's previous increment (STATEV(13:21),
-!>             the identity before the first);
-!>   DFGRD1  = DFGRD0 + dF with dt L = (DFGRD1 - DFGRD0) DFGRD0^-1 whose
-!>             symmetric part is DSTRAN (11, 22, 33, engineering shears) and
-!>             no out-of-plane stretch or shear;
-!>   DROT    = orthogonal, det 1, and the Hughes-Winget rotation of dt L's
-!>             spin about axis 3 in closed form: a = (L12 - L21) dt / 4,
-!>             DROT = [c s 0; -s c 0; 0 0 1], c = (1 - a^2)/(1 + a^2),
-!>             s = 2a/(1 + a^2).
-!> A call the host makes without F (the scenes' probes of the moduli at the
-!> initial state) must carry the small-strain F = I + eps of STRAN and of
-!> STRAN + DSTRAN and DROT = I instead.
-!> PROPS(3) = 1 (optional) expects the identity for DFGRD0, DFGRD1 and DROT
-!> instead, which a deforming body must refuse. Any failed check: a message
-!> naming it on unit 6 and PNEWDT = -1. The first stretch and the first
-!> rotation larger than 1e-9 are reported once on standard error, so a test
-!> can see that the checks met a deforming and a rotating particle.
+!> answers as linear elasticity (PROPS(1) = K, PROPS(2) = G, as
+!> hooke_step.f): STRAN the sum of earlier DSTRAN, DFGRD0 the previous
+!> DFGRD1, sym((DFGRD1 - DFGRD0) DFGRD0^-1) = DSTRAN in plane, DROT the
+!> Hughes-Winget rotation of the spin in closed form; without F (the
+!> probes) F = I + eps and DROT = I. PROPS(3) = 1 expects identities
+!> instead. A failed check: a message on unit 6 and PNEWDT = -1.
 !> NSTATV >= 27; STATEV(1:12) are left as they are.
 subroutine umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, &
                 dstran, time, dtime, temp, dtemp, predef, dpred, cmname, ndi, nshr, ntens, &
