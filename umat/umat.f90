@@ -1,17 +1,16 @@
 !> The Abaqus/Standard UMAT entry point of wellposed (contract:
 !> docs/umat.md): an external subroutine with the exact Abaqus signature,
 !> callable from free- or fixed-form Fortran without any module. All work is
-!> done by wellposed_umat_adapter; this routine forwards and, for invalid
-!> input (status -1), writes one line to standard error.
+!> done by wellposed_umat_adapter; this routine forwards, and a failure goes
+!> to wellposed_umat_report (a message once per material and kind).
 subroutine umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, &
                 stran, dstran, time, dtime, temp, dtemp, predef, dpred, cmname, &
                 ndi, nshr, ntens, nstatv, props, nprops, coords, drot, pnewdt, &
                 celent, dfgrd0, dfgrd1, noel, npt, layer, kspt, kstep, kinc)
-  use, intrinsic :: iso_fortran_env, only: error_unit
   use wellposed_kinds, only: dp
-  use wellposed_error, only: error_t, status_invalid
+  use wellposed_error, only: error_t
   use wellposed_umat_adapter, only: umat_update
-  use wellposed_text, only: int_text
+  use wellposed_umat_report, only: umat_report
   implicit none
   character(len=80), intent(in) :: cmname
   integer, intent(in) :: ndi, nshr, ntens, nstatv, nprops, noel, npt, layer, kspt, kstep, kinc
@@ -25,11 +24,6 @@ subroutine umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpl
 
   call umat_update(stress, statev, ddsdde, sse, spd, dstran, stran, dtime, ndi, nshr, &
                    ntens, nstatv, props, nprops, pnewdt, err)
-  if (allocated(err)) then
-    if (err%status == status_invalid) then
-      write (error_unit, '(a)') 'wellposed UMAT error (element '//int_text(noel)//', point '// &
-        int_text(npt)//'): '//err%message
-    end if
-  end if
+  if (allocated(err)) call umat_report(err, cmname, noel, npt)
 
 end subroutine umat

@@ -20,7 +20,7 @@ module wellposed_umat_adapter
   use wellposed_umat_layout
   implicit none
   private
-  public :: umat_update, cutback_factor, check_props, explain, fault_non_finite
+  public :: umat_update, cutback_factor, failure_pnewdt, check_props, explain, fault_non_finite
 
   !> PNEWDT requested on status -2 (a smaller increment may succeed).
   real(dp), parameter :: cutback_factor = 0.5_dp
@@ -140,11 +140,7 @@ contains
     !> The contract's failure: status slot, PNEWDT, elastic DDSDDE.
     subroutine fail()
       if (nstatv >= nstatv_min) statev(sv_status) = real(err%status, dp)
-      if (err%status == status_invalid) then
-        pnewdt = -1.0_dp
-      else
-        pnewdt = min(pnewdt, cutback_factor)
-      end if
+      pnewdt = failure_pnewdt(err%status, pnewdt)
       ! Nested so that no ordered comparison meets a NaN (a trap under
       ! -ffpe-trap=invalid): Fortran's .and. need not short-circuit.
       if (nprops >= prop_shear .and. ntens >= 4 .and. ntens <= 6) then
@@ -157,6 +153,26 @@ contains
     end subroutine fail
 
   end subroutine umat_update
+
+  !> PNEWDT out of a failed call (docs/umat.md, "Status codes"), from the
+  !> status and PNEWDT on entry. A host whose "no request" is >= 1 (Abaqus's
+  !> large value, our drivers' 1) gets -1 for invalid input (stop) and
+  !> min(PNEWDT, 1/2) for a cut-back. A host whose "no request" is <= 0
+  !> (CalculiX passes -1) acts only on a positive PNEWDT: it gets 1/2, or
+  !> the smaller request already pending, for either status, so that it
+  !> cuts back until it stops with its own message.
+  elemental function failure_pnewdt(status, pnewdt_in) result(pnewdt)
+    integer, intent(in) :: status
+    real(dp), intent(in) :: pnewdt_in
+    real(dp) :: pnewdt
+    if (status == status_invalid .and. pnewdt_in >= 1.0_dp) then
+      pnewdt = -1.0_dp
+    else if (pnewdt_in > 0.0_dp) then
+      pnewdt = min(pnewdt_in, cutback_factor)
+    else
+      pnewdt = cutback_factor
+    end if
+  end function failure_pnewdt
 
   !> The checks of the UMAT's inputs that concern a whole block of points:
   !> layout, PROPS (fill_dp_params) and DTIME. `fault` is 0 when all hold
@@ -282,8 +298,8 @@ contains
       call new_error(err, status_invalid, '', 'DTIME = '//real_text(dtime)// &
         ' is out of range: valid is a finite time increment >= 0')
     case default
-      call new_error(err, status_cutback, '', 'non-finite STRESS, STRAN, DSTRAN or STATEV '// &
-        'on input')
+      call new_error(err, status_cutback, 'non_finite', 'non-finite STRESS, STRAN, DSTRAN '// &
+        'or STATEV on input')
     end select
   end subroutine explain
 

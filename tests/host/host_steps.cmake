@@ -3,6 +3,7 @@
 #   STEP=cmake_host  SOURCE, WORK, PREFIX, CONFIG, FC, GENERATOR, MAKE_PROGRAM
 #   STEP=f77_host    SOURCE, WORK, PREFIX, LIBDIR, FC
 #   STEP=cxx_host    SOURCE, WORK, PREFIX, CONFIG, CXX, GENERATOR, MAKE_PROGRAM
+#   STEP=wrap_host   SOURCE, WORK, PREFIX, LIBDIR, FC, NM, OBJCOPY (and f77_host/host.f)
 cmake_minimum_required(VERSION 3.25)
 
 # Run a command; stop the test with its output when it fails.
@@ -64,6 +65,7 @@ if(STEP STREQUAL "install")
   foreach(_f IN ITEMS
       "${LIBDIR}/libwellposed.a"
       "${LIBDIR}/libwellposed.so"
+      "${LIBDIR}/libwellposed_nolto.a"
       "${LIBDIR}/cmake/wellposed/wellposedConfig.cmake"
       "${LIBDIR}/cmake/wellposed/wellposedConfigVersion.cmake"
       "${LIBDIR}/cmake/wellposed/wellposedTargets.cmake"
@@ -106,6 +108,36 @@ elseif(STEP STREQUAL "f77_host")
     "${PREFIX}/${LIBDIR}/libwellposed.a" -llapack -lblas)
   host_run(_out "${WORK}/host_f77_static")
   host_check(host_f77_static "${_out}")
+
+elseif(STEP STREQUAL "wrap_host")
+  # Both static archives define no global symbol outside our modules
+  # (__wellposed_*) but umat_ and vumat_, so nothing of ours can clash
+  # with a host's names.
+  foreach(_lib IN ITEMS libwellposed.a libwellposed_nolto.a)
+    host_run(_syms "${NM}" -g --defined-only "${PREFIX}/${LIBDIR}/${_lib}")
+    string(REGEX MATCHALL "[0-9a-fA-F]+ [A-Za-z] [^\n]+" _defs "${_syms}")
+    set(_names)
+    foreach(_d IN LISTS _defs)
+      string(REGEX REPLACE "^[0-9a-fA-F]+ [A-Za-z] " "" _n "${_d}")
+      if(NOT _n MATCHES "^__wellposed_")
+        list(APPEND _names "${_n}")
+      endif()
+    endforeach()
+    list(SORT _names)
+    if(NOT _names STREQUAL "umat_;vumat_")
+      message(FATAL_ERROR "${_lib}: global symbols outside our modules: ${_names}")
+    endif()
+  endforeach()
+  # A host wraps our UMAT: rename it in a copy of the plain archive, link
+  # its own UMAT (tests/host/wrap_host/wrapper.f) that calls ours.
+  file(REMOVE_RECURSE "${WORK}")
+  file(MAKE_DIRECTORY "${WORK}")
+  host_run(_out "${OBJCOPY}" --redefine-sym umat_=wellposed_umat_
+    "${PREFIX}/${LIBDIR}/libwellposed_nolto.a" "${WORK}/libwrapped.a")
+  host_run(_out "${FC}" "${SOURCE}/../f77_host/host.f" "${SOURCE}/wrapper.f"
+    -o "${WORK}/host_wrapped" "${WORK}/libwrapped.a" -llapack -lblas)
+  host_run(_out "${WORK}/host_wrapped")
+  host_check(host_wrapped "${_out}")
 
 else()
   message(FATAL_ERROR "host_steps.cmake: unknown STEP '${STEP}'")
