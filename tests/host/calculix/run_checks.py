@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""CalculiX as a host of our UMAT (docs/calculix.md).
+"""CalculiX as a host of our UMAT (docs/guide/calculix.md).
 
 Runs the decks of contrib/calculix/decks in ccx and compares, increment by
 increment, every integration point's stress with wellposed-point's twin
