@@ -6,13 +6,17 @@ the value from the run's outputs, the stated value and its tolerance with
 the reason for it. Each run is made once, into a temporary folder, and
 every claim on it is checked; one report line per claim.
 
-usage: check_numbers.py --root REPO --bin BINDIR [--manifest FILE]
-                        [--pages DIR] [--keep DIR] [--expect-failure-naming TEXT]
+usage: check_numbers.py --root REPO --bin BINDIR [--manifest FILE] [--pages DIR]
+                        [--keep DIR] [--programs LIST] [--expect-failure-naming TEXT]
 
 --pages     where the pages are looked up by file name (default: REPO/docs,
             any depth, and REPO/README.md)
 --keep      make the runs in DIR and leave them there (default: a temporary
             folder, removed at the end)
+--programs  make only the runs of these programs (comma-separated, e.g.
+            wellposed-point); the other claims' pages and fragments are
+            still checked (the unoptimized build, where the MPM runs cost
+            minutes)
 --expect-failure-naming TEXT
             the check itself must fail, on the claims whose names contain
             TEXT and on no other (for the tests that show a wrong claim is
@@ -33,8 +37,9 @@ Every other section is a claim:
              relative to the run's folder, summary.txt unless summary(KEY, FILE)
   stated     the number as the page prints it
   tolerance  absolute (0.05), relative (1%), a factor (x10: within a
-             factor of 10, for the orders of magnitude of round-off), or
-             below / above (the page states a bound: "min R < 0")
+             factor of 10, for the orders of magnitude of round-off),
+             below / above (the page states a bound: "min R < 0"), or exact
+             (a count, or a word of the summary such as not_applicable)
   why        the reason for that tolerance
 """
 import argparse
@@ -108,6 +113,7 @@ class Run:
         self.out = os.path.join(out_root, name)
         self.bindir = bindir
         self.error = None
+        self.skipped = False
         self.output = ""
         self.seconds = 0.0
         self.folder = None
@@ -119,6 +125,9 @@ class Run:
             raise ValueError("command must start with build/bin/PROGRAM: " + self.command)
         program = os.path.join(self.bindir, tokens[0][len("build/bin/"):])
         return [program] + tokens[1:] + ["--no-plot", "--out", self.out]
+
+    def program(self):
+        return shlex.split(self.command)[0].rsplit("/", 1)[-1] if self.command.strip() else ""
 
     def make(self, root):
         try:
@@ -142,9 +151,10 @@ class Run:
             self.error = "run exits %d: %s" % (done.returncode, tail)
             return
         folders = [d for d in sorted(os.listdir(self.out))
-                   if os.path.isdir(os.path.join(self.out, d))]
+                   if os.path.isfile(os.path.join(self.out, d, "summary.txt"))]
         if len(folders) != 1:
-            self.error = "expected one run folder in %s, found %s" % (self.out, folders)
+            self.error = "expected one run folder with a summary.txt in %s, found %s" % (
+                self.out, folders)
             return
         self.folder = os.path.join(self.out, folders[0])
 
@@ -160,7 +170,11 @@ class Run:
             self.summaries[name] = values
         if key not in self.summaries[name]:
             raise KeyError("no key %s in %s" % (key, name))
-        return float(self.summaries[name][key])
+        text = self.summaries[name][key]
+        try:
+            return float(text)
+        except ValueError:
+            return text           # a word: not_applicable, true, none
 
     def csv(self, name, column, which):
         with open(os.path.join(self.folder, name), encoding="utf-8", newline="") as handle:
@@ -182,13 +196,18 @@ class Run:
     def value(self, expression):
         names = {"summary": self.summary, "csv": self.csv, "log": self.log,
                  "ln": math.log, "sqrt": math.sqrt, "abs": abs, "min": min, "max": max,
-                 "__builtins__": {}}
-        return float(eval(expression, names))  # the repository's own manifest
+                 "range": range, "__builtins__": {}}
+        value = eval(expression, names)  # the repository's own manifest
+        return value if isinstance(value, str) else float(value)
 
 
 def parse_tolerance(text, stated):
     """(allowed test on the measured value, how it reads): absolute, n% or xN."""
     text = text.strip()
+    if isinstance(stated, str) or text == "exact":
+        if text != "exact":
+            raise ValueError("a word is stated: the tolerance must be exact")
+        return (lambda m: m == stated), "exact"
     if text in ("below", "above"):
         if text == "below":
             return (lambda m: m < stated), "< stated"
@@ -208,9 +227,13 @@ def parse_tolerance(text, stated):
     return (lambda m: abs(m - stated) <= bound), "+-" + text
 
 
-def stated_number(text):
-    """The stated value as a float: `12 271` (thin groups), 1e-13, -38.117."""
-    return float(text.replace(" ", ""))
+def stated_value(text):
+    """The stated value: a float (`12 271` in groups of three, 1e-13,
+    -38.117), or a word of the summary (not_applicable, true)."""
+    try:
+        return float(text.replace(" ", ""))
+    except ValueError:
+        return text
 
 
 def check_claim(name, claim, pages, runs):
@@ -230,19 +253,24 @@ def check_claim(name, claim, pages, runs):
     run = runs.get(claim["run"])
     if run is None:
         return None, "no [run %s] in the manifest" % claim["run"]
+    if run.skipped:
+        return ("skipped",), None
     if run.error is not None:
         return None, run.error
     try:
-        stated = stated_number(stated_text)
+        stated = stated_value(stated_text)
         allowed, tolerance = parse_tolerance(claim["tolerance"], stated)
         measured = run.value(claim["read"])
+        if isinstance(measured, str) != isinstance(stated, str):
+            raise ValueError("measured %r against stated %r" % (measured, stated))
     except (ArithmeticError, KeyError, OSError, SyntaxError, TypeError, ValueError,
             NameError, IndexError) as exc:
         return None, "cannot read %s: %s" % (claim["read"], exc)
-    fields = (stated_text, "%.10g" % measured, tolerance)
+    shown = measured if isinstance(measured, str) else "%.10g" % measured
+    fields = (stated_text, shown, tolerance)
     if not allowed(measured):
-        return fields, "measured %.10g, stated %s %s (%s)" % (
-            measured, stated_text, tolerance, claim["why"])
+        return fields, "measured %s, stated %s %s (%s)" % (
+            shown, stated_text, tolerance, claim["why"])
     return fields, None
 
 
@@ -253,6 +281,7 @@ def main():
     parser.add_argument("--manifest")
     parser.add_argument("--pages")
     parser.add_argument("--keep")
+    parser.add_argument("--programs")
     parser.add_argument("--expect-failure-naming")
     opts = parser.parse_args()
     root = os.path.abspath(opts.root)
@@ -274,13 +303,24 @@ def main():
             claims.append((section, config[section]))
     used = {claim.get("run", "") for _, claim in claims}
     try:
+        programs = opts.programs.split(",") if opts.programs else None
         for name, run in runs.items():
-            if name in used:
-                run.make(root)
-                print("run %-28s %6.1f s  %s" % (name, run.seconds, run.error or "ok"))
-        failures = []
+            if name not in used:
+                continue
+            if programs is not None and run.program() not in programs:
+                run.skipped = True
+                print("run %-28s skipped (--programs %s)" % (name, opts.programs))
+                continue
+            run.make(root)
+            print("run %-28s %6.1f s  %s" % (name, run.seconds, run.error or "ok"))
+        failures, skipped = [], 0
         for name, claim in claims:
             fields, failure = check_claim(name, claim, pages, runs)
+            if fields == ("skipped",):
+                skipped += 1
+                print("skip %-16s %-34s (its page and fragment hold; not run)" % (
+                    claim["page"], name))
+                continue
             fields = fields or ("-", "-", "-")
             print("%-4s %-16s %-34s stated %-10s measured %-14s %s%s" % (
                 "FAIL" if failure else "ok", claim.get("page", "?"), name, fields[0],
@@ -291,8 +331,8 @@ def main():
         if not opts.keep:
             shutil.rmtree(out_root, ignore_errors=True)
     seconds = sum(run.seconds for run in runs.values())
-    print("check_numbers: %d claim(s) on %d run(s) (%.1f s of runs), %d failure(s)%s" % (
-        len(claims), len(used & set(runs)), seconds, len(failures),
+    print("check_numbers: %d claim(s) on %d run(s) (%.1f s of runs), %d not run, %d failure(s)%s" % (
+        len(claims), len(used & set(runs)), seconds, skipped, len(failures),
         ": " + ", ".join(failures) if failures else ""))
     if opts.expect_failure_naming is not None:
         named = [name for name in failures if opts.expect_failure_naming in name]
