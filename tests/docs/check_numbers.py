@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """Check the numbers the documentation states against the code: every claim
-of the manifest (tests/docs/numbers/claims.ini) names a page, the sentence
+of the manifest (tests/docs/numbers/*.ini) names a page, the sentence
 fragment that states the number, the run that reproduces it, how to read
 the value from the run's outputs, the stated value and its tolerance with
 the reason for it. Each run is made once, into a temporary folder, and
 every claim on it is checked; one report line per claim.
 
-usage: check_numbers.py --root REPO --bin BINDIR [--manifest FILE] [--pages DIR]
-                        [--keep DIR] [--programs LIST] [--expect-failure-naming TEXT]
+usage: check_numbers.py --root REPO --bin BINDIR [--manifest PATH ...] [--pages DIR]
+                        [--keep DIR] [--programs LIST] [--jobs N]
+                        [--expect-failure-naming TEXT]
 
 --pages     where the pages are looked up by file name (default: REPO/docs,
             any depth, and REPO/README.md)
@@ -17,6 +18,7 @@ usage: check_numbers.py --root REPO --bin BINDIR [--manifest FILE] [--pages DIR]
             wellposed-point); the other claims' pages and fragments are
             still checked (the unoptimized build, where the MPM runs cost
             minutes)
+--jobs      runs made at a time (default 2)
 --expect-failure-naming TEXT
             the check itself must fail, on the claims whose names contain
             TEXT and on no other (for the tests that show a wrong claim is
@@ -43,6 +45,7 @@ Every other section is a claim:
   why        the reason for that tolerance
 """
 import argparse
+import concurrent.futures
 import configparser
 import csv as csv_module
 import glob
@@ -89,6 +92,8 @@ class Pages:
                 self.by_name.setdefault("README.md", []).append(readme)
             pages_dir = os.path.join(root, "docs")
         for path in glob.glob(os.path.join(pages_dir, "**", "*.md"), recursive=True):
+            if "README.md" in self.by_name and os.path.basename(path) == "README.md":
+                continue          # README.md is the repository's own
             self.by_name.setdefault(os.path.basename(path), []).append(path)
         self.text = {}
 
@@ -274,45 +279,71 @@ def check_claim(name, claim, pages, runs):
     return fields, None
 
 
+def read_manifests(paths):
+    """(section name, entries) of the manifests: files, or the *.ini of
+    folders; a section name given twice, in one file or two, is an error."""
+    files = []
+    for path in paths:
+        files += sorted(glob.glob(os.path.join(path, "*.ini"))) if os.path.isdir(path) else [path]
+    sections, seen = [], {}
+    for path in files:
+        config = configparser.ConfigParser(interpolation=None)
+        config.optionxform = str
+        with open(path, encoding="utf-8") as handle:
+            config.read_file(handle)
+        for section in config.sections():
+            if section in seen:
+                raise SystemExit("check_numbers: [%s] in both %s and %s" % (
+                    section, seen[section], path))
+            seen[section] = path
+            sections.append((section, dict(config[section])))
+    if not sections:
+        raise SystemExit("check_numbers: no claims in " + ", ".join(paths))
+    return sections
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--root", required=True)
     parser.add_argument("--bin", required=True)
-    parser.add_argument("--manifest")
+    parser.add_argument("--manifest", action="append")
     parser.add_argument("--pages")
     parser.add_argument("--keep")
     parser.add_argument("--programs")
+    parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--expect-failure-naming")
     opts = parser.parse_args()
     root = os.path.abspath(opts.root)
-    manifest = opts.manifest or os.path.join(root, "tests", "docs", "numbers", "claims.ini")
-    config = configparser.ConfigParser(interpolation=None)
-    config.optionxform = str
-    with open(manifest, encoding="utf-8") as handle:
-        config.read_file(handle)
+    sections = read_manifests(opts.manifest or [os.path.join(root, "tests", "docs", "numbers")])
     pages = Pages(root, os.path.abspath(opts.pages) if opts.pages else None)
 
     out_root = os.path.abspath(opts.keep) if opts.keep else tempfile.mkdtemp(prefix="docs_numbers_")
     bindir = os.path.abspath(opts.bin)
     runs, claims = {}, []
-    for section in config.sections():
+    for section, entry in sections:
         if section.startswith("run "):
             name = section[4:].strip()
-            runs[name] = Run(name, config[section].get("command", ""), bindir, out_root)
+            runs[name] = Run(name, entry.get("command", ""), bindir, out_root)
         else:
-            claims.append((section, config[section]))
+            claims.append((section, entry))
     used = {claim.get("run", "") for _, claim in claims}
     try:
         programs = opts.programs.split(",") if opts.programs else None
+        todo = []
         for name, run in runs.items():
             if name not in used:
                 continue
             if programs is not None and run.program() not in programs:
                 run.skipped = True
                 print("run %-28s skipped (--programs %s)" % (name, opts.programs))
-                continue
-            run.make(root)
-            print("run %-28s %6.1f s  %s" % (name, run.seconds, run.error or "ok"))
+            else:
+                todo.append(run)
+        start = time.monotonic()
+        with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, opts.jobs)) as pool:
+            list(pool.map(lambda run: run.make(root), todo))
+        wall = time.monotonic() - start
+        for run in todo:
+            print("run %-28s %6.1f s  %s" % (run.name, run.seconds, run.error or "ok"))
         failures, skipped = [], 0
         for name, claim in claims:
             fields, failure = check_claim(name, claim, pages, runs)
@@ -331,8 +362,8 @@ def main():
         if not opts.keep:
             shutil.rmtree(out_root, ignore_errors=True)
     seconds = sum(run.seconds for run in runs.values())
-    print("check_numbers: %d claim(s) on %d run(s) (%.1f s of runs), %d not run, %d failure(s)%s" % (
-        len(claims), len(used & set(runs)), seconds, skipped, len(failures),
+    print("check_numbers: %d claim(s) on %d run(s) (%.1f s of runs, %.1f s wall), %d not run,"
+          " %d failure(s)%s" % (len(claims), len(todo), seconds, wall, skipped, len(failures),
         ": " + ", ".join(failures) if failures else ""))
     if opts.expect_failure_naming is not None:
         named = [name for name in failures if opts.expect_failure_naming in name]
