@@ -60,11 +60,14 @@ contains
   end subroutine open_deck
 
   !> The group of `override` (group.key=value) and the one-line namelist
-  !> `&group key=value /` to read; err when it is not of that form.
+  !> `&group key=value /` to read; err when it is not of that form. A bare
+  !> word (time.mass=blended, what a shell leaves of time.mass='blended')
+  !> is quoted, unless it spells a logical (t, f, true, false).
   subroutine override_line(override, group, line, err)
     character(len=*), intent(in) :: override
     character(len=:), allocatable, intent(out) :: group, line
     type(error_t), allocatable, intent(out) :: err
+    character(len=:), allocatable :: value
     integer :: dot, eq
     dot = index(override, '.')
     eq = index(override, '=')
@@ -76,8 +79,24 @@ contains
       return
     end if
     group = override(1:dot - 1)
-    line = '&'//group//' '//trim(override(dot + 1:))//' /'
+    value = trim(override(eq + 1:))
+    if (bare_word(value)) value = "'"//value//"'"
+    line = '&'//group//' '//override(dot + 1:eq)//value//' /'
   end subroutine override_line
+
+  !> A word of letters, digits, _ and - that starts with a letter and is
+  !> not a logical: a namelist reads it only between quotes.
+  pure logical function bare_word(value)
+    character(len=*), intent(in) :: value
+    character(len=*), parameter :: letters = 'abcdefghijklmnopqrstuvwxyz'
+    character(len=*), parameter :: word_chars = letters//'0123456789_-'
+    character(len=len(value)) :: low
+    low = lower(value)
+    bare_word = .false.
+    if (len(value) == 0) return
+    if (index(letters, low(1:1)) == 0 .or. verify(low, word_chars) /= 0) return
+    bare_word = low /= 't' .and. low /= 'f' .and. low /= 'true' .and. low /= 'false'
+  end function bare_word
 
   !> Whether override line `line` (&group key=... /) gives list key `key`
   !> whole (not key(i)): the reader then clears the list first, so that
