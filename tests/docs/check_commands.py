@@ -4,8 +4,7 @@ README.md and docs/**/*.md is split into commands (and so is every inline code
 span that is a whole command, as in the figure tables), and for each the
 scripts, programs (build/bin/<name>), decks and files it names must exist,
 and every --option it gives a program must be one that program knows (named
-by its --help, or quoted in the sources of the repository); an override
-group.key=word must keep its inner quotes through the shell. The drivers
+by its --help, or quoted in the sources of the repository). The drivers
 named are run with --help; `ctest ... -R REGEX` must select at least one test.
 A program only an option builds (build/bin/wellposed-point-user) counts when
 an earlier `cmake -D...` of the same block configures it and the build
@@ -114,16 +113,6 @@ def is_placeholder(token):
     bare = token.strip("[]").split("=")[-1]
     return (bare == "" or "<" in bare or "..." in bare or "$" in bare
             or re.fullmatch(r"[A-Z][A-Z0-9_]*(,[A-Z0-9_]+)*", bare) is not None)
-
-
-def unquoted_word_override(token):
-    """A group.key=value override (as the shell leaves it) whose value is a
-    bare word: the namelist takes it for an object name and refuses it, as
-    time.mass='blended' typed without outer quotes becomes time.mass=blended.
-    Numbers and logicals need no quotes."""
-    found = re.fullmatch(r"[A-Za-z_]\w*\.[A-Za-z_]\w*=([A-Za-z_]\w*)", token)
-    return found is not None and found.group(1).lower() not in (
-        "t", "f", "true", "false")
 
 
 class Checker:
@@ -268,9 +257,6 @@ class Checker:
             path = self.repo_path(token)
             if path is not None and not os.path.exists(os.path.join(self.root, path)):
                 self.problem(where, "missing file " + path)
-            if exe is not None and unquoted_word_override(token):
-                self.problem(where, "override " + token + ": the shell drops its quotes, so"
-                             " the namelist reads a name; quote the whole override")
             program = self.program(token.strip("[]"))
             if program is not None and not os.access(program, os.X_OK):
                 self.problem(where, "missing program " + token.strip("[]"))
