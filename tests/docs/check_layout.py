@@ -20,7 +20,7 @@ import sys
 README_MAX_LINES = 120
 FIRST_COMMANDS = ("bash scripts/run.sh", "bash scripts/test.sh")
 PARTS = ("guide", "research")
-# A date (2026-11-28, 28 November 2026), a time of day in UTC, a commit hash
+# A date (ISO, or day month year), a time of day in UTC, a commit hash
 # (7 to 40 hex digits with at least one letter and one digit), a branch.
 DATED = [
     (re.compile(r"\b20\d\d-[01]\d-[0-3]\d\b"), "a date"),
