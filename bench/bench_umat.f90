@@ -5,7 +5,9 @@
 !> (bench_elastic_trial) and a minimal closed-form Drucker-Prager return with
 !> its tangent, no validation and no conversions (bench_reference). Then the
 !> extended flow rule against the regular cone call, the VUMAT per point of
-!> a block, and where a cone call's time goes. Times are CPU time (what other processes take is not
+!> a block, the entry points' own share (umat and vumat against the adapter
+!> procedures they forward to, beside what a floating-point environment
+!> save costs here), and where a cone call's time goes. Times are CPU time (what other processes take is not
 !> counted) and every figure is the fastest of 30 short rounds, each round
 !> timing every case once, so that the ratios hold on a shared machine
 !> where absolute times drift.
@@ -21,6 +23,9 @@ program bench_umat
   use wellposed_vumat_interface, only: vumat
   use wellposed_dp_params, only: dp_params_t, fill_dp_params
   use wellposed_dp_point, only: point_closed_form
+  use wellposed_umat_adapter, only: umat_update
+  use wellposed_vumat_adapter, only: vumat_update
+  use wellposed_error, only: error_t
   implicit none
   ! The same source builds bench_umat (the static library, the host's usual
   ! link) and bench_umat_shared (libwellposed.so): the header says which.
@@ -44,6 +49,14 @@ program bench_umat
       real(dp), intent(in) :: dstran(6), props(5)
       logical, intent(in) :: tangent
     end subroutine bench_reference
+    subroutine bench_fp_env_saved(x)
+      import :: dp
+      real(dp), intent(inout) :: x
+    end subroutine bench_fp_env_saved
+    subroutine bench_fp_env_plain(x)
+      import :: dp
+      real(dp), intent(inout) :: x
+    end subroutine bench_fp_env_plain
   end interface
   integer, parameter :: nrounds = 30
   !> Points per VUMAT call timed (Abaqus/Explicit's usual block is 136 at
@@ -56,7 +69,7 @@ program bench_umat
     'EFR P_v = 0.5 (the dissertation)', 'EFR P_d = 0.5 (the deviator turns)']
   real(dp) :: strains(6, 3), base_stress(6, 3), props(14)
   real(dp) :: t_trial, t_case(3, 2), t_ref(3, 2), t_efr(3, 2), t_check, t_kernel, sink
-  real(dp) :: t_vumat(4, 4), t_mixed
+  real(dp) :: t_vumat(4, 4), t_mixed, t_entry(2, 2), t_env(2)
   integer :: ncalls, icase, itan, iround, i
 
   ncalls = 20000
@@ -76,6 +89,7 @@ program bench_umat
   call check_reference()
   t_trial = huge(1.0_dp); t_case = huge(1.0_dp); t_ref = huge(1.0_dp); t_efr = huge(1.0_dp)
   t_check = huge(1.0_dp); t_kernel = huge(1.0_dp); t_vumat = huge(1.0_dp)
+  t_entry = huge(1.0_dp); t_env = huge(1.0_dp)
   do iround = 1, nrounds
     t_trial = min(t_trial, time_trial(base_stress(:, 2), strains(:, 2)))
     do itan = 1, 2
@@ -94,6 +108,12 @@ program bench_umat
       do i = 1, 4
         t_vumat(icase, i) = min(t_vumat(icase, i), time_vumat(nblocks(i), icase))
       end do
+    end do
+    do i = 1, 2
+      t_entry(1, i) = min(t_entry(1, i), time_umat(props, base_stress(:, 1), strains(:, 1), 0, &
+                          .false., ncalls, i == 2))
+      t_entry(2, i) = min(t_entry(2, i), time_vumat(1, 1, i == 2))
+      t_env(i) = min(t_env(i), time_env(i == 1))
     end do
     t_check = min(t_check, time_check())
     t_kernel = min(t_kernel, time_kernel(base_stress(:, 2), strains(:, 2)))
@@ -127,6 +147,15 @@ program bench_umat
     'points of a chunk of 64 are gathered into a list and take the apex return in a second '// &
     'vectorised pass (under Duvaut-Lions one by one, point_update); a block of 1 to 3 points goes point by point '// &
     '(point_update) and pays the per-block PROPS and finiteness checks alone'
+  write (output_unit, '(a)') '  the entry points'' own share (elastic; umat with DDSDDE, vumat'// &
+    ' on a block of 1): ns of the entry, of the adapter it forwards to, share'
+  write (output_unit, '(4x,a,2f8.1,f7.1,a)') 'umat  / umat_update   ', t_entry(1, 1), &
+    t_entry(1, 2), 100*(t_entry(1, 1) - t_entry(1, 2))/t_entry(1, 1), ' %'
+  write (output_unit, '(4x,a,2f8.1,f7.1,a)') 'vumat / vumat_update  ', t_entry(2, 1), &
+    t_entry(2, 2), 100*(t_entry(2, 1) - t_entry(2, 2))/t_entry(2, 1), ' %'
+  write (output_unit, '(4x,a,f7.1,a,f7.2,a)') 'a floating-point environment save and restore'// &
+    ' costs', t_env(1) - t_env(2), ' ns here (', (t_env(1) - t_env(2))/t_entry(1, 1), &
+    ' x the umat call): an entry that paid it would show that share'
   write (output_unit, '(a)') '  extended flow rule (beta_p = beta), cone case:'// &
     ' DDSDDE ns  /regular  explicit ns  /regular'
   do i = 1, 3
@@ -191,12 +220,15 @@ contains
               coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
   end subroutine one_umat
 
-  !> ns per call of umat for one case, resetting stress and state each call.
-  function time_umat(pr, s0, de, status, explicit, n) result(ns)
+  !> ns per call of umat for one case, resetting stress and state each call;
+  !> with `direct`, of umat_update, the adapter procedure umat forwards to.
+  function time_umat(pr, s0, de, status, explicit, n, direct) result(ns)
     real(dp), intent(in) :: pr(14), s0(6), de(6)
     integer, intent(in) :: status, n
     logical, intent(in) :: explicit
+    logical, intent(in), optional :: direct
     real(dp) :: ns
+    type(error_t), allocatable :: err
     real(dp) :: p(14), stress(6), statev(12), ddsdde(6, 6), sse, spd, scd, rpl, ddsddt(6)
     real(dp) :: drplde(6), drpldt, stran(6), time(2), predef(1), coords(3), drot(3, 3), f(3, 3)
     real(dp) :: pnewdt
@@ -213,6 +245,19 @@ contains
               coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
     if (nint(statev(12)) /= status) error stop 'bench_umat: a case is not in its regime'
     call cpu_time(t0)
+    if (present(direct)) then
+      if (direct) then
+        do i = 1, n
+          stress = s0; statev = 0.0_dp
+          call umat_update(stress, statev, ddsdde, sse, spd, de, stran, 1.0e-3_dp, 3, 3, 6, 12, &
+                           p, 14, pnewdt, err)
+          sink = sink + stress(1)
+        end do
+        call cpu_time(t1)
+        ns = (t1 - t0)*1.0e9_dp/n
+        return
+      end if
+    end if
     do i = 1, n
       stress = s0; statev = 0.0_dp
       call umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, de, &
@@ -228,10 +273,14 @@ contains
   !> 11, 22, 33, 12, 23, 31, tensor shears), old arrays read and new arrays
   !> written as by Abaqus/Explicit. Case 1-3: nb copies of the elastic, cone
   !> or apex point; 4 (mixed): elastic and cone points in turn, every
-  !> sixteenth an apex point.
-  function time_vumat(nb, icase) result(ns)
+  !> sixteenth an apex point. With `direct`, of vumat_update, the adapter
+  !> procedure vumat forwards to.
+  function time_vumat(nb, icase, direct) result(ns)
     integer, intent(in) :: nb, icase
+    logical, intent(in), optional :: direct
     real(dp) :: ns
+    type(error_t), allocatable :: err
+    integer :: point
     real(dp), allocatable :: coord(:, :), clen(:), rho(:), dstr(:, :), spin(:, :), temp(:)
     real(dp), allocatable :: stretch(:, :), fgrad(:, :), field(:, :), s_old(:, :), sv_old(:, :)
     real(dp), allocatable :: e_old(:), s_new(:, :), sv_new(:, :), e_new(:), e2_new(:)
@@ -251,6 +300,18 @@ contains
     end do
     n = max(1, ncalls/nb)
     call cpu_time(t0)
+    if (present(direct)) then
+      if (direct) then
+        do i = 1, n
+          call vumat_update(nb, 3, 3, 12, 14, 1.0_dp, 1.0_dp, 1.0e-3_dp, props, rho, dstr, &
+                            s_old, sv_old, e_old, e_old, s_new, sv_new, e_new, e2_new, err, point)
+          sink = sink + s_new(1, 1)
+        end do
+        call cpu_time(t1)
+        ns = (t1 - t0)*1.0e9_dp/(real(n, dp)*nb)
+        return
+      end if
+    end if
     do i = 1, n
       call vumat(nb, 3, 3, 12, 0, 14, 0, 1.0_dp, 1.0_dp, 1.0e-3_dp, cmname, coord, clen, &
                  props, rho, dstr, spin, temp, stretch, fgrad, field, s_old, sv_old, e_old, &
@@ -260,6 +321,28 @@ contains
     call cpu_time(t1)
     ns = (t1 - t0)*1.0e9_dp/(real(n, dp)*nb)
   end function time_vumat
+
+  !> ns per call of a procedure that only adds 1, with (`saved`) or without
+  !> the floating-point environment's save and restore (bench_fp_env.f90).
+  function time_env(saved) result(ns)
+    logical, intent(in) :: saved
+    real(dp) :: ns, x, t0, t1
+    integer :: i
+    x = 0.0_dp
+    call cpu_time(t0)
+    if (saved) then
+      do i = 1, ncalls
+        call bench_fp_env_saved(x)
+      end do
+    else
+      do i = 1, ncalls
+        call bench_fp_env_plain(x)
+      end do
+    end if
+    call cpu_time(t1)
+    sink = sink + x
+    ns = (t1 - t0)*1.0e9_dp/ncalls
+  end function time_env
 
   !> ns per call of the minimal reference, with the same resets.
   function time_reference(s0, de, tangent) result(ns)
