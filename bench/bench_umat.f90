@@ -49,6 +49,13 @@ program bench_umat
       real(dp), intent(in) :: dstran(6), props(5)
       logical, intent(in) :: tangent
     end subroutine bench_reference
+    subroutine bench_reference_checked(stress, statev, ddsdde, stran, dstran, dtime, props, &
+                                       nprops)
+      import :: dp
+      integer, intent(in) :: nprops
+      real(dp), intent(inout) :: stress(6), statev(12), ddsdde(6, 6)
+      real(dp), intent(in) :: stran(6), dstran(6), dtime, props(nprops)
+    end subroutine bench_reference_checked
     subroutine bench_fp_env_saved(x)
       import :: dp
       real(dp), intent(inout) :: x
@@ -69,7 +76,7 @@ program bench_umat
     'EFR P_v = 0.5 (the dissertation)', 'EFR P_d = 0.5 (the deviator turns)']
   real(dp) :: strains(6, 3), base_stress(6, 3), props(14)
   real(dp) :: t_trial, t_case(3, 2), t_ref(3, 2), t_efr(3, 2), t_check, t_kernel, sink
-  real(dp) :: t_vumat(4, 4), t_mixed, t_entry(2, 2), t_env(2)
+  real(dp) :: t_vumat(4, 4), t_mixed, t_entry(2, 2), t_env(2), t_checked(3, 2)
   integer :: ncalls, icase, itan, iround, i
 
   ncalls = 20000
@@ -89,7 +96,7 @@ program bench_umat
   call check_reference()
   t_trial = huge(1.0_dp); t_case = huge(1.0_dp); t_ref = huge(1.0_dp); t_efr = huge(1.0_dp)
   t_check = huge(1.0_dp); t_kernel = huge(1.0_dp); t_vumat = huge(1.0_dp)
-  t_entry = huge(1.0_dp); t_env = huge(1.0_dp)
+  t_entry = huge(1.0_dp); t_env = huge(1.0_dp); t_checked = huge(1.0_dp)
   do iround = 1, nrounds
     t_trial = min(t_trial, time_trial(base_stress(:, 2), strains(:, 2)))
     do itan = 1, 2
@@ -98,6 +105,8 @@ program bench_umat
           strains(:, icase), icase - 1, itan == 2, ncalls))
         t_ref(icase, itan) = min(t_ref(icase, itan), time_reference(base_stress(:, icase), &
           strains(:, icase), itan == 1))
+        t_checked(icase, itan) = min(t_checked(icase, itan), &
+          time_reference(base_stress(:, icase), strains(:, icase), itan == 1, checked=.true.))
       end do
       do i = 1, 3
         t_efr(i, itan) = min(t_efr(i, itan), time_umat(efr_props(i), base_stress(:, 2), &
@@ -130,7 +139,13 @@ program bench_umat
       (t_ref(icase, itan), t_case(icase, itan), t_case(icase, itan)/t_trial, &
        t_case(icase, itan)/t_ref(icase, itan), itan = 1, 2)
   end do
-  write (output_unit, '(a)') '  targets /trial: elastic 2.5 / 2, cone 4 / 3, apex 5 / 4'
+  write (output_unit, '(a)') '  targets /trial: elastic 2.5 / 2, cone 4 / 3, apex 5 / 4; /ref 1.3'
+  write (output_unit, '(a)') '  the reference behind the contract''s input checks (layout, PROPS,'// &
+    ' DTIME, finiteness; bench_reference_checked): DDSDDE ns, /ref | explicit ns, /ref'
+  do icase = 1, 3
+    write (output_unit, '(2x,a12,2(f12.1,f7.2,3x))') names(icase), &
+      (t_checked(icase, itan), t_checked(icase, itan)/t_ref(icase, itan), itan = 1, 2)
+  end do
   write (output_unit, '(a)') '  (ref: the minimal closed-form return of bench_reference.f90, no'// &
     ' checks, no conversions)'
   ! The mixed block's UMAT equivalent: the same mix of explicit calls.
@@ -245,26 +260,22 @@ contains
               coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
     if (nint(statev(12)) /= status) error stop 'bench_umat: a case is not in its regime'
     call cpu_time(t0)
-    if (present(direct)) then
-      if (direct) then
-        do i = 1, n
-          stress = s0; statev = 0.0_dp
-          call umat_update(stress, statev, ddsdde, sse, spd, de, stran, 1.0e-3_dp, 3, 3, 6, 12, &
-                           p, 14, pnewdt, err)
-          sink = sink + stress(1)
-        end do
-        call cpu_time(t1)
-        ns = (t1 - t0)*1.0e9_dp/n
-        return
-      end if
+    if (is_on(direct)) then
+      do i = 1, n
+        stress = s0; statev = 0.0_dp
+        call umat_update(stress, statev, ddsdde, sse, spd, de, stran, 1.0e-3_dp, 3, 3, 6, 12, p, &
+                         14, pnewdt, err)
+        sink = sink + stress(1)
+      end do
+    else
+      do i = 1, n
+        stress = s0; statev = 0.0_dp
+        call umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, &
+                  de, time, 1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, 3, 6, 12, p, &
+                  14, coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
+        sink = sink + stress(1)
+      end do
     end if
-    do i = 1, n
-      stress = s0; statev = 0.0_dp
-      call umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, de, &
-                time, 1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, 3, 6, 12, p, 14, &
-                coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
-      sink = sink + stress(1)
-    end do
     call cpu_time(t1)
     ns = (t1 - t0)*1.0e9_dp/n
   end function time_umat
@@ -300,27 +311,30 @@ contains
     end do
     n = max(1, ncalls/nb)
     call cpu_time(t0)
-    if (present(direct)) then
-      if (direct) then
-        do i = 1, n
-          call vumat_update(nb, 3, 3, 12, 14, 1.0_dp, 1.0_dp, 1.0e-3_dp, props, rho, dstr, &
-                            s_old, sv_old, e_old, e_old, s_new, sv_new, e_new, e2_new, err, point)
-          sink = sink + s_new(1, 1)
-        end do
-        call cpu_time(t1)
-        ns = (t1 - t0)*1.0e9_dp/(real(n, dp)*nb)
-        return
-      end if
+    if (is_on(direct)) then
+      do i = 1, n
+        call vumat_update(nb, 3, 3, 12, 14, 1.0_dp, 1.0_dp, 1.0e-3_dp, props, rho, dstr, s_old, &
+                          sv_old, e_old, e_old, s_new, sv_new, e_new, e2_new, err, point)
+        sink = sink + s_new(1, 1)
+      end do
+    else
+      do i = 1, n
+        call vumat(nb, 3, 3, 12, 0, 14, 0, 1.0_dp, 1.0_dp, 1.0e-3_dp, cmname, coord, clen, &
+                   props, rho, dstr, spin, temp, stretch, fgrad, field, s_old, sv_old, e_old, &
+                   e_old, temp, stretch, fgrad, field, s_new, sv_new, e_new, e2_new)
+        sink = sink + s_new(1, 1)
+      end do
     end if
-    do i = 1, n
-      call vumat(nb, 3, 3, 12, 0, 14, 0, 1.0_dp, 1.0_dp, 1.0e-3_dp, cmname, coord, clen, &
-                 props, rho, dstr, spin, temp, stretch, fgrad, field, s_old, sv_old, e_old, &
-                 e_old, temp, stretch, fgrad, field, s_new, sv_new, e_new, e2_new)
-      sink = sink + s_new(1, 1)
-    end do
     call cpu_time(t1)
     ns = (t1 - t0)*1.0e9_dp/(real(n, dp)*nb)
   end function time_vumat
+
+  !> True when the optional `flag` is present and true.
+  pure logical function is_on(flag)
+    logical, intent(in), optional :: flag
+    is_on = .false.
+    if (present(flag)) is_on = flag
+  end function is_on
 
   !> ns per call of a procedure that only adds 1, with (`saved`) or without
   !> the floating-point environment's save and restore (bench_fp_env.f90).
@@ -344,21 +358,34 @@ contains
     ns = (t1 - t0)*1.0e9_dp/ncalls
   end function time_env
 
-  !> ns per call of the minimal reference, with the same resets.
-  function time_reference(s0, de, tangent) result(ns)
+  !> ns per call of the minimal reference, with the same resets; with
+  !> `checked`, of the reference behind the contract's input checks.
+  function time_reference(s0, de, tangent, checked) result(ns)
     real(dp), intent(in) :: s0(6), de(6)
     logical, intent(in) :: tangent
-    real(dp) :: ns, stress(6), statev(12), ddsdde(6, 6)
+    logical, intent(in), optional :: checked
+    real(dp) :: ns, stress(6), statev(12), ddsdde(6, 6), p(14), stran(6)
     real(dp) :: t0, t1
     integer :: i, n
     ddsdde = 0.0_dp
     n = ncalls
+    p = props
+    p(14) = merge(0.0_dp, 1.0_dp, tangent)
+    stran = 0.0_dp
     call cpu_time(t0)
-    do i = 1, n
-      stress = s0; statev = 0.0_dp
-      call bench_reference(stress, statev, ddsdde, de, props(1:5), tangent)
-      sink = sink + stress(1)
-    end do
+    if (is_on(checked)) then
+      do i = 1, n
+        stress = s0; statev = 0.0_dp
+        call bench_reference_checked(stress, statev, ddsdde, stran, de, 1.0e-3_dp, p, 14)
+        sink = sink + stress(1)
+      end do
+    else
+      do i = 1, n
+        stress = s0; statev = 0.0_dp
+        call bench_reference(stress, statev, ddsdde, de, props(1:5), tangent)
+        sink = sink + stress(1)
+      end do
+    end if
     call cpu_time(t1)
     ns = (t1 - t0)*1.0e9_dp/n
   end function time_reference
