@@ -84,3 +84,39 @@ subroutine bench_reference(stress, statev, ddsdde, dstran, props, tangent)
     if (tangent) ddsdde = 0.0_dp
   end if
 end subroutine bench_reference
+
+!> The reference behind the contract's input checks, done by the same
+!> library procedures as in the UMAT: layout, PROPS and DTIME
+!> (check_props), finiteness of STRESS, STRAN, DSTRAN and STATEV 1-12 as one
+!> carry. What a UMAT that keeps those checks cannot go below; no energies,
+!> no STATEV bookkeeping past the reference's.
+subroutine bench_reference_checked(stress, statev, ddsdde, stran, dstran, dtime, props, nprops)
+  use, intrinsic :: iso_fortran_env, only: int64
+  use wellposed_kinds, only: dp
+  use wellposed_finite, only: finite_carry
+  use wellposed_dp_params, only: dp_params_t
+  use wellposed_umat_adapter, only: check_props
+  implicit none
+  integer, intent(in) :: nprops
+  real(dp), intent(inout) :: stress(6), statev(12), ddsdde(6, 6)
+  real(dp), intent(in) :: stran(6), dstran(6), dtime, props(nprops)
+  interface
+    subroutine bench_reference(stress, statev, ddsdde, dstran, props, tangent)
+      import :: dp
+      real(dp), intent(inout) :: stress(6), statev(12), ddsdde(6, 6)
+      real(dp), intent(in) :: dstran(6), props(5)
+      logical, intent(in) :: tangent
+    end subroutine bench_reference
+  end interface
+  type(dp_params_t) :: p
+  integer(int64) :: carry
+  integer :: fault
+  logical :: want_tangent
+
+  call check_props(3, 3, 6, 12, nprops, props, dtime, p, want_tangent, fault)
+  if (fault /= 0) return
+  carry = ior(ior(finite_carry(stress), finite_carry(dstran)), &
+              ior(finite_carry(stran), finite_carry(statev)))
+  if (carry < 0) return
+  call bench_reference(stress, statev, ddsdde, dstran, props(1:5), want_tangent)
+end subroutine bench_reference_checked

@@ -5,7 +5,9 @@
 !> (bench_elastic_trial) and a minimal closed-form Drucker-Prager return with
 !> its tangent, no validation and no conversions (bench_reference). Then the
 !> extended flow rule against the regular cone call, the VUMAT per point of
-!> a block, and where a cone call's time goes. Times are CPU time (what other processes take is not
+!> a block, the entry points' own share (umat and vumat against the adapter
+!> procedures they forward to, beside what a floating-point environment
+!> save costs here), and where a cone call's time goes. Times are CPU time (what other processes take is not
 !> counted) and every figure is the fastest of 30 short rounds, each round
 !> timing every case once, so that the ratios hold on a shared machine
 !> where absolute times drift.
@@ -21,6 +23,9 @@ program bench_umat
   use wellposed_vumat_interface, only: vumat
   use wellposed_dp_params, only: dp_params_t, fill_dp_params
   use wellposed_dp_point, only: point_closed_form
+  use wellposed_umat_adapter, only: umat_update
+  use wellposed_vumat_adapter, only: vumat_update
+  use wellposed_error, only: error_t
   implicit none
   ! The same source builds bench_umat (the static library, the host's usual
   ! link) and bench_umat_shared (libwellposed.so): the header says which.
@@ -44,6 +49,21 @@ program bench_umat
       real(dp), intent(in) :: dstran(6), props(5)
       logical, intent(in) :: tangent
     end subroutine bench_reference
+    subroutine bench_reference_checked(stress, statev, ddsdde, stran, dstran, dtime, props, &
+                                       nprops)
+      import :: dp
+      integer, intent(in) :: nprops
+      real(dp), intent(inout) :: stress(6), statev(12), ddsdde(6, 6)
+      real(dp), intent(in) :: stran(6), dstran(6), dtime, props(nprops)
+    end subroutine bench_reference_checked
+    subroutine bench_fp_env_saved(x)
+      import :: dp
+      real(dp), intent(inout) :: x
+    end subroutine bench_fp_env_saved
+    subroutine bench_fp_env_plain(x)
+      import :: dp
+      real(dp), intent(inout) :: x
+    end subroutine bench_fp_env_plain
   end interface
   integer, parameter :: nrounds = 30
   !> Points per VUMAT call timed (Abaqus/Explicit's usual block is 136 at
@@ -56,7 +76,7 @@ program bench_umat
     'EFR P_v = 0.5 (the dissertation)', 'EFR P_d = 0.5 (the deviator turns)']
   real(dp) :: strains(6, 3), base_stress(6, 3), props(14)
   real(dp) :: t_trial, t_case(3, 2), t_ref(3, 2), t_efr(3, 2), t_check, t_kernel, sink
-  real(dp) :: t_vumat(4, 4), t_mixed
+  real(dp) :: t_vumat(4, 4), t_mixed, t_entry(2, 2), t_env(2), t_checked(3, 2)
   integer :: ncalls, icase, itan, iround, i
 
   ncalls = 20000
@@ -76,6 +96,7 @@ program bench_umat
   call check_reference()
   t_trial = huge(1.0_dp); t_case = huge(1.0_dp); t_ref = huge(1.0_dp); t_efr = huge(1.0_dp)
   t_check = huge(1.0_dp); t_kernel = huge(1.0_dp); t_vumat = huge(1.0_dp)
+  t_entry = huge(1.0_dp); t_env = huge(1.0_dp); t_checked = huge(1.0_dp)
   do iround = 1, nrounds
     t_trial = min(t_trial, time_trial(base_stress(:, 2), strains(:, 2)))
     do itan = 1, 2
@@ -84,6 +105,8 @@ program bench_umat
           strains(:, icase), icase - 1, itan == 2, ncalls))
         t_ref(icase, itan) = min(t_ref(icase, itan), time_reference(base_stress(:, icase), &
           strains(:, icase), itan == 1))
+        t_checked(icase, itan) = min(t_checked(icase, itan), &
+          time_reference(base_stress(:, icase), strains(:, icase), itan == 1, checked=.true.))
       end do
       do i = 1, 3
         t_efr(i, itan) = min(t_efr(i, itan), time_umat(efr_props(i), base_stress(:, 2), &
@@ -94,6 +117,12 @@ program bench_umat
       do i = 1, 4
         t_vumat(icase, i) = min(t_vumat(icase, i), time_vumat(nblocks(i), icase))
       end do
+    end do
+    do i = 1, 2
+      t_entry(1, i) = min(t_entry(1, i), time_umat(props, base_stress(:, 1), strains(:, 1), 0, &
+                          .false., ncalls, i == 2))
+      t_entry(2, i) = min(t_entry(2, i), time_vumat(1, 1, i == 2))
+      t_env(i) = min(t_env(i), time_env(i == 1))
     end do
     t_check = min(t_check, time_check())
     t_kernel = min(t_kernel, time_kernel(base_stress(:, 2), strains(:, 2)))
@@ -110,7 +139,13 @@ program bench_umat
       (t_ref(icase, itan), t_case(icase, itan), t_case(icase, itan)/t_trial, &
        t_case(icase, itan)/t_ref(icase, itan), itan = 1, 2)
   end do
-  write (output_unit, '(a)') '  targets /trial: elastic 2.5 / 2, cone 4 / 3, apex 5 / 4'
+  write (output_unit, '(a)') '  targets /trial: elastic 2.5 / 2, cone 4 / 3, apex 5 / 4; /ref 1.3'
+  write (output_unit, '(a)') '  the reference behind the contract''s input checks (layout, PROPS,'// &
+    ' DTIME, finiteness; bench_reference_checked): DDSDDE ns, /ref | explicit ns, /ref'
+  do icase = 1, 3
+    write (output_unit, '(2x,a12,2(f12.1,f7.2,3x))') names(icase), &
+      (t_checked(icase, itan), t_checked(icase, itan)/t_ref(icase, itan), itan = 1, 2)
+  end do
   write (output_unit, '(a)') '  (ref: the minimal closed-form return of bench_reference.f90, no'// &
     ' checks, no conversions)'
   ! The mixed block's UMAT equivalent: the same mix of explicit calls.
@@ -127,6 +162,15 @@ program bench_umat
     'points of a chunk of 64 are gathered into a list and take the apex return in a second '// &
     'vectorised pass (under Duvaut-Lions one by one, point_update); a block of 1 to 3 points goes point by point '// &
     '(point_update) and pays the per-block PROPS and finiteness checks alone'
+  write (output_unit, '(a)') '  the entry points'' own share (elastic; umat with DDSDDE, vumat'// &
+    ' on a block of 1): ns of the entry, of the adapter it forwards to, share'
+  write (output_unit, '(4x,a,2f8.1,f7.1,a)') 'umat  / umat_update   ', t_entry(1, 1), &
+    t_entry(1, 2), 100*(t_entry(1, 1) - t_entry(1, 2))/t_entry(1, 1), ' %'
+  write (output_unit, '(4x,a,2f8.1,f7.1,a)') 'vumat / vumat_update  ', t_entry(2, 1), &
+    t_entry(2, 2), 100*(t_entry(2, 1) - t_entry(2, 2))/t_entry(2, 1), ' %'
+  write (output_unit, '(4x,a,f7.1,a,f7.2,a)') 'a floating-point environment save and restore'// &
+    ' costs', t_env(1) - t_env(2), ' ns here (', (t_env(1) - t_env(2))/t_entry(1, 1), &
+    ' x the umat call): an entry that paid it would show that share'
   write (output_unit, '(a)') '  extended flow rule (beta_p = beta), cone case:'// &
     ' DDSDDE ns  /regular  explicit ns  /regular'
   do i = 1, 3
@@ -191,12 +235,15 @@ contains
               coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
   end subroutine one_umat
 
-  !> ns per call of umat for one case, resetting stress and state each call.
-  function time_umat(pr, s0, de, status, explicit, n) result(ns)
+  !> ns per call of umat for one case, resetting stress and state each call;
+  !> with `direct`, of umat_update, the adapter procedure umat forwards to.
+  function time_umat(pr, s0, de, status, explicit, n, direct) result(ns)
     real(dp), intent(in) :: pr(14), s0(6), de(6)
     integer, intent(in) :: status, n
     logical, intent(in) :: explicit
+    logical, intent(in), optional :: direct
     real(dp) :: ns
+    type(error_t), allocatable :: err
     real(dp) :: p(14), stress(6), statev(12), ddsdde(6, 6), sse, spd, scd, rpl, ddsddt(6)
     real(dp) :: drplde(6), drpldt, stran(6), time(2), predef(1), coords(3), drot(3, 3), f(3, 3)
     real(dp) :: pnewdt
@@ -213,13 +260,22 @@ contains
               coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
     if (nint(statev(12)) /= status) error stop 'bench_umat: a case is not in its regime'
     call cpu_time(t0)
-    do i = 1, n
-      stress = s0; statev = 0.0_dp
-      call umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, de, &
-                time, 1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, 3, 6, 12, p, 14, &
-                coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
-      sink = sink + stress(1)
-    end do
+    if (is_on(direct)) then
+      do i = 1, n
+        stress = s0; statev = 0.0_dp
+        call umat_update(stress, statev, ddsdde, sse, spd, de, stran, 1.0e-3_dp, 3, 3, 6, 12, p, &
+                         14, pnewdt, err)
+        sink = sink + stress(1)
+      end do
+    else
+      do i = 1, n
+        stress = s0; statev = 0.0_dp
+        call umat(stress, statev, ddsdde, sse, spd, scd, rpl, ddsddt, drplde, drpldt, stran, &
+                  de, time, 1.0e-3_dp, 0.0_dp, 0.0_dp, predef, predef, cmname, 3, 3, 6, 12, p, &
+                  14, coords, drot, pnewdt, 1.0_dp, f, f, 1, 1, 1, 1, 1, 1)
+        sink = sink + stress(1)
+      end do
+    end if
     call cpu_time(t1)
     ns = (t1 - t0)*1.0e9_dp/n
   end function time_umat
@@ -228,10 +284,14 @@ contains
   !> 11, 22, 33, 12, 23, 31, tensor shears), old arrays read and new arrays
   !> written as by Abaqus/Explicit. Case 1-3: nb copies of the elastic, cone
   !> or apex point; 4 (mixed): elastic and cone points in turn, every
-  !> sixteenth an apex point.
-  function time_vumat(nb, icase) result(ns)
+  !> sixteenth an apex point. With `direct`, of vumat_update, the adapter
+  !> procedure vumat forwards to.
+  function time_vumat(nb, icase, direct) result(ns)
     integer, intent(in) :: nb, icase
+    logical, intent(in), optional :: direct
     real(dp) :: ns
+    type(error_t), allocatable :: err
+    integer :: point
     real(dp), allocatable :: coord(:, :), clen(:), rho(:), dstr(:, :), spin(:, :), temp(:)
     real(dp), allocatable :: stretch(:, :), fgrad(:, :), field(:, :), s_old(:, :), sv_old(:, :)
     real(dp), allocatable :: e_old(:), s_new(:, :), sv_new(:, :), e_new(:), e2_new(:)
@@ -251,31 +311,81 @@ contains
     end do
     n = max(1, ncalls/nb)
     call cpu_time(t0)
-    do i = 1, n
-      call vumat(nb, 3, 3, 12, 0, 14, 0, 1.0_dp, 1.0_dp, 1.0e-3_dp, cmname, coord, clen, &
-                 props, rho, dstr, spin, temp, stretch, fgrad, field, s_old, sv_old, e_old, &
-                 e_old, temp, stretch, fgrad, field, s_new, sv_new, e_new, e2_new)
-      sink = sink + s_new(1, 1)
-    end do
+    if (is_on(direct)) then
+      do i = 1, n
+        call vumat_update(nb, 3, 3, 12, 14, 1.0_dp, 1.0_dp, 1.0e-3_dp, props, rho, dstr, s_old, &
+                          sv_old, e_old, e_old, s_new, sv_new, e_new, e2_new, err, point)
+        sink = sink + s_new(1, 1)
+      end do
+    else
+      do i = 1, n
+        call vumat(nb, 3, 3, 12, 0, 14, 0, 1.0_dp, 1.0_dp, 1.0e-3_dp, cmname, coord, clen, &
+                   props, rho, dstr, spin, temp, stretch, fgrad, field, s_old, sv_old, e_old, &
+                   e_old, temp, stretch, fgrad, field, s_new, sv_new, e_new, e2_new)
+        sink = sink + s_new(1, 1)
+      end do
+    end if
     call cpu_time(t1)
     ns = (t1 - t0)*1.0e9_dp/(real(n, dp)*nb)
   end function time_vumat
 
-  !> ns per call of the minimal reference, with the same resets.
-  function time_reference(s0, de, tangent) result(ns)
+  !> True when the optional `flag` is present and true.
+  pure logical function is_on(flag)
+    logical, intent(in), optional :: flag
+    is_on = .false.
+    if (present(flag)) is_on = flag
+  end function is_on
+
+  !> ns per call of a procedure that only adds 1, with (`saved`) or without
+  !> the floating-point environment's save and restore (bench_fp_env.f90).
+  function time_env(saved) result(ns)
+    logical, intent(in) :: saved
+    real(dp) :: ns, x, t0, t1
+    integer :: i
+    x = 0.0_dp
+    call cpu_time(t0)
+    if (saved) then
+      do i = 1, ncalls
+        call bench_fp_env_saved(x)
+      end do
+    else
+      do i = 1, ncalls
+        call bench_fp_env_plain(x)
+      end do
+    end if
+    call cpu_time(t1)
+    sink = sink + x
+    ns = (t1 - t0)*1.0e9_dp/ncalls
+  end function time_env
+
+  !> ns per call of the minimal reference, with the same resets; with
+  !> `checked`, of the reference behind the contract's input checks.
+  function time_reference(s0, de, tangent, checked) result(ns)
     real(dp), intent(in) :: s0(6), de(6)
     logical, intent(in) :: tangent
-    real(dp) :: ns, stress(6), statev(12), ddsdde(6, 6)
+    logical, intent(in), optional :: checked
+    real(dp) :: ns, stress(6), statev(12), ddsdde(6, 6), p(14), stran(6)
     real(dp) :: t0, t1
     integer :: i, n
     ddsdde = 0.0_dp
     n = ncalls
+    p = props
+    p(14) = merge(0.0_dp, 1.0_dp, tangent)
+    stran = 0.0_dp
     call cpu_time(t0)
-    do i = 1, n
-      stress = s0; statev = 0.0_dp
-      call bench_reference(stress, statev, ddsdde, de, props(1:5), tangent)
-      sink = sink + stress(1)
-    end do
+    if (is_on(checked)) then
+      do i = 1, n
+        stress = s0; statev = 0.0_dp
+        call bench_reference_checked(stress, statev, ddsdde, stran, de, 1.0e-3_dp, p, 14)
+        sink = sink + stress(1)
+      end do
+    else
+      do i = 1, n
+        stress = s0; statev = 0.0_dp
+        call bench_reference(stress, statev, ddsdde, de, props(1:5), tangent)
+        sink = sink + stress(1)
+      end do
+    end if
     call cpu_time(t1)
     ns = (t1 - t0)*1.0e9_dp/n
   end function time_reference

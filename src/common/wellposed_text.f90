@@ -1,8 +1,11 @@
 !> Numbers as short text for messages: the one place that formats them, so
 !> every error names values the same way.
 module wellposed_text
-  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
+  use wellposed_finite, only: is_finite
+  ! No IEEE intrinsic module (bit tests instead): a procedure that uses a
+  ! module depending on one, such as the UMAT's entry, saves and restores
+  ! the floating-point environment on every call.
   implicit none
   private
   public :: int_text, real_text
@@ -31,7 +34,7 @@ contains
     ! three exponent digits where two cannot hold it (ES with E2 writes
     ! asterisks for 1e-300 or huge()); nested: no ordered comparison of a NaN
     wide = .false.
-    if (ieee_is_finite(x)) then
+    if (is_finite(x)) then
       if (x /= 0.0_dp) wide = abs(x) >= 9.99999995e99_dp .or. abs(x) < 1.0e-99_dp
     end if
     if (wide) then
