@@ -281,7 +281,7 @@ contains
     ! One binade: the limit of an engineering shear (2 eps) on eps itself.
     integer(int64), parameter :: binade = int(z'0010000000000000', int64)
     integer(int64) :: carry, limit
-    real(dp) :: sig(ntens6), de(ntens6), sv(nsv)
+    real(dp) :: sig(ntens6), de(ntens6), sv(nstatv_gdl)  ! fixed size: no heap
     integer :: j, k
     ! Column by column (contiguous, no temporaries) into one carry: the
     ! usual all-valid block costs a few vectorised passes and one branch.
@@ -336,12 +336,12 @@ contains
         sig(j) = stress_old(point, comp(j))
         de(j) = merge(2.0_dp, 1.0_dp, j > 3)*strain_inc(point, comp(j))
       end do
-      sv = state_old(point, 1:nsv)
+      sv(1:nsv) = state_old(point, 1:nsv)
       sv(sv_eps_p + 3:sv_eps_p + 5) = 2.0_dp*sv(sv_eps_p + 3:sv_eps_p + 5)
-      if (ior(state_carry(p, sv), ior(range_carry_of(sig, p%stress_limit), &
+      if (ior(state_carry(p, sv(1:nsv)), ior(range_carry_of(sig, p%stress_limit), &
                                       range_carry_of(de, p%strain_limit))) < 0) then
         call new_error(err, status_cutback, '', 'out of range')
-        call range_error(p, sig, de, sv, err)
+        call range_error(p, sig, de, sv(1:nsv), err)
         err%message = err%message//' (point '//int_text(point)//' of the block; VUMAT order)'
         return
       else if (.not. is_finite(density(point))) then
