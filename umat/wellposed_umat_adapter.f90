@@ -8,7 +8,7 @@
 module wellposed_umat_adapter
   use wellposed_kinds, only: dp
   use, intrinsic :: iso_fortran_env, only: int64
-  use wellposed_finite, only: is_finite, all_finite, finite_carry, range_carry
+  use wellposed_finite, only: is_finite, all_finite, finite_carry, range_carry, range_bits
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_tensor, only: ntens6
   use wellposed_dp_params, only: dp_params_t, new_dp_params, fill_dp_params, set_dl_form, &
@@ -191,18 +191,16 @@ contains
                                              sv_over + 3, sv_over + 4, sv_over + 5]
     if (.not. (all_finite(sig) .and. all_finite(de) .and. &
                all_finite(statev(1:merge(nstatv_gdl, nstatv_min, p%gdl))))) return
-    do i = 1, ntens6
-      if (range_carry(sig(i:i), p%stress_limit) < 0) then
-        call limit_error('STRESS', i, sig(i), p%stress_limit, err)
-        return
-      end if
-    end do
-    do i = 1, ntens6
-      if (range_carry(de(i:i), p%strain_limit) < 0) then
-        call limit_error('DSTRAN', i, de(i), p%strain_limit, err)
-        return
-      end if
-    end do
+    i = findloc(range_bits(sig, p%stress_limit) < 0, .true., 1)
+    if (i > 0) then
+      call limit_error('STRESS', i, sig(i), p%stress_limit, err)
+      return
+    end if
+    i = findloc(range_bits(de, p%strain_limit) < 0, .true., 1)
+    if (i > 0) then
+      call limit_error('DSTRAN', i, de(i), p%strain_limit, err)
+      return
+    end if
     if (transfer(statev(sv_z), 0_int64) < 0) then
       call new_error(err, status_cutback, '', 'STATEV('//int_text(sv_z)//') z = '// &
         real_text(statev(sv_z))//' is out of range: the cumulative plastic strain is >= 0')

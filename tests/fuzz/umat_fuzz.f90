@@ -12,6 +12,7 @@ program umat_fuzz
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
+  use wellposed_text, only: int_text
   use wellposed_umat_adapter, only: umat_update
   use wellposed_vumat_adapter, only: vumat_update
   use fuzz_inputs, only: material_t, fault_t, new_material, new_state, new_increment, &
@@ -187,7 +188,7 @@ contains
       if (m%extreme .or. ext_state(k) .or. ext_inc(k)) cls = 2
       if (faulted) cls = 3
       bad_finite(cls) = bad_finite(cls) + 1
-      call example('non-finite UMAT answer with status '//trim(int_str(status(k))), k, cls)
+      call example('non-finite UMAT answer with status '//int_text(status(k)), k, cls)
     end if
     if (ok .and. .not. (m%extreme .or. ext_state(k) .or. ext_inc(k) .or. faulted)) then
       if (.not. bounded(s, k)) then
@@ -294,12 +295,6 @@ contains
       if (gdl .and. size(sv) >= 18) v(12 + vcomp(i)) = sv(12 + i)
     end do
   end function to_vumat
-
-  pure function int_str(i) result(t)
-    integer, intent(in) :: i
-    character(len=12) :: t
-    write (t, '(i0)') i
-  end function int_str
 
   !> One example of a violation of kind `kind` (a few of each): the
   !> material, the point's inputs, its answer.
