@@ -119,7 +119,8 @@ contains
     if (max(v(1), v(2)) > max_magnitude .or. max(v(5), abs(v(6)), v(7), abs(v(12)), hmax) > smax &
         .or. max(v(3), abs(v(4)), abs(v(9)), abs(v(10))) > max_ratio .or. &
         (v(3) > 0.0_dp .and. v(3) < 1.0_dp/max_ratio) .or. &
-        max(v(1), v(2)) > max_ratio*min(v(1), v(2))) return
+        max(v(1), v(2)) > max_ratio*min(v(1), v(2)) .or. &
+        min(v(5), merge(v(7), v(5), v(7) > 0.0_dp)) < max(v(1), v(2))/max_magnitude) return
     self%stress_limit = exponent_bits(smax)
     self%strain_limit = exponent_bits(smax/max(3.0_dp*v(1) + 4.0_dp*v(2), abs(v(6)), &
                                                 abs(v(12)), hmax))
@@ -229,6 +230,15 @@ contains
         if (v(j) > max_magnitude) then
           call out_of_range(err, trim(names(j)), v(j), '< 2^448 = '// &
             real_text(max_magnitude)//why)
+          return
+        end if
+      end do
+      do j = 5, 7, 2
+        if (v(j) > 0.0_dp .and. v(j) < max(v(1), v(2))/max_magnitude) then
+          ! k0/G and k0/K are strains whose products must not underflow.
+          call out_of_range(err, trim(names(j)), v(j), '>= max(K, G)/2^448 = '// &
+            real_text(max(v(1), v(2))/max_magnitude)//' (the yield strain k/G must not '// &
+            'underflow in products)')
           return
         end if
       end do
