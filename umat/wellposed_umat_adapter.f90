@@ -8,7 +8,7 @@
 module wellposed_umat_adapter
   use wellposed_kinds, only: dp
   use, intrinsic :: iso_fortran_env, only: int64
-  use wellposed_finite, only: is_finite, all_finite, finite_carry
+  use wellposed_finite, only: is_finite, all_finite, finite_carry, range_carry, range_bits
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_tensor, only: ntens6
   use wellposed_dp_params, only: dp_params_t, new_dp_params, fill_dp_params, set_dl_form, &
@@ -20,7 +20,8 @@ module wellposed_umat_adapter
   use wellposed_umat_layout
   implicit none
   private
-  public :: umat_update, cutback_factor, failure_pnewdt, check_props, explain, fault_non_finite
+  public :: umat_update, cutback_factor, failure_pnewdt, check_props, explain, fault_non_finite, &
+            state_carry, range_error
 
   !> PNEWDT requested on status -2 (a smaller increment may succeed).
   real(dp), parameter :: cutback_factor = 0.5_dp
@@ -59,6 +60,8 @@ contains
       ! Abaqus order 11, 22, 33, 12, 13, 23. NTENS is 6 or 4 here: literal
       ! bounds let the compiler unroll the copies.
       ! Every value checked OR-ed into one carry: one branch for all.
+      ! Finite, and (exponent tests, the same cost) stresses and strains
+      ! within the limits of the material (dp_params_t).
       if (ntens == ntens6) then
         sig = stress(1:6)
         de = dstran(1:6)
@@ -70,12 +73,13 @@ contains
         de(5:6) = 0.0_dp
         carry = finite_carry(stran(1:4))
       end if
-      carry = ior(ior(carry, finite_carry(statev(1:merge(nstatv_gdl, nstatv_min, p%gdl)))), &
-                  ior(finite_carry(sig), finite_carry(de)))
+      carry = ior(ior(carry, state_carry(p, statev)), &
+                  ior(range_carry(sig, p%stress_limit), range_carry(de, p%strain_limit)))
       if (carry < 0) fault = fault_non_finite
     end if
     if (fault /= 0) then
       call explain(fault, ndi, nshr, ntens, nstatv, nprops, props, dtime, err)
+      if (fault == fault_non_finite) call range_error(p, sig, de, statev, err)
       call fail(); return
     end if
 
@@ -173,6 +177,80 @@ contains
       pnewdt = cutback_factor
     end if
   end function failure_pnewdt
+
+  !> The range carry of the STATEV slots the model reads (1-12, 1-19 with
+  !> PROPS(15) = 1): strains (1, 3, 5-10, 19) and stresses (4, 13-18)
+  !> within the material's limits, the outputs 2, 11, 12 finite.
+  pure function state_carry(p, statev) result(carry)
+    type(dp_params_t), intent(in) :: p
+    real(dp), intent(in) :: statev(:)
+    integer(int64) :: carry
+    carry = ior(ior(ior(range_carry(statev(sv_z:sv_z), p%strain_limit), &
+                        range_carry(statev(sv_avg_dlambda:sv_avg_dlambda), p%strain_limit)), &
+                    ior(range_carry(statev(sv_zeta:sv_zeta), p%stress_limit), &
+                        finite_carry(statev(sv_dlambda:sv_dlambda)))), &
+                ior(range_carry(statev(sv_eps_p:sv_eps_p + 5), p%strain_limit), &
+                    finite_carry(statev(sv_f:sv_status))))
+    ! z >= 0: the sign bit makes the carry negative (eq. 2.6 grows as exp(-z)).
+    carry = ior(carry, transfer(statev(sv_z), carry))
+    if (p%gdl) carry = ior(carry, ior(range_carry(statev(sv_over:sv_over + 5), p%stress_limit), &
+                                      range_carry(statev(sv_over_z:sv_over_z), p%strain_limit)))
+  end function state_carry
+
+  !> Where the state carry failed on finite values: the message names the
+  !> first STRESS, DSTRAN or STATEV entry beyond the material's limits
+  !> (status -2: a smaller increment may pass; `err` kept for non-finite).
+  pure subroutine range_error(p, sig, de, statev, err)
+    type(dp_params_t), intent(in) :: p
+    real(dp), intent(in) :: sig(ntens6), de(ntens6), statev(:)
+    type(error_t), allocatable, intent(inout) :: err
+    integer :: i
+    integer, parameter :: stress_slots(7) = [sv_zeta, sv_over, sv_over + 1, sv_over + 2, &
+                                             sv_over + 3, sv_over + 4, sv_over + 5]
+    if (.not. (all_finite(sig) .and. all_finite(de) .and. &
+               all_finite(statev(1:merge(nstatv_gdl, nstatv_min, p%gdl))))) return
+    i = findloc(range_bits(sig, p%stress_limit) < 0, .true., 1)
+    if (i > 0) then
+      call limit_error('STRESS', i, sig(i), p%stress_limit, err)
+      return
+    end if
+    i = findloc(range_bits(de, p%strain_limit) < 0, .true., 1)
+    if (i > 0) then
+      call limit_error('DSTRAN', i, de(i), p%strain_limit, err)
+      return
+    end if
+    if (transfer(statev(sv_z), 0_int64) < 0) then
+      call new_error(err, status_cutback, '', 'STATEV('//int_text(sv_z)//') z = '// &
+        real_text(statev(sv_z))//' is out of range: the cumulative plastic strain is >= 0')
+      return
+    end if
+    do i = 1, merge(nstatv_gdl, nstatv_min, p%gdl)
+      if (any(i == [sv_dlambda, sv_f, sv_status])) cycle
+      if (any(i == stress_slots)) then
+        if (range_carry(statev(i:i), p%stress_limit) >= 0) cycle
+        call limit_error('STATEV', i, statev(i), p%stress_limit, err)
+      else
+        if (range_carry(statev(i:i), p%strain_limit) >= 0) cycle
+        call limit_error('STATEV', i, statev(i), p%strain_limit, err)
+      end if
+      return
+    end do
+
+  end subroutine range_error
+
+  !> The message of an entry beyond its limit (exponent_bits `limit`).
+  pure subroutine limit_error(name, i, value, limit, err)
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: i
+    real(dp), intent(in) :: value
+    integer(int64), intent(in) :: limit
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), parameter :: why = ' (stresses below 2^448 min(1, K, G), strains '// &
+      'below that over the largest modulus: the model squares them)'
+    call new_error(err, status_cutback, '', name//'('//int_text(i)//') = '// &
+      real_text(value)//' is out of range: |value| < '// &
+      real_text(2.0_dp*transfer(limit, 1.0_dp))//why)
+  end subroutine limit_error
 
   !> The checks of the UMAT's inputs that concern a whole block of points:
   !> layout, PROPS (fill_dp_params) and DTIME. `fault` is 0 when all hold

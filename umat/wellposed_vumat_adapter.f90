@@ -8,7 +8,7 @@
 module wellposed_vumat_adapter
   use wellposed_kinds, only: dp
   use, intrinsic :: iso_fortran_env, only: int64
-  use wellposed_finite, only: all_finite, is_finite, nonfinite_bits
+  use wellposed_finite, only: all_finite, is_finite, nonfinite_bits, range_bits
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_text, only: int_text, real_text
   use wellposed_tensor, only: ntens6
@@ -17,7 +17,8 @@ module wellposed_vumat_adapter
   use wellposed_dp_block, only: closed_form_block, block_chunk, deferred_points
   use wellposed_hardening, only: hardening_t
   use wellposed_generalized_dl, only: gdl_update
-  use wellposed_umat_adapter, only: check_props, explain, fault_non_finite
+  use wellposed_umat_adapter, only: check_props, explain, fault_non_finite, state_carry, &
+                                   range_error
   use wellposed_umat_layout, only: sv_z, sv_dlambda, sv_avg_dlambda, sv_zeta, sv_eps_p, sv_f, &
                                    sv_status, nstatv_min, sv_over, sv_over_z, &
                                    nstatv_gdl
@@ -76,9 +77,9 @@ contains
       call explain(fault, ndir, nshr, ntens, nstatev, nprops, props, dt, err)
       return
     end if
-    call check_points(nblock, ntens, nstatev, merge(nstatv_gdl, nstatv_min, p%gdl), density, &
-                      strain_inc, stress_old, state_old, ener_intern_old, ener_inelas_old, err, &
-                      point)
+    call check_points(p, nblock, ndir, ntens, nstatev, merge(nstatv_gdl, nstatv_min, p%gdl), &
+                      density, strain_inc, stress_old, state_old, ener_intern_old, &
+                      ener_inelas_old, err, point)
     if (allocated(err)) then
       state_new(point, sv_status) = real(err%status, dp)
       return
@@ -257,18 +258,24 @@ contains
   end function contract
 
   !> Every point's inputs: finite stress, strain increment, STATEV slots
-  !> 1-nsv (the ones the model reads) and energies (else status -2),
-  !> density finite and > 0 (else -1). `point` is the first point at fault.
-  pure subroutine check_points(nblock, ntens, nstatev, nsv, density, strain_inc, stress_old, &
-                               state_old, ener_intern_old, ener_inelas_old, err, point)
-    integer, intent(in) :: nblock, ntens, nstatev, nsv
+  !> 1-nsv (the ones the model reads) and energies, stresses and strains
+  !> within the material's limits as the UMAT checks them (engineering
+  !> shears: twice the VUMAT's) (else status -2), density finite and > 0
+  !> (else -1). `point` is the first point at fault.
+  pure subroutine check_points(p, nblock, ndir, ntens, nstatev, nsv, density, strain_inc, &
+                               stress_old, state_old, ener_intern_old, ener_inelas_old, err, point)
+    type(dp_params_t), intent(in) :: p
+    integer, intent(in) :: nblock, ndir, ntens, nstatev, nsv
     real(dp), intent(in) :: density(nblock), strain_inc(nblock, ntens)
     real(dp), intent(in) :: stress_old(nblock, ntens), state_old(nblock, nstatev)
     real(dp), intent(in) :: ener_intern_old(nblock), ener_inelas_old(nblock)
     type(error_t), allocatable, intent(out) :: err
     integer, intent(out) :: point
     character(len=*), parameter :: name = 'non-finite stressOld, strainInc, stateOld or energy '
-    integer(int64) :: carry
+    ! One binade: the limit of an engineering shear (2 eps) on eps itself.
+    integer(int64), parameter :: binade = int(z'0010000000000000', int64)
+    integer(int64) :: carry, limit
+    real(dp) :: sig(ntens6), de(ntens6), sv(nstatv_gdl)  ! fixed size: no heap
     integer :: j, k
     ! Column by column (contiguous, no temporaries) into one carry: the
     ! usual all-valid block costs a few vectorised passes and one branch.
@@ -280,14 +287,28 @@ contains
                                                           nonfinite_bits(ener_inelas_old(k)))))
     end do
     do j = 1, ntens
+      limit = p%strain_limit - merge(binade, 0_int64, j > ndir)
       do k = 1, nblock
-        carry = ior(carry, ior(nonfinite_bits(strain_inc(k, j)), nonfinite_bits(stress_old(k, j))))
+        carry = ior(carry, ior(range_bits(strain_inc(k, j), limit), &
+                               range_bits(stress_old(k, j), p%stress_limit)))
       end do
     end do
     do j = 1, nsv
-      do k = 1, nblock
-        carry = ior(carry, nonfinite_bits(state_old(k, j)))
-      end do
+      limit = p%strain_limit
+      if (j == sv_zeta .or. (j >= sv_over .and. j < sv_over_z)) limit = p%stress_limit
+      if (j >= sv_eps_p + 3 .and. j <= sv_eps_p + 5) limit = limit - binade
+      if (j == sv_dlambda .or. j == sv_f .or. j == sv_status) then
+        do k = 1, nblock
+          carry = ior(carry, nonfinite_bits(state_old(k, j)))
+        end do
+      else
+        do k = 1, nblock
+          carry = ior(carry, range_bits(state_old(k, j), limit))
+        end do
+      end if
+    end do
+    do k = 1, nblock
+      carry = ior(carry, transfer(state_old(k, sv_z), carry))  ! z >= 0 (the sign bit)
     end do
     point = 0
     if (carry >= 0) then
@@ -300,6 +321,23 @@ contains
         call new_error(err, status_cutback, '', name//'on input (point '//int_text(point)// &
           ' of the block)')
         return
+      end if
+      ! The UMAT's layout (engineering shears) for its range test and message.
+      sig = 0.0_dp
+      de = 0.0_dp
+      do j = 1, ntens6
+        if (comp(j) > ntens) cycle
+        sig(j) = stress_old(point, comp(j))
+        de(j) = merge(2.0_dp, 1.0_dp, j > 3)*strain_inc(point, comp(j))
+      end do
+      sv(1:nsv) = state_old(point, 1:nsv)
+      sv(sv_eps_p + 3:sv_eps_p + 5) = 2.0_dp*sv(sv_eps_p + 3:sv_eps_p + 5)
+      if (ior(state_carry(p, sv(1:nsv)), ior(range_carry_of(sig, p%stress_limit), &
+                                      range_carry_of(de, p%strain_limit))) < 0) then
+        call new_error(err, status_cutback, '', 'out of range')
+        call range_error(p, sig, de, sv(1:nsv), err)
+        err%message = err%message//' (point '//int_text(point)//' of the block; VUMAT order)'
+        return
       else if (.not. is_finite(density(point))) then
         exit
       else if (.not. density(point) > 0.0_dp) then
@@ -308,6 +346,17 @@ contains
     end do
     call new_error(err, status_invalid, 'density', 'density = '//real_text(density(point))// &
       ' (point '//int_text(point)//' of the block) is out of range: valid is > 0')
+
+  contains
+
+    pure integer(int64) function range_carry_of(x, lim)
+      real(dp), intent(in) :: x(ntens6)
+      integer(int64), intent(in) :: lim
+      range_carry_of = ior(ior(ior(range_bits(x(1), lim), range_bits(x(2), lim)), &
+                               ior(range_bits(x(3), lim), range_bits(x(4), lim))), &
+                           ior(range_bits(x(5), lim), range_bits(x(6), lim)))
+    end function range_carry_of
+
   end subroutine check_points
 
 end module wellposed_vumat_adapter

@@ -9,7 +9,8 @@ module wellposed_finite
   use wellposed_kinds, only: dp
   implicit none
   private
-  public :: is_finite, all_finite, nonfinite_bits, finite_carry
+  public :: is_finite, all_finite, nonfinite_bits, finite_carry, range_bits, range_carry, &
+            exponent_bits
 
   integer(int64), parameter :: exponent_mask = int(z'7FF0000000000000', int64)
 
@@ -51,5 +52,33 @@ contains
     real(dp), intent(in) :: x
     nonfinite_bits = iand(not(transfer(x, 0_int64)), exponent_mask) - 1_int64
   end function nonfinite_bits
+
+  !> The exponent field of x (sign dropped): an order of |x| by powers of
+  !> two, all ones for NaN and +-Inf.
+  elemental integer(int64) function exponent_bits(x)
+    real(dp), intent(in) :: x
+    exponent_bits = iand(transfer(x, 0_int64), exponent_mask)
+  end function exponent_bits
+
+  !> Negative when |x| >= 2**(e + 1), e the exponent of the limit whose
+  !> exponent_bits are `limit` (NaN and +-Inf included), else >= 0: a range
+  !> test that ORs like nonfinite_bits, for the same cost.
+  elemental integer(int64) function range_bits(x, limit)
+    real(dp), intent(in) :: x
+    integer(int64), intent(in) :: limit
+    range_bits = limit - iand(transfer(x, 0_int64), exponent_mask)
+  end function range_bits
+
+  !> range_bits of every entry of `x` OR-ed.
+  pure function range_carry(x, limit) result(carry)
+    real(dp), intent(in) :: x(:)
+    integer(int64), intent(in) :: limit
+    integer(int64) :: carry
+    integer :: i
+    carry = 0
+    do i = 1, size(x)
+      carry = ior(carry, range_bits(x(i), limit))
+    end do
+  end function range_carry
 
 end module wellposed_finite

@@ -15,7 +15,7 @@ module wellposed_efr
   use wellposed_dp_params, only: dp_params_t
   use wellposed_text, only: real_text
   use wellposed_return_mapping, only: return_t, regular_return, elastic_return, apex_return, &
-                                      state_plastic, max_newton
+                                      state_plastic, max_newton, cylinder_error
   implicit none
   private
   public :: efr_direction, efr_return, efr_has_direction
@@ -100,8 +100,13 @@ contains
       return
     end if
     if (q == 0.0_dp) then
-      ! On the hydrostatic axis outside the cone: only the apex is reachable.
-      call apex_return(p, sig_tr, z_n, zeta, ret, tangent, err)
+      ! On the hydrostatic axis outside the cone: only the apex is reachable;
+      ! outside a cylinder (k < 0) no stress is.
+      if (p%beta > 0.0_dp) then
+        call apex_return(p, sig_tr, z_n, zeta, ret, tangent, err)
+      else
+        call cylinder_error(k_n, err)
+      end if
       return
     end if
 
@@ -116,6 +121,15 @@ contains
     ! takes the regular flow rule.
     t = 0.0_dp
     call efr_residual(t, f, df, wn, mn, qs, flipped)
+    ! On a cylinder f ignores I1: N : C : M = (c phi + 2 G a0)/sqrt(2) at
+    ! t = 0 (the volumetric part of M does not act on f). A direction with
+    ! N : C : M <= 0, or an increment whose deviator is zero to rounding
+    ! (dev() errs by a few ulps of ||de||), returns only through hardening,
+    ! with unbounded volumetric flow: the regular flow rule (docs/umat.md).
+    if (p%beta == 0.0_dp) then
+      if (d_s <= 8.0_dp*epsilon(1.0_dp)*norm(deps) .or. &
+          .not. c*se/q + 2.0_dp*p%el%shear*a0 > 0.0_dp) df = 0.0_dp
+    end if
     if (.not. -df > 0.0_dp) then
       call regular_return(p, sig_tr, z_n, zeta, ret, tangent, err)
       return

@@ -172,12 +172,14 @@ contains
       ! guards would change them), x > x_max (no admissible cone stress) or
       ! the apex is reached (f_tr - (a + h) x_max > 0, beta > 0; apex_return
       ! then takes most of these): each condition is the sign of a
-      ! difference, so no logical is stored.
+      ! difference, so no logical is stored. The apex term is selected, not
+      ! scaled by apex_on and shifted by 1: the shift rounds a difference
+      ! below 1e-16 to 0 and sent such a point to the cone, not the apex.
       qs = max(q, tiny(1.0_dp))
       x_max = qs*p%n_m/(sqrt2*shear)
       x = f_tr/rate
       bad = max(tiny(1.0_dp) - q, tiny(1.0_dp) - x_max, x - x_max, &
-                apex_on*(f_tr - rate*x_max) + apex_on - 1.0_dp)
+                merge(f_tr - rate*x_max, -1.0_dp, apex_on > 0.0_dp))
       xc = min(max(x, 0.0_dp), x_max)
       shrink = 1.0_dp - xc/max(x_max, tiny(1.0_dp))
       i1 = i1_tr - 9.0_dp*bulk*p%beta_p*xc*rn

@@ -6,7 +6,8 @@
 !> optional feature off.
 module wellposed_dp_params
   use wellposed_kinds, only: dp
-  use wellposed_finite, only: is_finite, all_finite
+  use, intrinsic :: iso_fortran_env, only: int64
+  use wellposed_finite, only: is_finite, all_finite, exponent_bits
   use wellposed_text, only: real_text
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_elasticity, only: elastic_t
@@ -15,7 +16,8 @@ module wellposed_dp_params
   use wellposed_tensor, only: sqrt3
   implicit none
   private
-  public :: dp_params_t, new_dp_params, fill_dp_params, set_dl_form, n_params
+  public :: dp_params_t, new_dp_params, fill_dp_params, set_dl_form, n_params, max_magnitude, &
+            max_ratio
 
   !> Number of material parameters (PROPS 1-13 of the UMAT contract).
   integer, parameter :: n_params = 13
@@ -24,7 +26,14 @@ module wellposed_dp_params
   integer, parameter :: fault_bulk = 14, fault_shear = 15, fault_beta = 16, fault_k0 = 17, &
                         fault_k_lim = 18, fault_z_ref_lim = 19, fault_z_ref = 20, &
                         fault_tau = 21, fault_length = 22, fault_a_m = 23, &
-                        fault_softening = 24, fault_apex_softening = 25
+                        fault_softening = 24, fault_apex_softening = 25, fault_magnitude = 26
+
+  !> Largest stress or modulus (times min(1, K, G)) and largest
+  !> dimensionless parameter the model takes: it squares stresses (||S||,
+  !> energies) and multiplies moduli pairwise (tangents), so 2^448 leaves
+  !> 2^128 of headroom below huge = 2^1024 for the sums, the constant
+  !> factors and the 2^53 by which a + h may divide (docs/umat.md).
+  real(dp), parameter :: max_magnitude = 2.0_dp**448, max_ratio = 2.0_dp**32
 
   !> The validated material. Derived constants are filled by new_dp_params.
   type :: dp_params_t
@@ -42,6 +51,9 @@ module wellposed_dp_params
     real(dp) :: n_m = 0.0_dp           !< ||dg/dsigma|| = sqrt(1/2 + 3 beta_p^2)
     real(dp) :: a_m = 0.0_dp           !< N:C:M_hat = (G + 9 K beta beta_p)/n_m (eq. 4.36)
     logical :: efr = .false.           !< extended flow rule on (p_v or p_d /= 0)
+    !> exponent_bits of the largest stress and strain an increment takes
+    !> (max_magnitude min(1, K, G), and that over the largest modulus).
+    integer(int64) :: stress_limit = 0, strain_limit = 0
   end type dp_params_t
 
 contains
@@ -73,7 +85,7 @@ contains
     type(dp_params_t), intent(inout) :: self
     real(dp), intent(in) :: v(n_params)
     integer, intent(out) :: fault
-    real(dp) :: slope
+    real(dp) :: slope, smax, hmax
     integer :: i
 
     if (.not. all_finite(v)) then
@@ -100,6 +112,18 @@ contains
     if (v(11) < 0.0_dp) return
     fault = fault_length
     if (v(13) < 0.0_dp .or. (v(12) /= 0.0_dp .and. .not. v(13) > 0.0_dp)) return
+    fault = fault_magnitude
+    smax = max_magnitude*min(1.0_dp, v(1), v(2))
+    hmax = 0.0_dp
+    if (v(7) > 0.0_dp) hmax = abs(v(7) - v(5))/v(8)
+    if (max(v(1), v(2)) > max_magnitude .or. max(v(5), abs(v(6)), v(7), abs(v(12)), hmax) > smax &
+        .or. max(v(3), abs(v(4)), abs(v(9)), abs(v(10))) > max_ratio .or. &
+        (v(3) > 0.0_dp .and. v(3) < 1.0_dp/max_ratio) .or. &
+        max(v(1), v(2)) > max_ratio*min(v(1), v(2)) .or. &
+        min(v(5), merge(v(7), v(5), v(7) > 0.0_dp)) < max(v(1), v(2))/max_magnitude) return
+    self%stress_limit = exponent_bits(smax)
+    self%strain_limit = exponent_bits(smax/max(3.0_dp*v(1) + 4.0_dp*v(2), abs(v(6)), &
+                                                abs(v(12)), hmax))
 
     self%el = elastic_t(v(1), v(2))
     self%beta = v(3)
@@ -179,6 +203,8 @@ contains
         'strongly: the smallest dk/dz = '//real_text(slope)//' must exceed -(G + 9 K '// &
         'beta beta_p)/sqrt(1/2 + 3 beta_p^2) = '//real_text(-self%a_m)// &
         ' for a unique local return')
+    case (fault_magnitude)
+      call magnitude_error(v, err)
     case default
       slope = min_strength_slope(self%hard)
       call new_error(err, status_invalid, 'h', 'h = '//real_text(v(6))//' softens too '// &
@@ -188,6 +214,62 @@ contains
     end select
 
   contains
+
+    !> The first parameter beyond max_magnitude (moduli; stresses times
+    !> min(1, K, G)) or max_ratio (dimensionless).
+    pure subroutine magnitude_error(v, err)
+      real(dp), intent(in) :: v(n_params)
+      type(error_t), allocatable, intent(out) :: err
+      integer, parameter :: stresses(4) = [5, 6, 7, 12], ratios(4) = [3, 4, 9, 10]
+      real(dp) :: smax
+      integer :: j
+      character(len=*), parameter :: why = ' (the model squares stresses and multiplies'// &
+        ' moduli: their products must stay finite)'
+      smax = max_magnitude*min(1.0_dp, v(1), v(2))
+      do j = 1, 2
+        if (v(j) > max_magnitude) then
+          call out_of_range(err, trim(names(j)), v(j), '< 2^448 = '// &
+            real_text(max_magnitude)//why)
+          return
+        end if
+      end do
+      do j = 5, 7, 2
+        if (v(j) > 0.0_dp .and. v(j) < max(v(1), v(2))/max_magnitude) then
+          ! k0/G and k0/K are strains whose products must not underflow.
+          call out_of_range(err, trim(names(j)), v(j), '>= max(K, G)/2^448 = '// &
+            real_text(max(v(1), v(2))/max_magnitude)//' (the yield strain k/G must not '// &
+            'underflow in products)')
+          return
+        end if
+      end do
+      if (max(v(1), v(2)) > max_ratio*min(v(1), v(2))) then
+        ! K/G scales the shift of I1 along a nonassociative or EFR return.
+        call out_of_range(err, 'G', v(2), 'within 2^32 of K = '//real_text(v(1))//why)
+        return
+      end if
+      do j = 1, 4
+        if (abs(v(stresses(j))) > smax) then
+          call out_of_range(err, trim(names(stresses(j))), v(stresses(j)), '|value| < '// &
+            '2^448 min(1, K, G) = '//real_text(smax)//why)
+          return
+        end if
+      end do
+      if (v(3) > 0.0_dp .and. v(3) < 1.0_dp/max_ratio) then
+        ! beta divides strengths: the apex is at I1 = k/beta.
+        call out_of_range(err, 'beta', v(3), '0 or >= 2^-32 = '//real_text(1.0_dp/max_ratio)// &
+          ' (the apex I1 = k/beta must stay finite)')
+        return
+      end if
+      do j = 1, 4
+        if (abs(v(ratios(j))) > max_ratio) then
+          call out_of_range(err, trim(names(ratios(j))), v(ratios(j)), '|value| < 2^32 = '// &
+            real_text(max_ratio)//why)
+          return
+        end if
+      end do
+      call out_of_range(err, 'z_ref', v(8), 'such that |k_lim - k0|/z_ref < 2^448 min(1, K, '// &
+        'G) = '//real_text(smax)//why)
+    end subroutine magnitude_error
 
     pure subroutine out_of_range(err, name, value, range)
       type(error_t), allocatable, intent(out) :: err

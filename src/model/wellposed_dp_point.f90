@@ -96,9 +96,13 @@ contains
     end if
     if (allocated(err)) return
     sig = sig_m/mandel
-    z = state%z
     zeta = state%zeta
-    eps_p = state%eps_p/mandel
+    ! An elastic step leaves the plastic state bit for bit: the Mandel
+    ! round trip of eps_p (x sqrt(2), / sqrt(2)) is not exact.
+    if (out%status /= state_elastic) then
+      z = state%z
+      eps_p = state%eps_p/mandel
+    end if
     dlambda = out%dlambda
     f = out%f
     status = out%status
@@ -161,8 +165,9 @@ contains
     end if
 
     ! Cone (eq. 4.36): x = dlambda from f_tr - (a + h) x = 0; the deviator
-    ! vanishes at x_max, beyond which only the apex is reachable.
-    x_max = huge(1.0_dp)
+    ! vanishes at x_max, beyond which only the apex is reachable. A zero
+    ! deviator outside a cylinder (k < 0, beta = 0) has no return: x_max = 0.
+    x_max = 0.0_dp
     if (q > 0.0_dp) x_max = q*p%n_m/(sqrt2*shear)
     apex = .false.
     if (p%beta > 0.0_dp) apex = q == 0.0_dp .or. f_tr - (p%a_m + p%hard%h)*x_max > 0.0_dp

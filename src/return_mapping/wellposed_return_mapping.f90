@@ -16,7 +16,7 @@ module wellposed_return_mapping
   implicit none
   private
   public :: return_t, regular_return, elastic_return, apex_return, state_elastic, state_plastic, &
-            state_apex, max_newton
+            state_apex, max_newton, cylinder_error
 
   integer, parameter :: state_elastic = 0  !< no plastic flow
   integer, parameter :: state_plastic = 1  !< return to the cone
@@ -71,8 +71,9 @@ contains
     end if
     g2 = p%el%shear
 
-    ! Plastic: where along the return does the deviator vanish?
-    x_max = huge(1.0_dp)
+    ! Plastic: where along the return does the deviator vanish? (0 for a
+    ! zero deviator: on a cylinder it has no return, below.)
+    x_max = 0.0_dp
     if (q > 0.0_dp) x_max = q*p%n_m/(sqrt2*g2)
     if (p%beta > 0.0_dp) then
       if (q == 0.0_dp) then
@@ -82,6 +83,13 @@ contains
         call apex_return(p, sig_tr, z_n, zeta, ret, tangent, err)
         return
       end if
+    end if
+
+    if (q == 0.0_dp) then
+      ! beta = 0 and f_tr = -k > 0: every stress lies outside the cylinder
+      ! (sqrt(J2) >= 0 > k), and a zero deviator has no flow direction.
+      call cylinder_error(k_n, err)
+      return
     end if
 
     ! Cone: solve f_tr - a x - (k(z_n + x) - k(z_n)) = 0 for x = dlambda.
@@ -131,6 +139,15 @@ contains
     end function cone_residual
 
   end subroutine regular_return
+
+  !> The error of a softened cylinder (beta = 0) at a zero deviator: the
+  !> strength k < 0 admits no stress (status -2, the arguments untouched).
+  pure subroutine cylinder_error(k, err)
+    real(dp), intent(in) :: k
+    type(error_t), allocatable, intent(out) :: err
+    call new_error(err, status_cutback, '', 'return mapping: the yield strength k = '// &
+      real_text(k)//' < 0 of the cylinder (beta = 0) leaves no admissible stress')
+  end subroutine cylinder_error
 
   !> Consistent tangent of the cone return:
   !>   T = C - (C:M_hat) (x) (C:N)/(a + H) - dlambda 2 sqrt(2) G^2/(n_m q) (Pdev - S_hat (x) S_hat)
