@@ -191,8 +191,9 @@ contains
                         finite_carry(statev(sv_dlambda:sv_dlambda)))), &
                 ior(range_carry(statev(sv_eps_p:sv_eps_p + 5), p%strain_limit), &
                     finite_carry(statev(sv_f:sv_status))))
-    ! z >= 0: the sign bit makes the carry negative (eq. 2.6 grows as exp(-z)).
-    carry = ior(carry, transfer(statev(sv_z), carry))
+    ! z >= 0: the sign bit makes the carry negative (eq. 2.6 grows as exp(-z));
+    ! + 0 turns a host's -0.0 into +0.0, which is z = 0.
+    carry = ior(carry, transfer(statev(sv_z) + 0.0_dp, carry))
     if (p%gdl) carry = ior(carry, ior(range_carry(statev(sv_over:sv_over + 5), p%stress_limit), &
                                       range_carry(statev(sv_over_z:sv_over_z), p%strain_limit)))
   end function state_carry
@@ -219,7 +220,7 @@ contains
       call limit_error('DSTRAN', i, de(i), p%strain_limit, err)
       return
     end if
-    if (transfer(statev(sv_z), 0_int64) < 0) then
+    if (transfer(statev(sv_z) + 0.0_dp, 0_int64) < 0) then
       call new_error(err, status_cutback, '', 'STATEV('//int_text(sv_z)//') z = '// &
         real_text(statev(sv_z))//' is out of range: the cumulative plastic strain is >= 0')
       return

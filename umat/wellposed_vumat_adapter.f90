@@ -308,7 +308,7 @@ contains
       end if
     end do
     do k = 1, nblock
-      carry = ior(carry, transfer(state_old(k, sv_z), carry))  ! z >= 0 (the sign bit)
+      carry = ior(carry, transfer(state_old(k, sv_z) + 0.0_dp, carry))  ! z >= 0; -0.0 is 0
     end do
     point = 0
     if (carry >= 0) then
