@@ -5,7 +5,7 @@
 !> and 4: every particle through its own UMAT call, and &time mass =
 !> 'blended'. The fastest of `nrounds` rounds is kept. Never a pass/fail.
 !> Usage: bench_mpm1d [NSTEPS [ROW]] (ROW 1-4: that row alone, for a
-!> profile). Targets and method: docs/performance.md.
+!> profile). Targets and method: docs/guide/performance.md.
 program bench_mpm1d
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp

@@ -5,7 +5,7 @@
 !> CPDI in free pure shear, every particle plastic), then one nonlocal
 !> sweep against a local update. The fastest of `nrounds` rounds is kept;
 !> never a pass/fail. Usage: bench_mpm2d [ROW] (ROW 1-5: that row alone).
-!> Targets and method: docs/performance.md.
+!> Targets and method: docs/guide/performance.md.
 program bench_mpm2d
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp

@@ -5,7 +5,7 @@
 !> interleaved rounds), then the overlocal plate of fig. 4.4 (O1, OP, O1J:
 !> Algorithm 1's sweeps and exchanges); --overlocal: that part alone.
 !> Prints measures and ratios, never a pass/fail on wall time.
-!> Scene, targets and method: docs/scaling.md, docs/parallel.md.
+!> Scene, targets and method: docs/research/scaling.md, docs/guide/parallel.md.
 program bench_scaling
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp

@@ -1,20 +1,11 @@
-!> bench_umat: nanoseconds per UMAT call (NTENS 6) for elastic, plastic-cone
-!> and apex increments of the case-study material, with DDSDDE and without
-!> it (PROPS(14) = 1, an explicit host), as ratios to two lower bounds
-!> measured in the same run: the elastic trial stress alone
-!> (bench_elastic_trial) and a minimal closed-form Drucker-Prager return with
-!> its tangent, no validation and no conversions (bench_reference). Then the
-!> extended flow rule against the regular cone call, the VUMAT per point of
-!> a block, the entry points' own share (umat and vumat against the adapter
-!> procedures they forward to, beside what a floating-point environment
-!> save costs here), and where a cone call's time goes. Times are CPU time (what other processes take is not
-!> counted) and every figure is the fastest of 30 short rounds, each round
-!> timing every case once, so that the ratios hold on a shared machine
-!> where absolute times drift.
-!>
-!> Usage: bench_umat [calls per case and round]   (default 20,000, the EFR
-!> cases a twentieth of it; use a small number under
-!> valgrind --tool=callgrind for instruction counts)
+!> bench_umat: CPU nanoseconds per UMAT call (NTENS 6), elastic, cone and
+!> apex, with and without DDSDDE, as ratios to two lower bounds timed in the
+!> same run (bench_elastic_trial, bench_reference); then the EFR against the
+!> cone, the VUMAT per point of a block, the entry points' own share (against
+!> the adapters, beside a floating-point environment save) and a cone call's
+!> shares. Each figure is the fastest of 30 rounds of every case, so ratios
+!> hold on a shared machine. Usage: bench_umat [calls per case and round]
+!> (default 20,000; a small number under callgrind). Method: docs/guide/performance.md.
 program bench_umat
   use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_kinds, only: dp

@@ -3,7 +3,7 @@
 !> then shear) cut into N increments per leg, its end stress compared with
 !> N = 65536 and its cost timed in the same run, for the regular flow rule,
 !> eq. 2.6 and the EFR (backward Euler: error ~ 1/N on non-radial paths).
-!> Usage: bench_umat_accuracy [csv file]. Results: docs/performance.md.
+!> Usage: bench_umat_accuracy [csv file]. Results: docs/guide/performance.md.
 program bench_umat_accuracy
   use, intrinsic :: iso_fortran_env, only: int64, output_unit
   use wellposed_kinds, only: dp

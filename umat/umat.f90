@@ -1,5 +1,5 @@
 !> The Abaqus/Standard UMAT entry point of wellposed (contract:
-!> docs/umat.md): an external subroutine with the exact Abaqus signature,
+!> docs/guide/umat.md): an external subroutine with the exact Abaqus signature,
 !> callable from free- or fixed-form Fortran without any module. All work is
 !> done by wellposed_umat_adapter; this routine forwards, and a failure goes
 !> to wellposed_umat_report (a message once per material and kind).

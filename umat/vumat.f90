@@ -1,12 +1,9 @@
-!> The Abaqus/Explicit VUMAT entry point of wellposed (docs/umat.md, "The
-!> VUMAT"): an external
-!> subroutine with the documented argument list, callable from free- or
-!> fixed-form Fortran without any module. All work is done by
-!> wellposed_vumat_adapter; this routine forwards. Abaqus/Explicit cannot cut
-!> an increment back (there is no PNEWDT), so any error is fatal: one line
-!> on standard error names the point of the block, the entry, its value and
-!> the valid range, and the analysis stops with a non-zero exit code (error
-!> stop). Hosts that want the error as a value call vumat_update.
+!> The Abaqus/Explicit VUMAT entry point (docs/guide/umat.md, "The VUMAT"): an
+!> external subroutine with the documented argument list, callable without
+!> any module, forwarding to wellposed_vumat_adapter. Abaqus/Explicit
+!> cannot cut an increment back, so any error is fatal: one line on
+!> standard error names the point, the entry, its value and the valid
+!> range, then error stop. Hosts wanting errors as values call vumat_update.
 subroutine vumat(nblock, ndir, nshr, nstatev, nfieldv, nprops, lanneal, stepTime, totalTime, &
                  dt, cmname, coordMp, charLength, props, density, strainInc, relSpinInc, &
                  tempOld, stretchOld, defgradOld, fieldOld, stressOld, stateOld, &

@@ -2,7 +2,7 @@
 !> of PROPS/STATEV, the call of the point update (wellposed_dp_point, in
 !> tensor components: the Abaqus<->model conversion is a factor 1/2 on the
 !> engineering shears), packing back, and the contract's error behaviour
-!> (docs/umat.md). The external `umat` (umat.f90) only forwards here and
+!> (docs/guide/umat.md). The external `umat` (umat.f90) only forwards here and
 !> prints the message of an invalid input; hosts and tests that want the
 !> message as a value call umat_update directly.
 module wellposed_umat_adapter
@@ -158,7 +158,7 @@ contains
 
   end subroutine umat_update
 
-  !> PNEWDT out of a failed call (docs/umat.md, "Status codes"), from the
+  !> PNEWDT out of a failed call (docs/guide/umat.md, "Status codes"), from the
   !> status and PNEWDT on entry. A host whose "no request" is >= 1 (Abaqus's
   !> large value, our drivers' 1) gets -1 for invalid input (stop) and
   !> min(PNEWDT, 1/2) for a cut-back. A host whose "no request" is <= 0

@@ -1,5 +1,5 @@
 !> The named PROPS and STATEV slots of the UMAT contract
-!> (docs/umat.md). The only place that knows the numbers.
+!> (docs/guide/umat.md). The only place that knows the numbers.
 module wellposed_umat_layout
   implicit none
   private

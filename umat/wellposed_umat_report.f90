@@ -1,4 +1,4 @@
-!> What the external UMAT says about a failed call (docs/umat.md, "Status
+!> What the external UMAT says about a failed call (docs/guide/umat.md, "Status
 !> codes, errors and PNEWDT"): invalid input (status -1) and non-finite input
 !> (status -2, key 'non_finite') are reported on standard error once per
 !> material and distinct message, not once per point; a cut-back of a local

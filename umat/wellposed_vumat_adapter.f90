@@ -4,7 +4,7 @@
 !> UMAT's point update. Arrays (nblock, ndir + nshr), components 11, 22, 33,
 !> 12, 23, 31 (or 11, 22, 33, 12), tensor shears; STATEV as the UMAT's.
 !> Energies per unit mass by the trapezoidal rule:
-!> (sigma_old + sigma_new) : d eps/(2 rho). Contract: docs/umat.md.
+!> (sigma_old + sigma_new) : d eps/(2 rho). Contract: docs/guide/umat.md.
 module wellposed_vumat_adapter
   use wellposed_kinds, only: dp
   use, intrinsic :: iso_fortran_env, only: int64

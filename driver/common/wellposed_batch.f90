@@ -4,7 +4,7 @@
 !> into `<dir>/jobs/k/`, `k.log` and `k.result`. Jobs are shared over ranks
 !> round-robin (the caller passes rank and size; no MPI here), and
 !> `write_batch_summary` writes batch_summary.txt and .csv.
-!> File format and outcomes: docs/parallel.md.
+!> File format and outcomes: docs/guide/parallel.md.
 module wellposed_batch
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp

@@ -3,7 +3,7 @@
 !> Fletcher-64 checksum and a `complete` flag, through a temporary name, and
 !> read back whole or not at all: a damaged file gives an error naming it and
 !> what is wrong. Files `<dir>/checkpoint_<step, 10 digits>.h5`, the newest
-!> `keep` kept. File layout: docs/parallel.md.
+!> `keep` kept. File layout: docs/guide/parallel.md.
 module wellposed_checkpoint
   use, intrinsic :: iso_fortran_env, only: int32, int64
   use wellposed_kinds, only: dp

@@ -3,7 +3,7 @@
 !> every key (required ones to `unset`), reads the group, turns a failure
 !> into a message (`namelist_error`) and validates each value
 !> (`check_required`, `check_finite`, `check_range`); every message names
-!> the file, the group, the key and what was expected. Decks: docs/decks.md.
+!> the file, the group, the key and what was expected. Decks: docs/guide/decks.md.
 module wellposed_deck
   use, intrinsic :: iso_fortran_env, only: iostat_end
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
@@ -85,7 +85,7 @@ contains
     character(len=*), intent(in) :: path, text
     type(error_t), allocatable, intent(out) :: err
     character(len=*), parameter :: need = ': a deck is plain text of Fortran namelist '// &
-      'groups "&group key = value, ... /" (see docs/decks.md)'
+      'groups "&group key = value, ... /" (see docs/guide/decks.md)'
     character(len=*), parameter :: letters = 'abcdefghijklmnopqrstuvwxyz'
     integer :: i, c, line, open_line, j, ngroups
     character(len=1) :: quote
@@ -262,7 +262,7 @@ contains
       if (len(key) > 0) then
         hint = ' (key '//key//': a value of the wrong type or a malformed number)'
       else if (is_name(token)) then
-        hint = ' (unknown key "'//token//'": see docs/decks.md for the keys of &'//group//')'
+        hint = ' (unknown key "'//token//'": see docs/guide/decks.md for the keys of &'//group//')'
       else
         hint = ' (a value of the wrong type or a malformed number)'
       end if

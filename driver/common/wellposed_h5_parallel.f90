@@ -5,7 +5,7 @@
 !> `write_rows` writes particle rows (contiguous blocks, or rows named by
 !> global id through `new_row_order`); `write`/`write_attr` write rank 0's data.
 !> A failure on any rank fails every rank and leaves no finished-looking file.
-!> Row orders, redistribution and error sharing: docs/parallel.md.
+!> Row orders, redistribution and error sharing: docs/guide/parallel.md.
 module wellposed_h5_parallel
   use hdf5
   use wellposed_kinds, only: dp

@@ -2,7 +2,7 @@
 !> rank of a communicator (wellposed_h5_parallel): where each rank's rows go
 !> in id order (`new_row_order`), and the moves between ranks that put them
 !> there (permutation, all-to-all redistribution, placement on rank 0).
-!> No HDF5 here: the file side is wellposed_h5_collective. docs/parallel.md.
+!> No HDF5 here: the file side is wellposed_h5_collective. docs/guide/parallel.md.
 module wellposed_h5_row_order
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

@@ -1,6 +1,6 @@
 !> The Abaqus/Standard utility routines legacy UMATs call, as external
 !> subroutines with Abaqus' names and arguments (Abaqus User Subroutines
-!> Reference, "Utility routines"; docs/hosting.md): XIT, STDB_ABQERR, SINV,
+!> Reference, "Utility routines"; docs/guide/hosting.md): XIT, STDB_ABQERR, SINV,
 !> SPRINC, SPRIND, ROTSIG, GETOUTDIR, GETJOBNAME. LSTR = 1: stress; 2: strain
 !> with engineering shears.
 

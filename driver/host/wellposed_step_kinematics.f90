@@ -5,7 +5,7 @@
 !> with dt L = (F1 - F0) F0^-1 and dt W its skew part,
 !> DROT = (I - dt W/2)^-1 (I + dt W/2), exactly orthogonal for any W (a
 !> Cayley transform) and to second order the rotation of the Jaumann rate
-!> (docs/mpm.md, "Hosting a UMAT in the MPM").
+!> (docs/guide/mpm.md, "Hosting a UMAT in the MPM").
 module wellposed_step_kinematics
   use wellposed_kinds, only: dp
   implicit none

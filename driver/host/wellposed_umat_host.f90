@@ -1,4 +1,4 @@
-!> The one caller of a UMAT in the drivers (docs/umat.md, docs/hosting.md):
+!> The one caller of a UMAT in the drivers (docs/guide/umat.md, docs/guide/hosting.md):
 !> every driver reaches a material only through here, so ours and a user's
 !> Abaqus UMAT are driven alike. `umat_host_t` bundles a point's arguments
 !> (set up once, reused over particles); `host_call` makes one call and

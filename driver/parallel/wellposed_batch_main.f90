@@ -4,7 +4,7 @@
 !>                                  DRIVER BATCHFILE [DRIVER_OPTION ...]
 !> Writes ROOT/<batch name>/batch_summary.txt and .csv. Exit status 0 when
 !> every job succeeded, 1 when any failed, 2 when the batch could not run.
-!> Details: docs/parallel.md.
+!> Details: docs/guide/parallel.md.
 program wellposed_batch_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use wellposed_error, only: error_t

@@ -1,5 +1,5 @@
 !> wellposed-point DECK [--no-plot] [--out ROOT]: the single-element driver.
-!> Drives every &material of a namelist deck (keys in docs/decks.md) through
+!> Drives every &material of a namelist deck (keys in docs/guide/decks.md) through
 !> the UMAT along the deck's legs, probes the state and runs the chapter 3
 !> virtual experiment when asked, and writes <out_dir>/<name>/ (deck, CSV,
 !> results.h5, summary.txt, PNGs). Errors go to standard error with exit
@@ -68,7 +68,7 @@ program wellposed_point
     case ('-h', '--help')
       write (output_unit, '(a)') 'usage: wellposed-point DECK [--no-plot] [--out ROOT]', &
         '       [mpirun -np N] wellposed-point --batch FILE [--out ROOT] [--no-plot]', &
-        '  DECK: namelist deck (groups and keys: docs/decks.md)', &
+        '  DECK: namelist deck (groups and keys: docs/guide/decks.md)', &
         '  --no-plot: skip the PNG plots (same as plot = .false. in &run)', &
         '  --out ROOT: write ROOT/<name>/ instead of the deck''s out_dir', &
         '  --batch FILE: one deck per line (# comments); summary in ROOT/<FILE name>/'

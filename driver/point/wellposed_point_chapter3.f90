@@ -3,7 +3,7 @@
 !> stimulus-response pairs to a common state (fig. 3.3), the best-fit tangent
 !> compliance L = R S^+, and the flow direction M and yield normal N by the
 !> polar decomposition of A = C - T (eq. 3.19-3.25), as table 3.2.
-!> Legs, drift increments and sign conventions: docs/theory.md.
+!> Legs, drift increments and sign conventions: docs/research/theory.md.
 module wellposed_point_chapter3
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

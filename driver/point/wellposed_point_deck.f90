@@ -1,6 +1,6 @@
 !> The deck of `wellposed-point`: Fortran namelist groups &run, &material,
 !> &initial, &leg, &probe and &chapter3 in a plain text file (driver/common:
-!> wellposed_deck), each key documented in docs/decks.md. Any other group
+!> wellposed_deck), each key documented in docs/guide/decks.md. Any other group
 !> name is an error (the namelist READ would skip a misspelt group
 !> silently); a group may end with "/" or with "&end".
 module wellposed_point_deck

@@ -1,5 +1,5 @@
 !> The single-element driver's view of a material: PROPS and an STATEV
-!> length (docs/umat.md), reached only through the UMAT host, so a user's
+!> length (docs/guide/umat.md), reached only through the UMAT host, so a user's
 !> own UMAT is driven alike. The element is a unit cube (CELENT = 1, COORDS
 !> = 0) strained homogeneously without rotation (DROT = I, F = I + eps);
 !> KSTEP is the leg, KINC the increment, TIME(1) the leg's time, TIME(2) the

@@ -4,7 +4,7 @@
 !> ellipticity and flutter, elastic and plastic uniaxial-strain wave speeds,
 !> and Gudehus strain-response envelopes (fig. 3.2). The yield normal is found
 !> by bisection on probe responses, not asked of the material.
-!> Conventions and method: docs/theory.md. Abaqus order, tension positive.
+!> Conventions and method: docs/research/theory.md. Abaqus order, tension positive.
 module wellposed_point_probes
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp

@@ -3,7 +3,7 @@
 !> rules, and the directional stiffness ratio R (eq. 2.5) over axisymmetric
 !> strain-rate directions d eps = cos(phi) E_z + sin(phi) E_r of the state's
 !> Lode plane, theta measured from the compressive tangent to the yield
-!> surface towards the outward normal (section 2.4; docs/theory.md).
+!> surface towards the outward normal (section 2.4; docs/research/theory.md).
 module wellposed_tangent_analysis
   use wellposed_kinds, only: dp
   use wellposed_tensor, only: ntens6, sqrt2, sqrt3, identity2, trace, deviator, norm, outer
@@ -140,7 +140,7 @@ contains
   !> and Bazant: a harmonic perturbation of dlambda is averaged by the
   !> normalised Gaussian, whose Fourier transform is exp(-kappa^2 L^2/(4 k^2)),
   !> so the linearised equations are the local ones with the effective modulus
-  !> h_eff(kappa) = h_eta + h_zeta exp(-kappa^2 L^2/(4 k^2)) (docs/cases.md,
+  !> h_eff(kappa) = h_eta + h_zeta exp(-kappa^2 L^2/(4 k^2)) (docs/research/cases.md,
   !> case A: h((1 - m) + m exp(...)) with h_eta = (1 - m) h, h_zeta = m h).
   !> Returns rho c(kappa)^2; kappa -> 0 is the local model with h_eta + h_zeta,
   !> kappa -> infinity the local model with h_eta.

@@ -5,7 +5,7 @@
 !> scalar equation solved by Newton (efr_return); the tangent is their
 !> implicit-function derivative d sigma/d de (it includes how M_hat turns
 !> with de). No direction, or a direction that cannot lower f:
-!> the regular flow rule. Derivation and edge cases: docs/theory.md.
+!> the regular flow rule. Derivation and edge cases: docs/research/theory.md.
 module wellposed_efr
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_cutback
@@ -71,7 +71,7 @@ contains
   !> and ||W||, S_hat : de* and ||M|| are scalar functions of t (a0 =
   !> ||de*||/(sqrt(2) n_m), b0 = beta_p ||de*||/n_m + P_v tr(de)). Newton on
   !> t; with P_d = 0 and linear hardening the equation is linear and the
-  !> first step is exact. Derivation: docs/theory.md, docs/performance.md.
+  !> first step is exact. Derivation: docs/research/theory.md, docs/guide/performance.md.
   pure subroutine efr_return(p, sig_tr, deps, z_n, zeta, ret, tangent, err)
     type(dp_params_t), intent(in) :: p
     real(dp), intent(in) :: sig_tr(ntens6), deps(ntens6), z_n, zeta
@@ -125,7 +125,7 @@ contains
     ! t = 0 (the volumetric part of M does not act on f). A direction with
     ! N : C : M <= 0, or an increment whose deviator is zero to rounding
     ! (dev() errs by a few ulps of ||de||), returns only through hardening,
-    ! with unbounded volumetric flow: the regular flow rule (docs/umat.md).
+    ! with unbounded volumetric flow: the regular flow rule (docs/guide/umat.md).
     if (p%beta == 0.0_dp) then
       if (d_s <= 8.0_dp*epsilon(1.0_dp)*norm(deps) .or. &
           .not. c*se/q + 2.0_dp*p%el%shear*a0 > 0.0_dp) df = 0.0_dp
@@ -222,7 +222,7 @@ contains
   !> alpha (C:M_hat) (x) u with alpha = x c1/||M||, gamma = 2 G alpha,
   !> u = P : M_hat: the inverse of I + gamma P is I - gamma/(1 + gamma) P,
   !> Sherman-Morrison adds the rank-one term and the Schur complement the
-  !> bordering row and column (docs/performance.md, the extended flow rule).
+  !> bordering row and column (docs/guide/performance.md, the extended flow rule).
   pure subroutine factor_jacobian(p, s_hat, qs, m_hat, mn, cm, x, d_s, z_n, jac, ok)
     type(dp_params_t), intent(in) :: p
     real(dp), intent(in) :: s_hat(ntens6), qs, m_hat(ntens6), mn, cm(ntens6), x, d_s, z_n

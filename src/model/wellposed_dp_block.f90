@@ -1,18 +1,10 @@
-!> The closed-form increment of wellposed_dp_point (regular flow rule,
-!> linear hardening, Duvaut-Lions; eq. 4.36-4.39, 2.10) for a block of
-!> points at once, the form an explicit host (a VUMAT, an MPM particle
-!> loop) calls: arrays (n, 6) of tensor components [11, 22, 33, 12, 13, 23].
-!> The trial and its yield function are computed for every point; a chunk
-!> with a plastic point then computes the cone for every point too, and
-!> selects by masks, so the loops over points have no call and no branch
-!> and the compiler vectorises them (with -fno-trapping-math, CMakeLists.txt).
-!> A chunk with a point past the cone's reach computes the apex return for
-!> its deferred points, a compact list, in one more vectorised loop
-!> (apex_return; without Duvaut-Lions). Points whose
-!> answer is none of these (a zero deviator, no admissible stress, the
-!> apex under Duvaut-Lions) are marked deferred and left to point_update,
-!> one by one; they are rare. Same arithmetic, in the same order, as
-!> point_closed_form: the results are bitwise its results.
+!> The closed form of wellposed_dp_point (eq. 4.36-4.39, 2.10) for a block
+!> of points, as an explicit host calls it: arrays (n, 6), components
+!> [11, 22, 33, 12, 13, 23]. Trial, cone and apex returns for every point of
+!> a chunk, selected by masks, so the loops have no call or branch and
+!> vectorise (-fno-trapping-math). Points none of these answer (a zero
+!> deviator, the apex under Duvaut-Lions) are deferred to point_update.
+!> The results are bitwise point_closed_form's.
 module wellposed_dp_block
   use wellposed_kinds, only: dp
   use wellposed_tensor, only: sqrt2
@@ -31,7 +23,7 @@ module wellposed_dp_block
 contains
 
   !> Advance points 1 to n <= block_chunk: inputs sig0, eps_p0, z0, zeta0
-  !> (start of increment), avg_dlambda (the host's <dlambda>), de; outputs
+  !> (start of increment), avg_dlambda (the host's `<dlambda>`), de; outputs
   !> sig, eps_p, z, zeta, dlambda, f and status (0 elastic, 1 cone, 2 apex,
   !> or -1: deferred, the outputs not to be used), and the elastic trial stress.
   !> Status is real, as the STATEV slot it goes to, so that every quantity

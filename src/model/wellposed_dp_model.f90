@@ -4,7 +4,7 @@
 !> trial, rate-independent return (regular, or the EFR of eq. 2.7), and when
 !> tau > 0 the Duvaut-Lions relaxation (eq. 2.10) by backward Euler,
 !> sigma = sigma_qs + w (sigma_trial - sigma_qs), w = tau/(tau + dt).
-!> A feature whose parameter is zero costs nothing. See docs/theory.md.
+!> A feature whose parameter is zero costs nothing. See docs/research/theory.md.
 module wellposed_dp_model
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t

@@ -32,7 +32,7 @@ module wellposed_dp_params
   !> dimensionless parameter the model takes: it squares stresses (||S||,
   !> energies) and multiplies moduli pairwise (tangents), so 2^448 leaves
   !> 2^128 of headroom below huge = 2^1024 for the sums, the constant
-  !> factors and the 2^53 by which a + h may divide (docs/umat.md).
+  !> factors and the 2^53 by which a + h may divide (docs/guide/umat.md).
   real(dp), parameter :: max_magnitude = 2.0_dp**448, max_ratio = 2.0_dp**32
 
   !> The validated material. Derived constants are filled by new_dp_params.

@@ -1,18 +1,10 @@
-!> One increment of the Drucker-Prager model at one material point in plain
-!> tensor components, the form hosts store: stress and strain as
-!> [11, 22, 33, 12, 13, 23] with tensor (not engineering) shears, and the
-!> tangent d sigma/d eps in Voigt form (with respect to engineering shears,
-!> as Abaqus's DDSDDE). Any order of the three shears works the same way:
-!> the model is isotropic.
-!>
-!> point_closed_form is the regular flow rule with linear hardening and
-!> Duvaut-Lions relaxation (the models whose return has a closed form,
-!> eq. 4.36-4.39 and 2.10) written out without Mandel conversions, derived
-!> types or calls, so a host's loop over points can inline and vectorise
-!> it. point_update is the entry for every model: the closed form where it
-!> applies (also an EFR increment without a direction, where the regular
-!> rule holds), else dp_update (Newton on the exponential law eq. 2.6, the
-!> extended flow rule eq. 2.7).
+!> One increment of the Drucker-Prager model at one point in the components
+!> hosts store: stress and strain [11, 22, 33, 12, 13, 23] with tensor
+!> shears, the tangent in Voigt form (engineering shears, as DDSDDE).
+!> point_closed_form: the regular flow rule with linear hardening and
+!> Duvaut-Lions (eq. 4.36-4.39, 2.10) without Mandel conversions, types or
+!> calls, so a host's loop can inline and vectorise it. point_update: every
+!> model, the closed form where it applies, else dp_update (eq. 2.6, 2.7).
 module wellposed_dp_point
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, status_cutback
@@ -69,7 +61,7 @@ contains
 
   !> point_update through dp_update (Mandel components, derived types): a
   !> procedure of its own so that a closed-form call does not initialise
-  !> them (43 of the 933 instructions of an elastic UMAT call with DDSDDE).
+  !> them.
   pure subroutine point_general(p, sig, eps_p, z, zeta, avg_dlambda, de, dtime, dlambda, f, &
                                 status, n, tangent, err)
     type(dp_params_t), intent(in) :: p

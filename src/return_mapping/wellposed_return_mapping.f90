@@ -4,7 +4,7 @@
 !> so the return is one scalar equation in dlambda (eq. 4.36), closed form
 !> for linear hardening (eq. 4.39 with h_zeta = 0), safeguarded Newton for
 !> eq. 2.6. When no point of the cone is reachable along the potential's
-!> normals the stress returns to the apex I1 = k/beta. See docs/theory.md.
+!> normals the stress returns to the apex I1 = k/beta. See docs/research/theory.md.
 module wellposed_return_mapping
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_cutback

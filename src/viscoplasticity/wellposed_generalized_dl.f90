@@ -3,7 +3,7 @@
 !> state obeys da/dt = C : deps/dt - dsigma_qs/dt - a/tau, integrated exactly
 !> for constant rates: a_{n+1} = e a_n + r (C : de - dsigma_qs),
 !> e = exp(-dt/tau), r = (1 - e) tau/dt; z relaxes toward z_qs alike.
-!> The state carries a and z - z_qs. Derivation: docs/theory.md.
+!> The state carries a and z - z_qs. Derivation: docs/research/theory.md.
 module wellposed_generalized_dl
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t

@@ -1,4 +1,4 @@
-!> Fuzz of the UMAT and VUMAT contract (docs/umat.md): groups of points of
+!> Fuzz of the UMAT and VUMAT contract (docs/guide/umat.md): groups of points of
 !> one random material (fuzz_inputs) run chains of increments through
 !> umat_update point by point and vumat_update as one block, with faults
 !> injected into one input now and then. Checked on every call: a success

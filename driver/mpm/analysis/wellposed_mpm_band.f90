@@ -2,7 +2,7 @@
 !> ||eps^p||, fig. 4.2 and 4.4 of the dissertation), measured normal to the
 !> band: the centre line is fitted through horizontal slices, then the FWHM
 !> of the plastic strain is read off the profile across that line.
-!> docs/bands.md ("The band normal to itself") states the method and its limits:
+!> docs/research/bands.md ("The band normal to itself") states the method and its limits:
 !> one band per slice (an X of two bands crossing a slice is followed along
 !> the branch holding the slice's peak), bands steeper than about 15 degrees
 !> from the horizontal, a straight centre line.
@@ -222,7 +222,7 @@ contains
 
   !> Whether the line x = x0 + slope y passes through the box [lo, hi] grown
   !> by `grow` on every side and clipped to the body [0, body(1)] x [0, body(2)]
-  !> (a band's centre line through a weak zone: docs/bands.md).
+  !> (a band's centre line through a weak zone: docs/research/bands.md).
   pure logical function line_meets_box(x0, slope, lo, hi, grow, body) result(meets)
     real(dp), intent(in) :: x0, slope, lo(2), hi(2), grow, body(2)
     real(dp) :: a(2), b(2), xa, xb

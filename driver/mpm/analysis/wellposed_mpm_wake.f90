@@ -1,4 +1,4 @@
-!> The wake behind a 1D pulse at a station (docs/waves.md, "The wake
+!> The wake behind a 1D pulse at a station (docs/research/waves.md, "The wake
 !> oscillation"): over t >= x/C_E + 2 tau to the end of the record, the
 !> largest |sigma_xx(t) - sigma_xx(0)|, its RMS, and the grid-scale part:
 !> the largest deviation from a centred moving average over 4 dx/C_E (a

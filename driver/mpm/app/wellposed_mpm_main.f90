@@ -4,7 +4,7 @@
 !> wellposed_mpm_cli's. Without DECK: inputs/sandler_rubin_default.nml.
 !> Results go to ROOT/NAME/ (renamed from ROOT/NAME.partial when done);
 !> errors to standard error, exit status 1. `wellposed-mpm2d` is an alias.
-!> Usage: docs/mpm.md.
+!> Usage: docs/guide/mpm.md.
 program wellposed_mpm
   use, intrinsic :: iso_fortran_env, only: error_unit
   use wellposed_error, only: error_t

@@ -4,7 +4,7 @@
 !> update of the rebuilt velocity; 'blended' solves M_P a = M_L H^-1 f,
 !> H = (M_L + M_P)/2, whose dispersion error cancels to second order.
 !> Banded (3 nodes), factored by LAPACK every step; one rank only.
-!> Why: docs/waves.md, "The wake oscillation".
+!> Why: docs/research/waves.md, "The wake oscillation".
 module wellposed_mpm_mass_matrix
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_cutback
@@ -43,7 +43,7 @@ contains
     ! M_P would give it an acceleration of order f/(phi m_p), phi -> 0. Its
     ! couplings move onto its neighbours' diagonals, so every row still sums
     ! to its lumped mass (dropped, they pumped a grid-scale oscillation in
-    ! from a drifting surface; docs/waves.md, "Against the continuum").
+    ! from a drifting surface; docs/research/waves.md, "Against the continuum").
     lumped = free .and. mp(1, :) < 0.25_dp*g%mass
     do i = g%glo, g%ghi
       j = i - g%glo + 1

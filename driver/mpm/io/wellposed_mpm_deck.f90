@@ -4,7 +4,7 @@
 !> peak, duration, start, pulse; ramp_sine: rate, amplitude, frequency) and
 !> &stations (first, spacing, count), and &output's reference keys, into an
 !> mpm_config_t. Overrides `group.key=value` are read after the deck as
-!> one-line namelists, under the same rules. Keys: docs/decks.md.
+!> one-line namelists, under the same rules. Keys: docs/guide/decks.md.
 module wellposed_mpm_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

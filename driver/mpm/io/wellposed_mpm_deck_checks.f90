@@ -1,5 +1,5 @@
 !> Physical consistency of an MPM deck, checked after reading and before
-!> anything is set up (docs/decks.md, "Refused decks"), every message with
+!> anything is set up (docs/guide/decks.md, "Refused decks"), every message with
 !> its numbers: the bar's initial stress balances the traction at t = 0
 !> (unless out_of_equilibrium) and lies inside the yield surface, asked
 !> through the UMAT contract alone (a zero increment: eq. 2.3, 2.10);

@@ -50,7 +50,7 @@ contains
     if (allocated(err)) return
     if (.not. has_group(text, 'scene')) then
       call new_error(err, status_invalid, 'scene', path//': names no scene: an MPM deck '// &
-        "needs ""&scene name = '...' /"" (the run folder's name; see docs/decks.md), and "// &
+        "needs ""&scene name = '...' /"" (the run folder's name; see docs/guide/decks.md), and "// &
         'the default scene runs only when no deck is given')
       return
     end if

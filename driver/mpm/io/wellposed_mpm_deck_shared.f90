@@ -4,7 +4,7 @@
 !> a2 D_kk^2 dx^2) for D_kk < 0. A key of another scene kind is refused,
 !> naming its kind. A scene's reader puts its defaults into a shared_deck_t,
 !> calls read_shared_deck and reads its own groups; overrides come after
-!> the deck. Keys and defaults: docs/decks.md.
+!> the deck. Keys and defaults: docs/guide/decks.md.
 module wellposed_mpm_deck_shared
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -101,7 +101,7 @@ contains
     if (allocated(foreign%key)) then
       call new_error(err, status_invalid, foreign%key, path//': &'//foreign%group//': '// &
         foreign%key//' is a key of '//trim(scene_kind_names(3 - kind))//' scenes; this '// &
-        'deck''s scene is a '//trim(scene_kind_names(kind))//' (docs/decks.md)'); return
+        'deck''s scene is a '//trim(scene_kind_names(kind))//' (docs/guide/decks.md)'); return
     end if
     call merge_given(given, sh)
     call check_shared(path, kind, shapes, far_ends, sh, err); if (allocated(err)) return

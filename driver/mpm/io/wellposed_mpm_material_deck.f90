@@ -4,7 +4,7 @@
 !> density, nstatv, model ('wellposed': our UMAT by its named keys, PROPS
 !> 1-13; 'umat': props as given), nonlocal_contract, region ('rest'|'box')
 !> with x(2), y(2). Overrides: material.key=value (the first group),
-!> materialN.key=value (the N-th). Keys: docs/decks.md.
+!> materialN.key=value (the N-th). Keys: docs/guide/decks.md.
 module wellposed_mpm_material_deck
   use, intrinsic :: iso_fortran_env, only: iostat_end
   use wellposed_kinds, only: dp

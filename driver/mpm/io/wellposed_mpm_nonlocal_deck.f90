@@ -1,7 +1,7 @@
 !> What Algorithm 1 (the dissertation's eq. 4.46-4.50) knows of a scene's
 !> materials, taken from the deck alone: the &nonlocal keys L and h_zeta,
 !> defaulting to the named keys of our &material (PROPS 12-13 of the UMAT
-!> contract, docs/umat.md). Algorithm 1 runs when a material of ours has
+!> contract, docs/guide/umat.md). Algorithm 1 runs when a material of ours has
 !> h_zeta /= 0 or a material declares nonlocal_contract = .true. (the UMAT
 !> reads STATEV 3 and writes STATEV 2); the latter's L can come only from
 !> &nonlocal. The contraction bounds of eq. 4.43 and 4.45 are the closed

@@ -3,7 +3,7 @@
 !> step, and the contraction bounds of eq. 4.43 and 4.45. The bounds are
 !> closed forms of our model's h_eta, h_zeta and a; for a user's UMAT
 !> (nonlocal_contract) they are not known and are written
-!> `not_applicable  # why` (docs/decks.md, "Summary figures").
+!> `not_applicable  # why` (docs/guide/decks.md, "Summary figures").
 module wellposed_mpm_nonlocal_summary
   use wellposed_kinds, only: dp
   use wellposed_summary, only: summary_t

@@ -4,7 +4,7 @@
 !> fig. 4.6), plus the plate's keys of &time (stop_on_cutback) and &output
 !> (band_y, band_x, band_axis, band_time, band_drop, band_onset_strain),
 !> into a ps_config_t and its list of cases. Overrides `group.key=value`
-!> are read after the deck. Keys: docs/decks.md; the platen: docs/bands.md.
+!> are read after the deck. Keys: docs/guide/decks.md; the platen: docs/research/bands.md.
 module wellposed_mpm_ps_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -297,7 +297,7 @@ contains
       if (.not. (any(is_set([weak_x, weak_y])) .or. is_set(weak_k0))) return
       write (error_unit, '(a)') path//': &plate weak_x, weak_y, weak_k0 are deprecated '// &
         '(read for one more release): give the weak zone as a second &material with a box '// &
-        'region (docs/decks.md)'
+        'region (docs/guide/decks.md)'
       if (.not. is_set(weak_k0)) weak_k0 = 375.0e6_dp
       if (.not. all(is_set(weak_x))) weak_x = [0.0_dp, 1.0_dp]
       if (.not. all(is_set(weak_y))) weak_y = [0.0_dp, 1.0_dp]

@@ -1,10 +1,10 @@
 !> The station figures of a bar's summary.txt (wellposed_mpm_stations
 !> measures them): head and tail speeds, per station the signed peak,
-!> arrivals and width beside shared reference A (docs/cases.md), where the
+!> arrivals and width beside shared reference A (docs/research/cases.md), where the
 !> apex was reached, and the phase speed of a ramp with a sinusoid (fig.
 !> 2.10 left). The head is compared with C_P, or for an overlocal material
 !> with its dispersion relation's low-frequency limit (head_speed). A figure
-!> that does not apply is `not_applicable  # why` (docs/decks.md).
+!> that does not apply is `not_applicable  # why` (docs/guide/decks.md).
 module wellposed_mpm_station_summary
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
@@ -146,7 +146,7 @@ contains
     end if
     call find_apex(time, apex_flag, sxx, apex, t_apex, s_apex, reached)
     ! as the stations' z (STATEV(1)), read whatever a user's UMAT keeps there
-    ! (docs/mpm.md); the comment says which UMAT it was
+    ! (docs/guide/mpm.md); the comment says which UMAT it was
     who = ''
     if (.not. umat_is_ours()) who = ' (a user''s UMAT: its STATEV(12), whatever it holds)'
     if (apex > 0) then

@@ -1,11 +1,11 @@
 !> The materials of an MPM scene by region: each material's UMAT PROPS and
-!> NSTATV, whether it is ours (wellposed's UMAT: PROPS slots of docs/umat.md) and whether it
-!> follows the nonlocal contract (STATEV 2 out, STATEV 3 in: docs/umat.md),
+!> NSTATV, whether it is ours (wellposed's UMAT: PROPS slots of docs/guide/umat.md) and whether it
+!> follows the nonlocal contract (STATEV 2 out, STATEV 3 in: docs/guide/umat.md),
 !> and the region it fills: a box (x range in 1D, x and y ranges in 2D) or
 !> "rest" (every particle no box holds). A particle takes the material of
 !> the first box, in deck order, that holds its initial centre (bounds
 !> included), else the rest's; boxes may touch but not overlap. Both MPM
-!> solvers look a particle's PROPS up here (docs/decks.md, docs/mpm.md).
+!> solvers look a particle's PROPS up here (docs/guide/decks.md, docs/guide/mpm.md).
 module wellposed_mpm_materials
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -19,7 +19,7 @@ module wellposed_mpm_materials
 
   integer, parameter :: max_materials = 8        !< &material groups per deck
   integer, parameter :: max_material_props = 40  !< PROPS per material
-  !> NSTATV our model needs (docs/umat.md), and a UMAT following the
+  !> NSTATV our model needs (docs/guide/umat.md), and a UMAT following the
   !> nonlocal contract (STATEV 2/3); a user's UMAT needs 1 or more and the
   !> outputs reading our slots are left out where it has fewer
   integer, parameter :: min_nstatv = 12
@@ -183,7 +183,7 @@ contains
     logical, intent(in) :: ours_or_contract
     character(len=:), allocatable :: s
     if (ours_or_contract) then
-      s = ', what our model needs (docs/umat.md) and the nonlocal contract''s STATEV 2/3 read'
+      s = ', what our model needs (docs/guide/umat.md) and the nonlocal contract''s STATEV 2/3 read'
     else
       s = ' (a UMAT''s STATEV has at least one entry)'
     end if

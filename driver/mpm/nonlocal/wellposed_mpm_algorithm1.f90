@@ -4,7 +4,7 @@
 !> the fixed-point map of eq. 4.39. Sweeps gauss_seidel (the dissertation's,
 !> pipelined across ranks in the serial order), jacobi (relaxed by
 !> 2/(2 +- b), b of eq. 4.43) and coloured; 'anderson' accelerates the map.
-!> Across ranks: docs/parallel.md, "Algorithm 1 across ranks".
+!> Across ranks: docs/guide/parallel.md, "Algorithm 1 across ranks".
 module wellposed_mpm_algorithm1
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
@@ -281,7 +281,7 @@ contains
       ! The sweep's Jacobian is -h_zeta/(a + h_eta) times the averaging (eq.
       ! 4.39, 4.47), eigenvalues in [-b, 0] for h_zeta > 0, [0, b] for h_zeta
       ! < 0 (b = bound_43): relaxing by w = 2/(2 + b), resp. 2/(2 - b) when b
-      ! < 1, centres them on 0, the smallest factor (docs/parallel.md).
+      ! < 1, centres them on 0, the smallest factor (docs/guide/parallel.md).
       w = 1.0_dp
       if (self%bound_43 > 0.0_dp) then
         if (self%h_zeta > 0.0_dp) then

@@ -2,7 +2,7 @@
 !> (wellposed_mpm_nonlocal_settings), the grid-based average and its state
 !> (wellposed_mpm_nonlocal_grid), Algorithm 1 (wellposed_mpm_algorithm1)
 !> and its sweep order (wellposed_mpm_sweep_order). The dissertation's
-!> eq. 4.46-4.50; docs/mpm.md, docs/theory.md.
+!> eq. 4.46-4.50; docs/guide/mpm.md, docs/research/theory.md.
 module wellposed_mpm_nonlocal
   use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_fixed_point, nl_anderson, &
                                              nl_scheme_names, nl_scheme_id, ours_bounds, &

@@ -4,7 +4,7 @@
 !> nodes_from_highest), nodes_sum for the simultaneous sweeps (partial sums
 !> at shared nodes, all ranks at once), and the reductions. The MPM's
 !> exchange extends this type; one process passes a stand-in that does
-!> nothing. Design: docs/parallel.md, "Algorithm 1 across ranks".
+!> nothing. Design: docs/guide/parallel.md, "Algorithm 1 across ranks".
 module wellposed_mpm_nonlocal_ranks
   use wellposed_kinds, only: dp
   implicit none

@@ -1,5 +1,5 @@
 !> The deck's choices for the dissertation's nonlocal Algorithm 1 (the
-!> &nonlocal group, docs/decks.md): the iteration scheme and its
+!> &nonlocal group, docs/guide/decks.md): the iteration scheme and its
 !> tolerances, limits and weight cut-off (wellposed_mpm_algorithm1), and
 !> what Algorithm 1 knows of the materials, all from the deck
 !> (wellposed_mpm_nonlocal_deck): whether it runs, L, h_zeta and the
@@ -20,7 +20,7 @@ module wellposed_mpm_nonlocal_settings
   character(len=11), parameter :: nl_scheme_names(2) = [character(len=11) :: 'fixed_point', &
                                                         'anderson']
 
-  !> Sweeps of step 2 (docs/parallel.md): the dissertation's Gauss-Seidel in
+  !> Sweeps of step 2 (docs/guide/parallel.md): the dissertation's Gauss-Seidel in
   !> the serial order (pipelined across ranks); Jacobi, every plastic
   !> particle from the field of the previous sweep; coloured, two colours of
   !> blocks of cell layers (by global layer), each colour from the field the
@@ -74,7 +74,7 @@ contains
   end function nl_sweep_id
 
   !> The contraction factors of our model from its named keys (PROPS of
-  !> docs/umat.md), with N_alpha = 1: eq. 4.43 |h_zeta/(a + h_eta)| and
+  !> docs/guide/umat.md), with N_alpha = 1: eq. 4.43 |h_zeta/(a + h_eta)| and
   !> eq. 4.45 |(h_eta + h_zeta)/a|, a = (G + 9 K beta beta_p)/sqrt(1/2 +
   !> 3 beta_p^2) (eq. 4.36). Both < 0 (not known) where a or a + h_eta is 0.
   pure subroutine ours_bounds(props, bound_43, bound_45)

@@ -3,7 +3,7 @@
 !> by global id. The pipeline needs every key of rank r below every key of
 !> rank r+1, which the id alone is not once particles cross ranks; the
 !> layer does not depend on the rank count, so every N sweeps in the
-!> serial program's order (docs/parallel.md, "Algorithm 1 across ranks").
+!> serial program's order (docs/guide/parallel.md, "Algorithm 1 across ranks").
 module wellposed_mpm_sweep_order
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp

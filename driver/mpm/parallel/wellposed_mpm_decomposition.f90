@@ -4,7 +4,7 @@
 !> the nonlocal Gaussian's). `hand_off_particles` moves particles to the
 !> rank owning their cell, in a deterministic order; `sum_ghost_values`
 !> adds the holders' partial sums in ascending rank order, so every copy of
-!> a node ends bitwise equal. Design: docs/parallel.md.
+!> a node ends bitwise equal. Design: docs/guide/parallel.md.
 module wellposed_mpm_decomposition
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

@@ -4,7 +4,7 @@
 !> an identity, so `mpirun -np 1` is the serial program bit for bit. Also
 !> Algorithm 1's nonlocal_ranks_t: the Gauss-Seidel pipeline in the serial
 !> order, from pairwise exchanges with the two neighbouring ranks (patches
-!> are intervals of node layers in rank order). Design: docs/parallel.md.
+!> are intervals of node layers in rank order). Design: docs/guide/parallel.md.
 module wellposed_mpm_ranks
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

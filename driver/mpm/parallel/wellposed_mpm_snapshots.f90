@@ -5,7 +5,7 @@
 !> rank a block of ids on any rank count; `write_stored` writes them again,
 !> bit for bit. A snapshot is a group (`snapshots/0001/`) with its time and
 !> one dataset per field (width 1: N rows; width 2: (N, 2)).
-!> Entries and layout: docs/parallel.md.
+!> Entries and layout: docs/guide/parallel.md.
 module wellposed_mpm_snapshots
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid

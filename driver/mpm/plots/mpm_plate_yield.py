@@ -10,7 +10,7 @@ sigma_zz = nu (sigma_xx + sigma_yy), K and G from run.h5's props) the
 ratio r = sqrt(J2)/k of
   - the corner particle: the one nearest each top corner of the deformable
     body, (0, H - h) and (W, H - h) (the platen holds the node row at
-    y = H - h and above: docs/bands.md, "The platen"), k = K_STRONG;
+    y = H - h and above: docs/research/bands.md, "The platen"), k = K_STRONG;
   - the weak zone: the largest over its particles (x < WEAK_X, y < WEAK_Y
     initially), k = K_WEAK;
   - mid-height: the mean over the particle row(s) nearest y = H/2;
@@ -22,7 +22,7 @@ ratio r = sqrt(J2)/k of
 and prints one markdown row per case: r at time T (default 4 ms), corner
 over weak, and the time at which each first reaches r = 1 (linear between
 snapshots): where the plastic plate's first yield is predicted to be
-(docs/bands.md, "The clamped corner yields first").
+(docs/research/bands.md, "The clamped corner yields first").
 """
 import os
 import sys

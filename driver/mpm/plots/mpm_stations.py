@@ -10,7 +10,7 @@ each labelled with its speed, only where that speed applies:
   x/C_P   the ideal head (C_P from the run's metadata, the UMAT's loading
           modulus at the initial state; for an overlocal run, h_zeta /= 0,
           the local speed with h_eta + h_zeta, the low-frequency limit of its
-          dispersion relation that its head runs at; docs/figures.md);
+          dispersion relation that its head runs at; docs/research/figures.md);
   x/C_E + tau  the ideal end of the pulse.
 Neither is drawn where summary.txt beside RUN.h5 gives the ideal arrivals
 as not_applicable (C_P < C_E: the plastic wave trails the elastic one, as
@@ -96,7 +96,7 @@ def guides(nums, summary):
     h_zeta = props[11] if len(props) > 12 else 0.0
     if h_zeta != 0.0 and props[12] > 0.0:
         # overlocal: the UMAT's local modulus has h_eta alone; the head runs at
-        # the low-frequency speed, h_eta + h_zeta (docs/figures.md, fig. 2.10)
+        # the low-frequency speed, h_eta + h_zeta (docs/research/figures.md, fig. 2.10)
         local = uniaxial_plastic_speed(props, nums["density"], props[5])
         low = uniaxial_plastic_speed(props, nums["density"], props[5] + h_zeta)
         if abs(local - c_p) <= 1e-6 * c_p and math.isfinite(low):

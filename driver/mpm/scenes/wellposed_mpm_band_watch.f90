@@ -1,10 +1,10 @@
 !> Where a plate's band starts and how wide it is at an equal post-peak
-!> stage (docs/bands.md, "Where bands start", "The band normal to itself"),
+!> stage (docs/research/bands.md, "Where bands start", "The band normal to itself"),
 !> watched step by step: the onset (the first particle past &output
 !> band_onset_strain, and whether it is in the weak zone); the stage (the
 !> apparent stress band_drop below its peak), where the band is fitted
 !> normal to itself in the middle 60 % of the height; and the platen's
-!> layer stress after the last step (docs/bands.md, "The platen").
+!> layer stress after the last step (docs/research/bands.md, "The platen").
 !> Collective: every rank calls `step` each step with the same curve.
 module wellposed_mpm_band_watch
   use wellposed_kinds, only: dp

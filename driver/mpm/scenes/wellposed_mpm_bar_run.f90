@@ -5,7 +5,7 @@
 !> at the end; errors to standard error, exit status 1. On N ranks the bar
 !> is cut into strips (wellposed_mpm_ranks) and run.h5 written collectively;
 !> checkpoints every STEPS steps, --restart on any number of ranks.
-!> Outputs: docs/mpm.md; ranks and checkpoints: docs/parallel.md.
+!> Outputs: docs/guide/mpm.md; ranks and checkpoints: docs/guide/parallel.md.
 module wellposed_mpm_bar_run
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite

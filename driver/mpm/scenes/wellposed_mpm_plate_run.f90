@@ -5,7 +5,7 @@
 !> through ROOT/NAME.partial, renamed at the end. Ranks advance their strips
 !> and write run.h5 collectively; rank 0 writes the rest, in the serial
 !> layout. Checkpoints every STEPS steps; `--restart` gives the
-!> uninterrupted run's files bit for bit. Outputs: docs/mpm.md.
+!> uninterrupted run's files bit for bit. Outputs: docs/guide/mpm.md.
 module wellposed_mpm_plate_run
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
   use wellposed_kinds, only: dp

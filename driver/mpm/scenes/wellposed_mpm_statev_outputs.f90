@@ -1,5 +1,5 @@
 !> The plate's outputs that read our model's STATEV slots (2 dlambda,
-!> 4 zeta, 5-10 the plastic strain: docs/umat.md), left out where the
+!> 4 zeta, 5-10 the plastic strain: docs/guide/umat.md), left out where the
 !> scene's NSTATV has no such slot (a user's UMAT with a shorter STATEV):
 !> snapshot fields are dropped, summary figures are
 !> `not_applicable  # the UMAT's STATEV has no <what> slot (NSTATV = N)`.

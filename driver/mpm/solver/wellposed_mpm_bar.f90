@@ -169,7 +169,7 @@ contains
       call bad('time', 'cfl', '= '//trim(cfl_text)//' is above '//trim(lim_text)//', where '// &
         'scheme = '''//trim(scheme_names(cfg%scheme))//''' with mass = '''// &
         trim(mass_names(cfg%mass))//''' turns unstable at ppc = '//trim(ppc_text)// &
-        ' (the linearised step; docs/timestep.md)', err); return
+        ' (the linearised step; docs/research/timestep.md)', err); return
     end if
     if (.not. (cfg%t_end > 0.0_dp .and. ieee_is_finite(cfg%t_end))) then
       call bad('time', 't_end', 'must be a finite end time > 0 s', err); return

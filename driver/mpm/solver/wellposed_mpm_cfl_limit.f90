@@ -1,4 +1,4 @@
-!> The largest stable &time cfl of a bar (docs/timestep.md, "Where a bar's
+!> The largest stable &time cfl of a bar (docs/research/timestep.md, "Where a bar's
 !> step is stable"): eq. 4.9-4.13 linearised on an elastic bar at rest. Per
 !> Fourier mode theta, cfl = c dt/dx: mu = a + 2 b cos(theta) (the mass
 !> matrix M_P), w0^2 = 4 sin^2(theta/2), alpha = 1 (lumped), 1/mu

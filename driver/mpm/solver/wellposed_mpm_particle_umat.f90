@@ -2,7 +2,7 @@
 !> ndim = 1 and 2: the strain increment embedded in the UMAT's NTENS (6 for
 !> the bar's uniaxial strain, 4 for plane strain, engineering shear) and
 !> the call with the particle's identity, under the host's rules
-!> (docs/mpm.md, "Hosting a UMAT in the MPM"). Our own material also goes a
+!> (docs/guide/mpm.md, "Hosting a UMAT in the MPM"). Our own material also goes a
 !> block at a time through the VUMAT's kernel (umat_block, bitwise the
 !> UMAT's answer); what it defers, non-finite values and refused PROPS are
 !> left to the per-particle call.

@@ -5,7 +5,7 @@
 !> surface, grid or by contact; sides free|roller; nodes past a boundary
 !> share its condition), dt = cfl dx / sqrt(M/rho) with M probed through the
 !> UMAT, and the load kernel; ranks are strips of cell rows. Deck keys:
-!> docs/decks.md; the platen: docs/bands.md.
+!> docs/guide/decks.md; the platen: docs/research/bands.md.
 module wellposed_mpm_plane_strain
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -146,7 +146,7 @@ contains
   !> so the cell under the lowest platen row is full of material: a node's
   !> internal force (eq. 4.5) integrates stress over the material in its
   !> cells only, so a partly filled cell of depth f dx under the platen row
-  !> passes the load on at 1/f times the body's stress (docs/bands.md, "The
+  !> passes the load on at 1/f times the body's stress (docs/research/bands.md, "The
   !> platen"); the material above that row moves with the platen.
   subroutine platen_nodes(self)
     type(mpm_scene_t), intent(inout) :: self
@@ -202,7 +202,7 @@ contains
   !> does, on the edge: half at each end, with the grid's bilinear weights,
   !> so a uniform stress is in equilibrium with it on any mesh (a node's
   !> eq. 4.5 integrates the stress over the body, whose top is that edge).
-  !> Before the ghost sum. docs/bands.md, "The platen".
+  !> Before the ghost sum. docs/research/bands.md, "The platen".
   subroutine platen_push(self, vtop)
     type(mpm_scene_t), intent(inout) :: self
     real(dp), intent(in) :: vtop

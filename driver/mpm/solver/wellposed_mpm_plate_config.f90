@@ -19,7 +19,7 @@ module wellposed_mpm_plate_config
   character(len=8), parameter :: bc2_names(4) = [character(len=8) :: 'roller', 'fixed', 'free', &
                                                  'velocity']
   integer, parameter :: max_props2 = 40
-  !> Where the platen acts (docs/bands.md, "The platen"): 'surface', on the
+  !> Where the platen acts (docs/research/bands.md, "The platen"): 'surface', on the
   !> nodes at and above the highest node row at or below the body's current
   !> top; 'grid', on the fixed node row y = height and above; 'contact', a
   !> frictionless rigid plane pressing on the particles (no node condition).

@@ -474,7 +474,7 @@ contains
 
   !> The height y_g under which the plate's body is measured (applied_stress,
   !> the top cell row's stress ratio): the platen's lowest node row, or the
-  !> platen's plane with platen = 'contact' (no node row; docs/bands.md).
+  !> platen's plane with platen = 'contact' (no node row; docs/research/bands.md).
   pure real(dp) function platen_base(self) result(yg)
     type(mpm_scene_t), intent(in) :: self
     if (self%plate%platen == platen_contact) then

@@ -5,7 +5,7 @@
 !> default (the grid velocity rebuilt from the particles before the strain
 !> rate: Wallstedt and Guilkey 2008), or USL. Bulk viscosity (shared
 !> reference B): q = rho (A1 c |D_kk| dx + A2 D_kk^2 dx^2) for D_kk < 0.
-!> Ranks only through the exchange. The step: docs/mpm.md, "The solver's layout".
+!> Ranks only through the exchange. The step: docs/guide/mpm.md, "The solver's layout".
 module wellposed_mpm_solver
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp

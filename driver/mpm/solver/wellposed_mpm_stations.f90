@@ -243,7 +243,7 @@ contains
 
   !> The first station (k > 0; 0: none) whose material reached the apex of
   !> the cone, where the return maps to the hydrostatic tensile stress
-  !> I1 = k/beta (docs/umat.md, "Apex"): a sample of `apex` (field_apex,
+  !> I1 = k/beta (docs/guide/umat.md, "Apex"): a sample of `apex` (field_apex,
   !> station by sample) above 0. `t_apex` is when, `s_apex` the stress
   !> sigma_xx there then (Pa); `stations` marks every station reaching it.
   pure subroutine find_apex(time, apex, sxx, k, t_apex, s_apex, stations)

@@ -1,16 +1,11 @@
-!> Three kinds of host drive our UMAT through one element of 8 integration
-!> points in uniaxial strain (every strain prescribed, so no global Newton
-!> iteration), for a valid material and for invalid PROPS (k0 = 0), no
-!> STATEV (NSTATV = 0) and a NaN in the initial STATEV of point 1:
-!>  - abaqus: PNEWDT set to a large value before every call; an increment
-!>    is accepted when every point leaves PNEWDT >= 1, else retried with
-!>    DTIME max(PNEWDT, 0.25), at most 5 times, then the analysis ends;
-!>  - calculix: PNEWDT = -1 ("no request") before the element loop and passed
-!>    from point to point; a cut-back only when it ends > 0, by that factor,
-!>    at most 5 times (ccx's checkconvergence.c);
-!>  - ours: wellposed_umat_host's host_update, the caller of every driver.
-!> The valid case must finish, the same stress in all three; no other case
-!> may finish. Prints a table; exits 1 when a host finishes a bad case.
+!> Three kinds of host drive our UMAT through one element of 8 points in
+!> uniaxial strain: abaqus (PNEWDT large on entry, cut back while < 1),
+!> calculix (PNEWDT = -1 on entry, cut back only when > 0, as its
+!> checkconvergence.c) and ours (wellposed_umat_host's host_update), each
+!> at most 5 cut-backs. A valid material must finish with the same stress in
+!> all three; invalid PROPS (k0 = 0), NSTATV = 0 and a NaN initial STATEV
+!> must finish in none. Prints a table; exits 1 when a host finishes a bad
+!> case (docs/guide/umat.md, "Status codes, errors and PNEWDT").
 program host_semantics
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
   use wellposed_kinds, only: dp
