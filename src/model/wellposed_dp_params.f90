@@ -33,7 +33,9 @@ module wellposed_dp_params
   !> energies) and multiplies moduli pairwise (tangents), so 2^448 leaves
   !> 2^128 of headroom below huge = 2^1024 for the sums, the constant
   !> factors and the 2^53 by which a + h may divide (docs/guide/umat.md).
-  real(dp), parameter :: max_magnitude = 2.0_dp**448, max_ratio = 2.0_dp**32
+  real(dp), parameter :: max_magnitude = 2.0_dp**448
+  !> Largest dimensionless parameter (beta, beta_p, P_v, P_d) and K/G ratio.
+  real(dp), parameter :: max_ratio = 2.0_dp**32
 
   !> The validated material. Derived constants are filled by new_dp_params.
   type :: dp_params_t

@@ -85,7 +85,7 @@ contains
   end subroutine override_line
 
   !> A word of letters, digits, _ and - that starts with a letter and is
-  !> not a logical: a namelist reads it only between quotes.
+  !> neither a logical nor nan/inf: a namelist reads it only between quotes.
   pure logical function bare_word(value)
     character(len=*), intent(in) :: value
     character(len=*), parameter :: letters = 'abcdefghijklmnopqrstuvwxyz'
@@ -95,7 +95,9 @@ contains
     bare_word = .false.
     if (len(value) == 0) return
     if (index(letters, low(1:1)) == 0 .or. verify(low, word_chars) /= 0) return
-    bare_word = low /= 't' .and. low /= 'f' .and. low /= 'true' .and. low /= 'false'
+    ! logicals, and the numbers nan, inf and infinity, as the reader takes them
+    bare_word = all(low /= [character(len=8) :: 't', 'f', 'true', 'false', 'nan', 'inf', &
+                            'infinity'])
   end function bare_word
 
   !> Whether override line `line` (&group key=... /) gives list key `key`
