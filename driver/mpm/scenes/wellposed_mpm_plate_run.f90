@@ -46,7 +46,7 @@ module wellposed_mpm_plate_run
   use wellposed_h5_parallel, only: h5_parallel_file_t, h5_writer_name
   use wellposed_plot, only: run_plot
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
-  use wellposed_fs, only: shell_quote
+  use wellposed_fs, only: shell_quote, path_exists, remove_tree
   use wellposed_mpm_step_keeper, only: step_keeper_t
   implicit none
   private
@@ -311,6 +311,11 @@ contains
     end if
     call rd%commit(err)
     if (allocated(err)) call stop_alone(comm, rd, err%message)
+    ! the run is complete: its checkpoints have served (as a bar's)
+    if (path_exists(ck_dir)) then
+      call remove_tree(ck_dir, err)
+      if (allocated(err)) write (error_unit, '(a)') 'wellposed-mpm: warning: '//err%message
+    end if
     write (output_unit, '(a)') '  finished: '//rd%final//' (total '// &
       real_text(sum([(outs(ic)%scal(4), ic=1, study%ncases)]))//' s)'
 

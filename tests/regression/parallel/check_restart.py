@@ -126,6 +126,10 @@ xdmf_ref, xdmf_out = (os.path.join(d, a.name, 'run.xdmf') for d in (ref, out))
 if os.path.exists(xdmf_ref) and (not os.path.exists(xdmf_out) or
                                  open(xdmf_ref, 'rb').read() != open(xdmf_out, 'rb').read()):
     bad.append('run.xdmf')
+# a finished run leaves no checkpoints behind, interrupted or not
+for d in (ref, out):
+    if os.path.exists(os.path.join(d, a.name + '.checkpoints')):
+        bad.append('(%s/%s.checkpoints left behind)' % (os.path.basename(d), a.name))
 print('%d datasets compared (%s): %s' % (len(names), 'bitwise' if a.tolerance == 0 else
       'relative %g' % a.tolerance, 'all equal' if not bad else 'differ: ' + ', '.join(bad)))
 sys.exit(1 if bad else 0)

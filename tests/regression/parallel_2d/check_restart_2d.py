@@ -106,6 +106,10 @@ if a.tolerance == 0.0:
         g = os.path.join(out, name, os.path.basename(f))
         if not os.path.exists(g) or open(f, 'rb').read() != open(g, 'rb').read():
             bad.append(os.path.basename(f))
+# a finished run leaves no checkpoints behind, interrupted or not
+for d in (ref, out):
+    if os.path.exists(os.path.join(d, name + '.checkpoints')):
+        bad.append('(%s/%s.checkpoints left behind)' % (os.path.basename(d), name))
 print('; '.join(resumed))
 print('%d datasets compared (%s): %s' % (len(names), 'bitwise' if a.tolerance == 0 else
       'relative %g' % a.tolerance, 'all equal' if not bad else 'differ: ' + ', '.join(bad)))
