@@ -206,6 +206,7 @@ contains
     real(dp), intent(in) :: sig(ntens6), de(ntens6), statev(:)
     type(error_t), allocatable, intent(inout) :: err
     integer :: i
+    integer(int64) :: limit
     integer, parameter :: stress_slots(7) = [sv_zeta, sv_over, sv_over + 1, sv_over + 2, &
                                              sv_over + 3, sv_over + 4, sv_over + 5]
     if (.not. (all_finite(sig) .and. all_finite(de) .and. &
@@ -227,13 +228,9 @@ contains
     end if
     do i = 1, merge(nstatv_gdl, nstatv_min, p%gdl)
       if (any(i == [sv_dlambda, sv_f, sv_status])) cycle
-      if (any(i == stress_slots)) then
-        if (range_carry(statev(i:i), p%stress_limit) >= 0) cycle
-        call limit_error('STATEV', i, statev(i), p%stress_limit, err)
-      else
-        if (range_carry(statev(i:i), p%strain_limit) >= 0) cycle
-        call limit_error('STATEV', i, statev(i), p%strain_limit, err)
-      end if
+      limit = merge(p%stress_limit, p%strain_limit, any(i == stress_slots))
+      if (range_bits(statev(i), limit) >= 0) cycle
+      call limit_error('STATEV', i, statev(i), limit, err)
       return
     end do
 

@@ -8,7 +8,7 @@
 module wellposed_vumat_adapter
   use wellposed_kinds, only: dp
   use, intrinsic :: iso_fortran_env, only: int64
-  use wellposed_finite, only: all_finite, is_finite, nonfinite_bits, range_bits
+  use wellposed_finite, only: all_finite, is_finite, nonfinite_bits, range_bits, range_carry
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_text, only: int_text, real_text
   use wellposed_tensor, only: ntens6
@@ -332,8 +332,8 @@ contains
       end do
       sv(1:nsv) = state_old(point, 1:nsv)
       sv(sv_eps_p + 3:sv_eps_p + 5) = 2.0_dp*sv(sv_eps_p + 3:sv_eps_p + 5)
-      if (ior(state_carry(p, sv(1:nsv)), ior(range_carry_of(sig, p%stress_limit), &
-                                      range_carry_of(de, p%strain_limit))) < 0) then
+      if (ior(state_carry(p, sv(1:nsv)), ior(range_carry(sig, p%stress_limit), &
+                                      range_carry(de, p%strain_limit))) < 0) then
         call new_error(err, status_cutback, '', 'out of range')
         call range_error(p, sig, de, sv(1:nsv), err)
         err%message = err%message//' (point '//int_text(point)//' of the block; VUMAT order)'
@@ -346,16 +346,6 @@ contains
     end do
     call new_error(err, status_invalid, 'density', 'density = '//real_text(density(point))// &
       ' (point '//int_text(point)//' of the block) is out of range: valid is > 0')
-
-  contains
-
-    pure integer(int64) function range_carry_of(x, lim)
-      real(dp), intent(in) :: x(ntens6)
-      integer(int64), intent(in) :: lim
-      range_carry_of = ior(ior(ior(range_bits(x(1), lim), range_bits(x(2), lim)), &
-                               ior(range_bits(x(3), lim), range_bits(x(4), lim))), &
-                           ior(range_bits(x(5), lim), range_bits(x(6), lim)))
-    end function range_carry_of
 
   end subroutine check_points
 
