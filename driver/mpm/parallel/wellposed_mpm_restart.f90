@@ -1,12 +1,11 @@
 !> The state of a running MPM scene (bar or plate) in a checkpoint and back
 !> (--restart), on any number of ranks: time, step, time step, every rank's
-!> partial sums, the kind's scalars (scene_kind_t), Algorithm 1's totals
-!> and every particle, bit for bit; the
-!> grid is rebuilt from the particles each step, so a restored scene
-!> continues exactly as the uninterrupted run. Entries `mpm/<field>`
-!> (layout, counts, particles, partials, scalars, steps, nonlocal); a
-!> checkpoint of another layout, cell size or time step is refused.
-!> Design: docs/guide/parallel.md.
+!> partial sums and the kind's scalars (scene_kind_t), Algorithm 1's totals
+!> and every particle, bit for bit; the grid is rebuilt from the particles
+!> each step, so a restored scene continues exactly as the uninterrupted
+!> run. Entries `mpm/<field>` (layout, counts, particles, partials, scalars,
+!> steps, nonlocal); a checkpoint of another layout, cell size or time step
+!> is refused. Design: docs/guide/parallel.md.
 module wellposed_mpm_restart
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
