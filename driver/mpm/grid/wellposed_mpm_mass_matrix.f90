@@ -9,7 +9,7 @@ module wellposed_mpm_mass_matrix
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_cutback
   use wellposed_lapack, only: spd_band_solve
-  use wellposed_mpm_config, only: mass_consistent, mass_blended
+  use wellposed_mpm_method, only: mass_consistent, mass_blended
   use wellposed_mpm_grid, only: grid_t
   use wellposed_mpm_particles, only: particles_t
   implicit none

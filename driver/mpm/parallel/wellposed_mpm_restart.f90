@@ -1,11 +1,11 @@
 !> The state of a running MPM scene (bar or plate) in a checkpoint and back
 !> (--restart), on any number of ranks: time, step, time step, every rank's
-!> partial sums, Algorithm 1's totals and every particle, bit for bit; the
-!> grid is rebuilt from the particles each step, so a restored scene
-!> continues exactly as the uninterrupted run. Entries `mpm/<field>`
-!> (layout, counts, particles, partials, scalars, steps, nonlocal); a
-!> checkpoint of another layout, cell size or time step is refused.
-!> Design: docs/guide/parallel.md.
+!> partial sums and the kind's scalars (scene_kind_t), Algorithm 1's totals
+!> and every particle, bit for bit; the grid is rebuilt from the particles
+!> each step, so a restored scene continues exactly as the uninterrupted
+!> run. Entries `mpm/<field>` (layout, counts, particles, partials, scalars,
+!> steps, nonlocal); a checkpoint of another layout, cell size or time step
+!> is refused. Design: docs/guide/parallel.md.
 module wellposed_mpm_restart
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -19,7 +19,7 @@ module wellposed_mpm_restart
   public :: save_scene, restore_scene
 
   !> Version of the entries below; a restart refuses any other.
-  integer, parameter :: layout_version = 3   !< 3: one layout for bars and plates
+  integer, parameter :: layout_version = 4   !< 4: the kind's own sums and scalars
 
 contains
 
@@ -40,8 +40,7 @@ contains
       rec(p*reclen) = real(scene%mat(p), dp)
     end do
     call scene%exchange%gather_root(rec, recs, counts)
-    call scene%exchange%gather_root([scene%work_internal, scene%work_external, scene%impulse], &
-                                    partials, pcounts)
+    call scene%exchange%gather_root(scene%kind%partial_sums(), partials, pcounts)
     nsub = max_substeps(scene)
     moved = scene%moved
     call scene%exchange%sum_int(moved)
@@ -51,8 +50,7 @@ contains
     call ckpt%put('mpm/counts', counts/reclen)
     call ckpt%put('mpm/particles', recs)
     call ckpt%put('mpm/partials', partials)
-    call ckpt%put('mpm/scalars', [scene%t, scene%dt, scene%dx, scene%top_disp, scene%kinetic0, &
-                                  scene%momentum0])
+    call ckpt%put('mpm/scalars', [scene%t, scene%dt, scene%dx, scene%kind%scalars()])
     call ckpt%put('mpm/steps', [scene%nstep, nsub, moved])
     call ckpt%put('mpm/nonlocal', [scene%nl%steps_iterated, scene%nl%iterations_total, &
                                    scene%nl%iterations_max, merge(1, 0, scene%nl%warned_sharp), &
@@ -73,7 +71,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     integer, allocatable :: layout(:), counts(:), steps(:), nl(:), order(:)
     real(dp), allocatable :: recs(:), sc(:), partials(:)
-    integer :: plen, reclen, nsaved, first, p, m, g, k, rank, nranks, d
+    integer :: plen, reclen, nsaved, first, p, m, g, k, rank, nranks, d, npart, nsc
     call ckpt%get('mpm/layout', layout, err)
     if (allocated(err)) return
     rank = scene%exchange%rank()
@@ -89,8 +87,10 @@ contains
     end if
     reclen = layout(7)
     nsaved = layout(6)
+    npart = size(scene%kind%partial_sums())
+    nsc = size(scene%kind%scalars())
     call ckpt%get('mpm/scalars', sc, err); if (allocated(err)) return
-    if (size(sc) /= 6) then
+    if (size(sc) /= 3 + nsc) then
       call bad('its scalars entry is garbled'); return
     end if
     if (sc(3) /= scene%dx .or. sc(2) /= scene%dt) then
@@ -115,7 +115,7 @@ contains
     call ckpt%get('mpm/steps', steps, err); if (allocated(err)) return
     call ckpt%get('mpm/nonlocal', nl, err); if (allocated(err)) return
     if (size(counts) /= nsaved .or. sum(counts) /= scene%ntotal .or. &
-        size(recs) /= reclen*scene%ntotal .or. size(partials) /= 3*nsaved .or. &
+        size(recs) /= reclen*scene%ntotal .or. size(partials) /= npart*nsaved .or. &
         size(steps) /= 3 .or. size(nl) /= 5) then
       call bad('its particle entries do not match its layout'); return
     end if
@@ -158,25 +158,17 @@ contains
     end do
     scene%parts%n = m
     scene%t = sc(1)
-    scene%top_disp = sc(4)
-    scene%kinetic0 = sc(5)
-    scene%momentum0 = sc(6)
+    call scene%kind%set_scalars(sc(4:))
     scene%nstep = steps(1)
     scene%max_substeps = steps(2)
     scene%moved = 0
     if (rank == 0) scene%moved = steps(3)
     if (nsaved == nranks) then
-      scene%work_internal = partials(3*rank + 1)
-      scene%work_external = partials(3*rank + 2)
-      scene%impulse = partials(3*rank + 3)
+      call scene%kind%set_partial_sums(partials(npart*rank + 1:npart*(rank + 1)))
     else if (rank == 0) then
-      scene%work_internal = sum(partials(1::3))
-      scene%work_external = sum(partials(2::3))
-      scene%impulse = sum(partials(3::3))
+      call scene%kind%set_partial_sums([(sum(partials(k::npart)), k=1, npart)])
     else
-      scene%work_internal = 0.0_dp
-      scene%work_external = 0.0_dp
-      scene%impulse = 0.0_dp
+      call scene%kind%set_partial_sums([(0.0_dp, k=1, npart)])
     end if
     scene%nl%steps_iterated = nl(1)
     scene%nl%iterations_total = nl(2)

@@ -14,7 +14,8 @@ module wellposed_mpm_band_watch
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_summary, only: summary_t
   use wellposed_mpm_solver, only: mpm_scene_t, plastic_strain
-  use wellposed_mpm_scene, only: platen_base
+  use wellposed_mpm_plate_kind, only: platen_base, plate_config
+  use wellposed_mpm_plate_config, only: ps_config_t
   use wellposed_mpm_decomposition, only: gather_by_gid
   use wellposed_mpm_band, only: band_fit_t, fit_band, in_grown_box, line_meets_box
   implicit none
@@ -53,10 +54,12 @@ contains
     real(dp), intent(in) :: drop, threshold
     type(band_watch_t) :: w
     integer :: k, nbox
+    type(ps_config_t) :: plate
+    plate = plate_config(sc)
     w%drop = drop
     w%threshold = threshold
     w%grow = sc%dx
-    w%body = [sc%plate%width, sc%plate%height]
+    w%body = [plate%width, plate%height]
     nbox = 0
     do k = 1, sc%mats%n
       if (sc%mats%rest(k)) cycle
@@ -122,14 +125,16 @@ contains
     type(comm_t), intent(in) :: comm
     real(dp) :: a(4), lp, yg, y
     integer :: p
-    lp = 0.5_dp*sc%dx/sc%plate%ppc
+    type(ps_config_t) :: plate
+    plate = plate_config(sc)
+    lp = 0.5_dp*sc%dx/plate%ppc
     yg = platen_base(sc)
     a = 0.0_dp
     do p = 1, sc%parts%n
       y = sc%parts%x(2, p)
       if (y < yg .and. y > yg - sc%dx) a(1:2) = a(1:2) + [sc%parts%stress(2, p), 1.0_dp]
       y = sc%parts%x0(2, p)
-      if (abs(y - 0.5_dp*sc%plate%height) < 1.0001_dp*lp) &
+      if (abs(y - 0.5_dp*plate%height) < 1.0001_dp*lp) &
         a(3:4) = a(3:4) + [sc%parts%stress(2, p), 1.0_dp]
     end do
     if (comm%size > 1) call allreduce_sum(comm, a)
@@ -145,14 +150,16 @@ contains
     type(comm_t), intent(in) :: comm
     real(dp), allocatable :: f(:, :), all(:, :)
     integer :: n
+    type(ps_config_t) :: plate
+    plate = plate_config(sc)
     n = sc%parts%n
     allocate (f(3, n))
     f(1:2, :) = sc%parts%x(:, 1:n)
     f(3, :) = plastic_strain(sc)
     call gather_by_gid(comm, sc%parts%gid(1:n), f, 0, all)
     if (comm%rank /= 0) return
-    call fit_band(all(1:2, :), all(3, :), sc%dx/sc%plate%ppc, &
-                  window_margin*sc%plate%height, (1.0_dp - window_margin)*sc%plate%height, self%fit)
+    call fit_band(all(1:2, :), all(3, :), sc%dx/plate%ppc, &
+                  window_margin*plate%height, (1.0_dp - window_margin)*plate%height, self%fit)
   end subroutine measure
 
   !> The case's summary lines under `tag.` (rank 0).

@@ -19,6 +19,7 @@ module wellposed_mpm_bar_run
   use wellposed_mpm_nonlocal_summary, only: add_nonlocal_summary
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, kinetic_energy, &
                                   total_momentum, timer_umat, timer_transfer, timer_grid
+  use wellposed_mpm_bar_kind, only: bar_book_t, bar_book, bar_modulus_plastic
   use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations, &
                                     station_measures_t, measure_stations, field_sxx, &
                                     field_syy, field_v, field_z, field_apex, nfields
@@ -77,6 +78,7 @@ contains
     logical :: root, sampled
     integer :: ntotal, substeps, ghost
     real(dp) :: sums(3), ke_end, p_end
+    type(bar_book_t) :: book
     ! checkpoints: every ck_every steps into <out>/<name>.checkpoints (keep two)
     integer :: ck_every
     character(len=:), allocatable :: ck_dir, ck_file
@@ -107,7 +109,7 @@ contains
     end if
     ghost = scene%exchange%ghost_layers()
     c_e = sqrt(scene%modulus_elastic/cfg%density)
-    c_p = sqrt(scene%modulus_plastic/cfg%density)
+    c_p = sqrt(bar_modulus_plastic(scene)/cfg%density)
     head = head_speed(cfg, scene%nl%active, c_p)
     ! rank 0 makes the run folder; run.h5 in it is written by every rank
     h5_path = ''
@@ -156,7 +158,8 @@ contains
     call new_snapshot_store(snaps, [character(len=8) :: 'x', 'x0', 'velocity', 'sigma_xx', &
                                     'sigma_yy', 'z'], [1, 1, 1, 1, 1, 1], time_first=.true.)
     nenergy = 1
-    energy(:, 1) = [0.0_dp, scene%kinetic0, 0.0_dp, 0.0_dp, scene%momentum0]
+    book = bar_book(scene)
+    energy(:, 1) = [0.0_dp, book%kinetic0, 0.0_dp, 0.0_dp, book%momentum0]
     nsnap = 0
     next_snap = 0.0_dp
     ck_dir = cli%out_root//'/'//cfg%name//'.checkpoints'
@@ -198,7 +201,7 @@ contains
       if (sampled) then
         ke_end = kinetic_energy(scene)
         p_end = total_momentum(scene)
-        sums = [scene%work_internal, scene%work_external, scene%impulse]
+        sums = scene%kind%partial_sums()
         call allreduce_sum(comm, sums)
         if (root) then
           nenergy = nenergy + 1
@@ -221,20 +224,19 @@ contains
     ! totals over the ranks, for the summary (collective)
     ke_end = kinetic_energy(scene)
     p_end = total_momentum(scene)
-    sums = [scene%work_internal, scene%work_external, scene%impulse]
+    sums = scene%kind%partial_sums()
     call allreduce_sum(comm, sums)
     substeps = scene%max_substeps
     call allreduce_max(comm, substeps)
-    scene%work_internal = sums(1)
-    scene%work_external = sums(2)
-    scene%impulse = sums(3)
+    call scene%kind%set_partial_sums(sums)
+    book = bar_book(scene)
     scene%max_substeps = substeps
 
     ! ---- measures (rank 0's stations; empty elsewhere) and outputs
     call measure_stations(st%time(1:st%ns), st%hist(field_sxx, :, 1:st%ns), st%x, &
                           0.5_dp*cfg%load_peak, meas)
-    escale = abs(scene%work_external) + scene%kinetic0
-    ebal = ke_end - scene%kinetic0 + scene%work_internal - scene%work_external
+    escale = abs(book%work_external) + book%kinetic0
+    ebal = ke_end - book%kinetic0 + book%work_internal - book%work_external
     if (root) then
       call write_summary()
       call sm%write(rd%path('summary.txt'), err)
@@ -428,8 +430,8 @@ contains
       call sm%add('energy_balance_error', ebal/max(escale, tiny(1.0_dp)), &
                   '(E_kin - E_kin0 + W_int - W_ext)/energy_input at the end')
       call sm%add('momentum_error', &
-                  (p_end - scene%momentum0 - scene%impulse)/ &
-                  max(abs(scene%impulse), maxval(abs(energy(5, 1:nenergy))), tiny(1.0_dp)), &
+                  (p_end - book%momentum0 - book%impulse)/ &
+                  max(abs(book%impulse), maxval(abs(energy(5, 1:nenergy))), tiny(1.0_dp)), &
                   '(P - P0 - impulse)/max|impulse|')
     end subroutine write_summary
 

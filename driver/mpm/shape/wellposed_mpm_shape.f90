@@ -6,7 +6,7 @@
 !> h + lp; G = dS/dx_p. 2D takes tensor products and adds CPDI.
 module wellposed_mpm_shape
   use wellposed_kinds, only: dp
-  use wellposed_mpm_config, only: shape_linear, shape_gimp
+  use wellposed_mpm_method, only: shape_linear, shape_gimp
   implicit none
   private
   public :: support_size, shape_1d, shape_bar, gimp_weight, linear_weight, nearest_node

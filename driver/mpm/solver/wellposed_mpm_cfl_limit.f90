@@ -7,14 +7,14 @@
 !> tests/regression/mpm/mpm_bloch.py checks these against the whole step.
 module wellposed_mpm_cfl_limit
   use wellposed_kinds, only: dp
-  use wellposed_mpm_config, only: scheme_musl, mass_lumped, mass_consistent
+  use wellposed_mpm_method, only: scheme_musl, mass_lumped, mass_consistent
   implicit none
   private
   public :: cfl_limit
 
 contains
 
-  !> The limit for `scheme`, `mass` (wellposed_mpm_config's codes) and `ppc`;
+  !> The limit for `scheme`, `mass` (wellposed_mpm_method's codes) and `ppc`;
   !> huge() where M_P is singular at rest (one particle per cell: a
   !> node-to-node alternation no particle sees) and the solve has none.
   pure function cfl_limit(scheme, mass, ppc) result(limit)

@@ -6,6 +6,10 @@ module wellposed_mpm_config
   use wellposed_kinds, only: dp
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t
   use wellposed_mpm_materials, only: mpm_materials_t
+  ! the method's choices, here too for the bar's deck and runner
+  use wellposed_mpm_method, only: shape_linear, shape_gimp, shape_names, scheme_usl, &
+                                  scheme_musl, scheme_names, mass_lumped, mass_consistent, &
+                                  mass_blended, mass_names
   implicit none
   private
   public :: mpm_config_t, shape_linear, shape_gimp, shape_names, scheme_usl, scheme_musl, &
@@ -13,22 +17,6 @@ module wellposed_mpm_config
             pulse_cosine, pulse_ramp_sine, pulse_names, max_props, mass_lumped, &
             mass_consistent, mass_blended, mass_names
 
-  !> Shape function families (eq. 4.6-4.8): standard MPM (Dirac chi_p)
-  !> and uGIMP (undeforming particle domain). CPDI comes with 2D.
-  integer, parameter :: shape_linear = 1, shape_gimp = 2
-  character(len=6), parameter :: shape_names(2) = [character(len=6) :: 'linear', 'gimp']
-  !> Update variants: USL (eq. 4.10-4.13 as written: strain rate from the
-  !> grid velocity after the update) and MUSL (the same, with the grid velocity
-  !> rebuilt from the updated particle velocities before the strain rate).
-  integer, parameter :: scheme_usl = 1, scheme_musl = 2
-  character(len=4), parameter :: scheme_names(2) = [character(len=4) :: 'usl', 'musl']
-  !> The mass matrix of a bar's grid acceleration (wellposed_mpm_mass_matrix):
-  !> 'lumped' (eq. 4.9), 'consistent' (the particles' M_P: the rebuilt grid
-  !> velocity follows the lumped-mass finite-element update) or 'blended'
-  !> (it follows the average of the lumped and consistent masses).
-  integer, parameter :: mass_lumped = 1, mass_consistent = 2, mass_blended = 3
-  character(len=10), parameter :: mass_names(3) = [character(len=10) :: 'lumped', &
-                                                   'consistent', 'blended']
   !> Far-end conditions. In uniaxial strain a symmetry plane and a fixed end
   !> both hold v_x = 0; they are kept apart because 2D distinguishes them.
   integer, parameter :: bc_fixed = 1, bc_symmetric = 2, bc_free = 3

@@ -1,29 +1,26 @@
-!> The plate scene kind of the MPM in 2D plane strain (chapter 4, fig.
-!> 4.1): a body [0, width] x [0, height] on a uniform grid, GIMP, CPDI or
-!> linear weights, the UMAT with NTENS = 4. Here the geometry, boundaries
-!> (bottom roller|fixed|free; top velocity|free with the platen on the
-!> surface, grid or by contact; sides free|roller; nodes past a boundary
-!> share its condition), dt = cfl dx / sqrt(M/rho) with M probed through the
-!> UMAT, and the load kernel; ranks are strips of cell rows. Deck keys:
-!> docs/guide/decks.md; the platen: docs/research/bands.md.
+!> The plate scene kind's build in 2D plane strain (chapter 4, fig. 4.1):
+!> a body [0, width] x [0, height] on a uniform grid, GIMP, CPDI or linear
+!> weights, nodes past a boundary sharing its condition, the particles of
+!> this rank's strip of cell rows, the materials and the time step (the
+!> kind's probe). The kind itself (boundaries, platen, kinematics,
+!> measures): wellposed_mpm_plate_kind. Deck keys: docs/guide/decks.md.
 module wellposed_mpm_plane_strain
   use wellposed_kinds, only: dp
-  use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_text, only: real_text
-  use wellposed_umat_host, only: host_call, host_error, verdict_ok, verdict_cutback
+  use wellposed_error, only: error_t
   use wellposed_mpm_materials, only: single_material
   use wellposed_mpm_exchange, only: mpm_exchange_t
-  use wellposed_mpm_particles, only: particles_t
-  use wellposed_mpm_shape_2d, only: support_size_2d, shape2d_reach, shape_2d, shape2d_linear
+  use wellposed_mpm_shape_2d, only: support_size_2d, shape2d_reach
   use wellposed_mpm_plate_config, only: ps_config_t, check_plate_config, bc_roller, &
-                                        bc_fixed2, bc_free2, bc_velocity, bc2_names, &
-                                        platen_surface, platen_contact, platen_names
-  use wellposed_mpm_scene, only: mpm_scene_t, platen_base, start_scene, setup_ranks, &
-                                 scene_particles, assign_materials, init_particles
+                                        bc_fixed2, bc_free2, bc_velocity, bc2_names, platen_names
+  use wellposed_mpm_scene, only: mpm_scene_t
+  use wellposed_mpm_scene_build, only: start_scene, setup_ranks, scene_particles, &
+                                       assign_materials, init_particles
+  use wellposed_mpm_plate_kind, only: plate_kind_t, platen_nodes, platen_velocity, &
+                                      apparent_strain
   implicit none
   private
-  public :: ps_config_t, new_plate_scene, platen_velocity, platen_nodes, platen_push, &
-            apparent_strain, bc_roller, bc_fixed2, bc_free2, bc_velocity, bc2_names, platen_names
+  public :: ps_config_t, new_plate_scene, platen_velocity, apparent_strain, bc_roller, &
+            bc_fixed2, bc_free2, bc_velocity, bc2_names, platen_names
 
 contains
 
@@ -36,13 +33,15 @@ contains
     type(ps_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
     class(mpm_exchange_t), intent(in), optional :: exchange
-    integer :: ncx, ncy, np, p, a, b, k, g, nlocal, cap, rank
-    real(dp) :: lp, xy(2), ds(4), m_k
+    integer :: ncx, ncy, np, p, a, b, g, nlocal, cap, rank
+    real(dp) :: lp, xy(2)
+    type(plate_kind_t) :: plate
 
     call check_plate_config(cfg, err)
     if (allocated(err)) return
-    self%plate = cfg
-    call start_scene(self, 2, cfg%dx, cfg%shape, cfg%scheme, cfg%density, &
+    plate%cfg = cfg
+    plate%ntens = 4   ! plane strain: 11, 22, 33, 12
+    call start_scene(self, plate, 2, cfg%dx, cfg%shape, cfg%scheme, cfg%density, &
                      [cfg%visc_a1, cfg%visc_a2], cfg%nstatv, err)
     if (allocated(err)) return
     ncx = nint(cfg%width/cfg%dx)
@@ -54,7 +53,10 @@ contains
     call setup_ranks(self, cfg%nonlocal, self%nx*self%ny, &
                      shape2d_reach(cfg%shape), err, exchange)
     if (allocated(err)) return
-    call platen_nodes(self)
+    select type (pk => self%kind)
+    type is (plate_kind_t)
+      call platen_nodes(pk, self)
+    end select
 
     np = ncx*ncy*cfg%ppc**2
     self%ntotal = np
@@ -91,195 +93,9 @@ contains
     end do
     self%parts%stress(:, 1:nlocal) = 0.0_dp
 
-    ! moduli through the UMAT: uniaxial strain (M) and isotropic (3K), the
-    ! stiffest material's (the time step)
-    do k = 1, self%mats%n
-      ds = probe(k, [-1.0e-7_dp, 0.0_dp, 0.0_dp, 0.0_dp])
-      if (allocated(err)) return
-      m_k = -ds(1)/1.0e-7_dp
-      ds = probe(k, [-1.0e-7_dp, -1.0e-7_dp, -1.0e-7_dp, 0.0_dp])
-      if (allocated(err)) return
-      if (.not. (m_k > 0.0_dp .and. -ds(1)/3.0e-7_dp > 0.0_dp)) then
-        call new_error(err, status_invalid, 'material', 'the UMAT answers no positive '// &
-          'stiffness at the initial state (M = '//real_text(m_k)//' Pa, K = '// &
-          real_text(-ds(1)/3.0e-7_dp)//' Pa)'); return
-      end if
-      self%modulus_elastic = max(self%modulus_elastic, m_k)
-      self%bulk = max(self%bulk, -ds(1)/3.0e-7_dp)
-    end do
-    self%modulus_dt = self%modulus_elastic
-    self%c_max = sqrt(self%modulus_elastic/cfg%density)
-    self%dt = cfg%cfl*cfg%dx/self%c_max
-    self%c_visc = sqrt(self%bulk/cfg%density)
-
-  contains
-
-    !> The stress of one UMAT call from the natural state (0 when the UMAT
-    !> asks to cut back; a refusal or a non-finite answer is the error err).
-    function probe(m, d) result(dsig)
-      integer, intent(in) :: m
-      real(dp), intent(in) :: d(4)
-      real(dp) :: dsig(4), s(4), sv(cfg%nstatv), e(4)
-      integer :: verdict
-      s = 0.0_dp
-      sv = 0.0_dp
-      e = 0.0_dp
-      self%host%time = 0.0_dp
-      self%host%dtime = 1.0e-6_dp
-      self%host%noel = 1
-      self%host%coords = 0.0_dp
-      call host_call(self%host, self%mats%props(1:self%mats%nprops(m), m), s, sv, e, d, verdict)
-      dsig = s
-      if (verdict /= verdict_ok) dsig = 0.0_dp
-      if (verdict /= verdict_ok .and. verdict /= verdict_cutback) &
-        call host_error(self%host, verdict, err, 'probing the moduli')
-    end function probe
+    ! the stiffest material's moduli (the time step)
+    call self%kind%probe(self, err)
 
   end subroutine new_plate_scene
-
-  !> The boundary conditions on the nodes, set again whenever the platen's
-  !> lowest node row changes (before each step's grid update). The platen
-  !> covers the top face only, 0 <= x <= width, and its velocity (0, v_top)
-  !> (v_top alone with top_lateral free) wins over the other conditions.
-  !> 'grid': the node rows y >= height. 'surface': the rows at and above the
-  !> highest row at or below the body's current top y = height + top_disp,
-  !> so the cell under the lowest platen row is full of material: a node's
-  !> internal force (eq. 4.5) integrates stress over the material in its
-  !> cells only, so a partly filled cell of depth f dx under the platen row
-  !> passes the load on at 1/f times the body's stress (docs/research/bands.md, "The
-  !> platen"); the material above that row moves with the platen.
-  subroutine platen_nodes(self)
-    type(mpm_scene_t), intent(inout) :: self
-    integer :: i, j, g, jtop
-    real(dp) :: xy(2), tol
-    associate (cfg => self%plate)
-      tol = 1.0e-6_dp*cfg%dx
-      jtop = self%ny
-      if (cfg%top == bc_velocity) then
-        if (cfg%platen == platen_contact) then
-          jtop = self%ny + 1
-        else if (cfg%platen == platen_surface) then
-          jtop = floor((cfg%height + self%top_disp - self%origin(2))/cfg%dx + 1.0e-6_dp)
-        else
-          jtop = nint((cfg%height - self%origin(2))/cfg%dx)
-        end if
-      end if
-      if (jtop == self%platen_row) return
-      self%platen_row = jtop
-      self%grid%fixed = .false.
-      self%grid%given = .false.
-      do j = self%grid%glo/self%nx, self%grid%ghi/self%nx
-        do i = 0, self%nx - 1
-          g = i + self%nx*j
-          xy = self%origin + cfg%dx*[i, j]
-          if (xy(2) <= 0.5_dp*tol) then
-            if (cfg%bottom == bc_roller) self%grid%fixed(2, g) = .true.
-            if (cfg%bottom == bc_fixed2) self%grid%fixed(:, g) = .true.
-          end if
-          if (cfg%sides == bc_roller .and. (xy(1) <= tol .or. xy(1) >= cfg%width - tol)) &
-            self%grid%fixed(1, g) = .true.
-          if (j >= jtop .and. xy(1) >= -tol .and. xy(1) <= cfg%width + tol) then
-            self%grid%fixed(2, g) = .false.
-            self%grid%given(2, g) = .true.
-            if (cfg%top_lateral_fixed) then
-              self%grid%fixed(1, g) = .false.
-              self%grid%given(1, g) = .true.
-            end if
-          end if
-        end do
-      end do
-    end associate
-  end subroutine platen_nodes
-
-  !> The frictionless platen (platen = 'contact'): a rigid plane at
-  !> y = height + top_disp moving at v_top pushes, normal to itself only, on
-  !> every particle whose top edge (the side of its domain, x_p + r2 +- r1,
-  !> r1 = lp_x F e_x, r2 = lp_y F e_y) has passed it by g > 0 (at the edge's
-  !> middle): f = -(k g + c (v_y - v_top)), never a pull, k = M w/lp_y (the
-  !> constrained modulus M over half a particle, w the edge's width) but at
-  !> most m_p/dt^2 (so omega dt <= 1 whatever cfl and ppc), c = sqrt(k m_p)
-  !> (damping ratio 1/2). The force acts where a traction
-  !> does, on the edge: half at each end, with the grid's bilinear weights,
-  !> so a uniform stress is in equilibrium with it on any mesh (a node's
-  !> eq. 4.5 integrates the stress over the body, whose top is that edge).
-  !> Before the ghost sum. docs/research/bands.md, "The platen".
-  subroutine platen_push(self, vtop)
-    type(mpm_scene_t), intent(inout) :: self
-    real(dp), intent(in) :: vtop
-    integer :: p, k, e, nodes(4)
-    real(dp) :: y_pl, r1(2), r2(2), edge(2), gap, stiff, force, phi(4), grad(2, 4)
-    associate (cfg => self%plate, pt => self%parts, g => self%grid)
-      if (cfg%top /= bc_velocity .or. cfg%platen /= platen_contact) return
-      y_pl = cfg%height + self%top_disp
-      do p = 1, pt%n
-        call top_edge(pt, p, y_pl, r1, r2, gap)
-        if (.not. gap > 0.0_dp) cycle
-        stiff = min(self%modulus_elastic*2.0_dp*abs(r1(1))/pt%lp(2, p), &
-                    pt%mass(p)/self%dt**2)
-        force = -(stiff*gap + sqrt(stiff*pt%mass(p))*(pt%v(2, p) - vtop))
-        force = 0.5_dp*min(force, 0.0_dp)
-        do e = -1, 1, 2
-          edge = pt%x(:, p) + r2 + e*r1
-          call shape_2d(shape2d_linear, edge, pt%lp(:, p), pt%defgrad(1:2, 1:2, p), &
-                        self%origin, self%dx, self%nx, nodes, phi, grad)
-          do k = 1, 4
-            if (nodes(k) >= g%glo .and. nodes(k) <= g%ghi) &
-              g%fext(2, nodes(k)) = g%fext(2, nodes(k)) + phi(k)*force
-          end do
-        end do
-      end do
-    end associate
-  end subroutine platen_push
-
-  !> Particle p's domain, half side vectors r1 = lp_x F e_x, r2 = lp_y F e_y,
-  !> and the height `gap` of its top edge's middle x_p + r2 above y_pl.
-  pure subroutine top_edge(pt, p, y_pl, r1, r2, gap)
-    type(particles_t), intent(in) :: pt
-    integer, intent(in) :: p
-    real(dp), intent(in) :: y_pl
-    real(dp), intent(out) :: r1(2), r2(2), gap
-    r1 = pt%lp(1, p)*pt%defgrad(1:2, 1, p)
-    r2 = pt%lp(2, p)*pt%defgrad(1:2, 2, p)
-    gap = pt%x(2, p) + r2(2) - y_pl
-  end subroutine top_edge
-
-  !> The apparent axial strain (compression +) of the body under the
-  !> platen's lowest node row y_g, the body applied_stress averages over:
-  !> -top_disp/height while that row lies above the body ('grid'), else
-  !> -top_disp/(y_g - top_disp) (the layer above y_g moves with the platen).
-  !> With platen = 'contact' the body's top is the platen's plane less the
-  !> mean penetration of the edges it pushes (weighted by their width).
-  !> Collective.
-  real(dp) function apparent_strain(self) result(e)
-    type(mpm_scene_t), intent(in) :: self
-    real(dp) :: yg, a(2), r1(2), r2(2), gap
-    integer :: p
-    if (self%plate%platen == platen_contact) then
-      a = 0.0_dp
-      do p = 1, self%parts%n
-        call top_edge(self%parts, p, self%plate%height + self%top_disp, r1, r2, gap)
-        if (gap > 0.0_dp) a = a + [gap*abs(r1(1)), abs(r1(1))]
-      end do
-      call self%exchange%sum_reals(a)
-      if (a(2) > 0.0_dp) a(1) = a(1)/a(2)
-      e = -(self%top_disp + a(1))/self%plate%height
-      return
-    end if
-    yg = platen_base(self)
-    if (yg >= self%plate%height + self%top_disp) then
-      e = -self%top_disp/self%plate%height
-    else
-      e = -self%top_disp/(yg - self%top_disp)
-    end if
-  end function apparent_strain
-
-  !> The platen's velocity v_top of the step ending at t + dt: the deck's,
-  !> ramped linearly over ramp_time (m/s).
-  pure real(dp) function platen_velocity(cfg, t, dt) result(vtop)
-    type(ps_config_t), intent(in) :: cfg
-    real(dp), intent(in) :: t, dt
-    vtop = cfg%top_velocity
-    if (cfg%ramp_time > 0.0_dp) vtop = vtop*min(1.0_dp, (t + dt)/cfg%ramp_time)
-  end function platen_velocity
 
 end module wellposed_mpm_plane_strain

@@ -6,7 +6,7 @@ module wellposed_mpm_plate_config
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_mpm_materials, only: mpm_materials_t
-  use wellposed_mpm_config, only: scheme_musl
+  use wellposed_mpm_method, only: scheme_musl
   use wellposed_mpm_shape_2d, only: shape2d_cpdi
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t
   implicit none
@@ -37,7 +37,7 @@ module wellposed_mpm_plate_config
     integer :: pad_cells = 2
     integer :: shape = shape2d_cpdi
     real(dp) :: t_end = 0.02_dp, cfl = 0.2_dp      !< s, fraction of the CFL step
-    integer :: scheme = scheme_musl                !< USL or MUSL (wellposed_mpm_config)
+    integer :: scheme = scheme_musl                !< USL or MUSL (wellposed_mpm_method)
     real(dp) :: density = 1000.0_dp                !< kg/m^3
     integer :: nprops = 14
     real(dp) :: props(max_props2) = 0.0_dp

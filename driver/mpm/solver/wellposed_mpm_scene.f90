@@ -1,42 +1,55 @@
-!> The state of a running MPM scene, one type for the 1D bar (uniaxial
-!> strain, chapter 2) and the 2D plate (plane strain, chapter 4): grid,
-!> particles, time, the UMAT host, Algorithm 1's solver and the exchange
-!> with other ranks; built by wellposed_mpm_bar and wellposed_mpm_plane_strain,
-!> advanced by wellposed_mpm_solver. Also Algorithm 1's host side and the
-!> sums over ranks a driver reports. NTENS 6 in 1D, 4 in 2D (engineering
-!> shear); SI units, tension positive.
+!> The state of a running MPM scene in ndim dimensions, whatever its kind:
+!> grid, particles, time, the UMAT host, Algorithm 1's solver, the exchange
+!> with other ranks and the kind (scene_kind_t: the bar of chapter 2, the
+!> plate of chapter 4, each in driver/mpm/kinds/) with its loads, boundary
+!> conditions, kinematics, bookkeeping and moduli probe; advanced by
+!> wellposed_mpm_step. Also Algorithm 1's host side. SI units, tension +.
 module wellposed_mpm_scene
   use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
-  use wellposed_mpm_config, only: mpm_config_t
-  use wellposed_mpm_plate_config, only: ps_config_t, platen_contact
-  use wellposed_mpm_grid, only: grid_t, new_grid
-  use wellposed_mpm_particles, only: particles_t, new_particles
-  use wellposed_mpm_exchange, only: mpm_exchange_t, mpm_serial_t
-  use wellposed_mpm_materials, only: mpm_materials_t, material_of, check_covered
-  use wellposed_umat_host, only: umat_host_t, new_umat_host, umat_is_ours
+  use wellposed_mpm_grid, only: grid_t
+  use wellposed_mpm_particles, only: particles_t
+  use wellposed_mpm_exchange, only: mpm_exchange_t
+  use wellposed_mpm_materials, only: mpm_materials_t
+  use wellposed_umat_host, only: umat_host_t, umat_is_ours
   use wellposed_step_kinematics, only: step_kinematics
   use wellposed_mpm_particle_umat, only: umat_particle, umat_block, umat_point, point_params
   use wellposed_dp_params, only: dp_params_t
-  use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t, nonlocal_settings_t, &
-                                    new_nonlocal, nonlocal_ghost_nodes
+  use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t
   implicit none
   private
-  public :: mpm_scene_t, start_scene, init_particles, size_workspace, setup_ranks, &
-            kinetic_energy, total_momentum, applied_stress, platen_base, plastic_strain, &
-            max_substeps, plastic_count, scene_particles, &
-            assign_materials, timer_transfer, timer_grid, timer_umat, ntimers
+  public :: mpm_scene_t, scene_kind_t, size_workspace, max_substeps, timer_transfer, &
+            timer_grid, timer_umat, ntimers
 
   integer, parameter :: timer_transfer = 1, timer_grid = 2, timer_umat = 3, ntimers = 3
 
-  !> One running scene. Its kind's configuration is `bar` (ndim = 1) or
-  !> `plate` (ndim = 2); the numbers the step reads are copied beside.
+  !> What a scene kind adds to the step (its dimension's own physics): the
+  !> loads and boundary conditions on the grid, the kinematics (how lgrad
+  !> becomes the UMAT's strain increment: NTENS and its layout), the per-step
+  !> bookkeeping and the moduli probe. Each procedure gets the scene `sc`
+  !> that holds the kind; it changes the kind only through `self`.
+  type, abstract :: scene_kind_t
+    integer :: ntens = 6                  !< NTENS of the kind's UMAT calls
+  contains
+    procedure(kind_probe), deferred :: probe
+    procedure :: forces => kind_no_forces
+    procedure(kind_conditions), deferred :: conditions
+    procedure :: grid_solved => kind_grid_solved
+    procedure(kind_kinematics), deferred :: kinematics
+    procedure(kind_bookkeeping), deferred :: bookkeeping
+    procedure :: partial_sums => kind_no_sums
+    procedure :: set_partial_sums => kind_set_no_sums
+    procedure :: scalars => kind_no_sums
+    procedure :: set_scalars => kind_set_no_sums
+  end type scene_kind_t
+
+  !> One running scene of `ndim` dimensions; its kind in `kind`, the
+  !> numbers the step reads from the kind's configuration copied beside.
   type, extends(nonlocal_host_t) :: mpm_scene_t
     integer :: ndim = 1
-    integer :: ntens = 6                  !< NTENS of the UMAT calls
-    type(mpm_config_t) :: bar             !< the bar's configuration (ndim = 1)
-    type(ps_config_t) :: plate            !< the plate's configuration (ndim = 2)
+    integer :: ntens = 6                  !< NTENS of the UMAT calls (the kind's)
+    class(scene_kind_t), allocatable :: kind
     ! what the step reads, from the kind's configuration
     real(dp) :: dx = 0.0_dp               !< cell size (m)
     integer :: shape = 0, scheme = 0      !< shape family and USL/MUSL
@@ -53,18 +66,8 @@ module wellposed_mpm_scene
     real(dp) :: dt = 0.0_dp               !< time step (s)
     integer :: nstep = 0
     real(dp) :: mass_floor = 0.0_dp       !< grid nodes at or below it count as empty (kg)
-    ! probed moduli (Pa): bar: axial unloading / loading; plate: M and K
-    real(dp) :: modulus_elastic = 0.0_dp, modulus_plastic = 0.0_dp, modulus_dt = 0.0_dp
-    real(dp) :: bulk = 0.0_dp, c_max = 0.0_dp
-    ! bookkeeping of the bar (per unit cross-section: J/m^2, kg m/s / m^2)
-    integer :: node_surface = 0, node_far = 0  !< global nodes at x = 0 and x = length
-    real(dp) :: work_internal = 0.0_dp    !< int sigma : d eps dV (stored + dissipated)
-    real(dp) :: work_external = 0.0_dp    !< work of the surface traction
-    real(dp) :: impulse = 0.0_dp          !< time integral of surface force + reaction
-    real(dp) :: kinetic0 = 0.0_dp, momentum0 = 0.0_dp
-    ! bookkeeping of the plate
-    real(dp) :: top_disp = 0.0_dp         !< vertical displacement of the top (m)
-    integer :: platen_row = -huge(1)      !< the plate's lowest platen node row (none yet)
+    ! the kind's probe: the fastest wave's modulus and speed, the time step's
+    real(dp) :: modulus_elastic = 0.0_dp, modulus_dt = 0.0_dp, c_max = 0.0_dp
     integer :: moved = 0                  !< particles this rank handed to others, so far
     integer :: max_substeps = 1           !< largest UMAT cut-back split used (this rank)
     integer :: max_substeps_step = 1      !< the same within the current step
@@ -99,122 +102,42 @@ module wellposed_mpm_scene
     procedure :: update_list => scene_update_list
   end type mpm_scene_t
 
+  abstract interface
+    !> The moduli of the scene's materials at their initial state, through
+    !> the UMAT: modulus_elastic, modulus_dt, c_max, c_visc and dt.
+    subroutine kind_probe(self, sc, err)
+      import :: scene_kind_t, mpm_scene_t, error_t
+      class(scene_kind_t), intent(inout) :: self
+      class(mpm_scene_t), intent(inout) :: sc
+      type(error_t), allocatable, intent(out) :: err
+    end subroutine kind_probe
+    !> After the ghost sum, before the grid update (eq. 4.9-4.10): the
+    !> kind's loads on the summed grid and its boundary conditions;
+    !> `given` (ndim, zero on entry) the velocity of the given components.
+    subroutine kind_conditions(self, sc, given)
+      import :: scene_kind_t, mpm_scene_t, dp
+      class(scene_kind_t), intent(inout) :: self
+      class(mpm_scene_t), intent(inout) :: sc
+      real(dp), intent(inout) :: given(:)
+    end subroutine kind_conditions
+    !> The strain increment de (NTENS), F, volume (vol_n: the start's) and
+    !> the UMAT's start of every particle from sc%lgrad (eq. 4.11). Returns
+    !> the first particle turned inside out (det F <= 0), or n + 1.
+    integer function kind_kinematics(self, sc) result(last)
+      import :: scene_kind_t, mpm_scene_t
+      class(scene_kind_t), intent(inout) :: self
+      class(mpm_scene_t), intent(inout) :: sc
+    end function kind_kinematics
+    !> The kind's sums of the step, after the stress update and before the
+    !> time advances.
+    subroutine kind_bookkeeping(self, sc)
+      import :: scene_kind_t, mpm_scene_t
+      class(scene_kind_t), intent(inout) :: self
+      class(mpm_scene_t), intent(inout) :: sc
+    end subroutine kind_bookkeeping
+  end interface
+
 contains
-
-  !> The numbers the step reads (cell size `dx`, shape family, USL/MUSL,
-  !> density, viscosity A1 and A2) and the UMAT host of a scene in `ndim`
-  !> dimensions (NTENS 6 in 1D, 4 in 2D) of materials with nstatv STATEV.
-  subroutine start_scene(self, ndim, dx, shape, scheme, density, visc, nstatv, err)
-    type(mpm_scene_t), intent(inout) :: self
-    integer, intent(in) :: ndim, shape, scheme, nstatv
-    real(dp), intent(in) :: dx, density, visc(2)
-    type(error_t), allocatable, intent(out) :: err
-    self%ndim = ndim
-    self%ntens = merge(6, 4, ndim == 1)
-    self%dx = dx
-    self%shape = shape
-    self%scheme = scheme
-    self%density = density
-    self%visc_a1 = visc(1)
-    self%visc_a2 = visc(2)
-    call new_umat_host(self%host, self%ntens, nstatv, err, what='particle')
-    if (allocated(err)) return
-    self%host%celent = dx
-  end subroutine start_scene
-
-  !> The particles 1 .. n of this rank at rest in their initial state: at
-  !> x0, undeformed, half-widths lp (GIMP, CPDI; never changed), volume
-  !> vol0, mass density * vol0, no strain, STATEV zero (the stress and
-  !> velocity are the scene kind's).
-  subroutine init_particles(self, n, lp, vol0)
-    type(mpm_scene_t), intent(inout) :: self
-    integer, intent(in) :: n
-    real(dp), intent(in) :: lp, vol0
-    integer :: k
-    associate (pt => self%parts)
-      pt%x(:, 1:n) = pt%x0(:, 1:n)
-      pt%lp(:, 1:n) = lp
-      pt%vol0(1:n) = vol0
-      pt%vol(1:n) = pt%vol0(1:n)
-      pt%mass(1:n) = self%density*pt%vol0(1:n)
-      pt%defgrad(:, :, 1:n) = 0.0_dp
-      do k = 1, 3
-        pt%defgrad(k, k, 1:n) = 1.0_dp
-      end do
-      pt%stran(:, 1:n) = 0.0_dp
-      pt%statev(:, 1:n) = 0.0_dp
-    end associate
-    ! every particle has this mass: one floor for every step and rank
-    self%mass_floor = 1.0e-9_dp*(self%density*vol0)
-  end subroutine init_particles
-
-  !> The exchange of `self` (given or serial) over `nlayers` cell layers
-  !> along the last axis, the grid of `nnodes` nodes cut to this rank's
-  !> patch, and Algorithm 1 on that patch (collective). Ghost layers: the
-  !> shape's `reach` or the nonlocal Gaussian's support, the wider.
-  subroutine setup_ranks(self, settings, nnodes, reach, err, exchange)
-    type(mpm_scene_t), intent(inout) :: self
-    type(nonlocal_settings_t), intent(in) :: settings
-    integer, intent(in) :: nnodes, reach
-    type(error_t), allocatable, intent(out) :: err
-    class(mpm_exchange_t), intent(in), optional :: exchange
-    integer :: d, nnode(2), layer_nodes
-    d = self%ndim
-    ! node layers: one node in 1D, a row of nx nodes in 2D
-    nnode = [self%nx, self%ny]
-    layer_nodes = self%nx
-    if (d == 1) then
-      nnode(1) = nnodes
-      layer_nodes = 1
-    end if
-    call new_nonlocal(self%nl, settings, d, self%origin(1:d), self%dx, nnode(1:d), 0, &
-                      nnodes - 1, err)
-    if (allocated(err)) then
-      err%message = '&nonlocal / &material: '//err%message
-      return
-    end if
-    if (present(exchange)) then
-      allocate (self%exchange, source=exchange)
-    else
-      allocate (mpm_serial_t :: self%exchange)
-    end if
-    call self%exchange%setup(self%nlayers, layer_nodes, max(reach, nonlocal_ghost_nodes(self%nl)), &
-                             d, self%origin(d), self%dx, err)
-    if (allocated(err)) return
-    call new_grid(self%grid, d, self%origin(1), self%dx, nnodes, 0, nnodes - 1)
-    call self%exchange%restrict_grid(self%grid)
-    if (self%grid%glo /= 0 .or. self%grid%ghi /= nnodes - 1) &
-      call new_nonlocal(self%nl, settings, d, self%origin(1:d), self%dx, nnode(1:d), &
-                        self%grid%glo, self%grid%ghi, err)
-  end subroutine setup_ranks
-
-  !> Room for `cap` particles of this rank (all `ntotal` on one rank),
-  !> with nsup support nodes and nstatv state variables.
-  subroutine scene_particles(self, cap, nsup, nstatv)
-    type(mpm_scene_t), intent(inout) :: self
-    integer, intent(in) :: cap, nsup, nstatv
-    call new_particles(self%parts, cap, self%ndim, nsup, nstatv)
-    call size_workspace(self)
-    self%q = 0.0_dp
-    self%mat = 0
-  end subroutine scene_particles
-
-  !> The material of every particle of this rank from its initial
-  !> position; a particle no region holds is an error on every rank
-  !> (collective).
-  subroutine assign_materials(self, err)
-    type(mpm_scene_t), intent(inout) :: self
-    type(error_t), allocatable, intent(out) :: err
-    integer :: p
-    do p = 1, self%parts%n
-      self%mat(p) = material_of(self%mats, self%parts%x0(:, p))
-      if (self%mat(p) == 0) then
-        call check_covered(self%mats, self%parts%x0(:, p:p), err)
-        exit
-      end if
-    end do
-    call self%exchange%sync_error(err)
-  end subroutine assign_materials
 
   !> Per-particle arrays beside particles_t for as many particles as the
   !> set can hold (a rank's count changes as particles cross; a restart
@@ -425,81 +348,6 @@ contains
     block_kernel_on = umat_is_ours() .and. .not. associated(self%host%fn)
   end function block_kernel_on
 
-  !> Kinetic energy of the particles on all ranks (J per m^2 of section in
-  !> 1D, per m of thickness in 2D; collective).
-  real(dp) function kinetic_energy(self)
-    type(mpm_scene_t), intent(in) :: self
-    integer :: n
-    real(dp) :: e(1)
-    n = self%parts%n
-    if (self%ndim == 1) then
-      e(1) = 0.5_dp*sum(self%parts%mass(1:n)*self%parts%v(1, 1:n)**2)
-    else
-      e(1) = 0.5_dp*sum(self%parts%mass(1:n)*(self%parts%v(1, 1:n)**2 + &
-                                               self%parts%v(2, 1:n)**2))
-    end if
-    call self%exchange%sum_reals(e)
-    kinetic_energy = e(1)
-  end function kinetic_energy
-
-  !> x-momentum of the particles on all ranks (collective).
-  real(dp) function total_momentum(self)
-    type(mpm_scene_t), intent(in) :: self
-    integer :: n
-    real(dp) :: m(1)
-    n = self%parts%n
-    m(1) = sum(self%parts%mass(1:n)*self%parts%v(1, 1:n))
-    call self%exchange%sum_reals(m)
-    total_momentum = m(1)
-  end function total_momentum
-
-  !> The plate's applied axial stress (Pa, compression positive): the top
-  !> force per unit initial width, from the volume average of sigma_yy (in
-  !> equilibrium without body force, int sigma_yy dV = F_top * H, H the
-  !> current height) over the body under the platen's lowest node row y_g
-  !> (the layer above it moves with the platen): -sum_p sigma_yy V_p /
-  !> (width * min(y_g, height + top_disp)), particles with y_p < y_g.
-  !> Robust to the boundary layer under a laterally fixed top and to the
-  !> mesh. Collective.
-  real(dp) function applied_stress(self) result(s)
-    type(mpm_scene_t), intent(in) :: self
-    integer :: n
-    real(dp) :: a(1), yg
-    n = self%parts%n
-    yg = platen_base(self)
-    a(1) = sum(self%parts%stress(2, 1:n)*self%parts%vol(1:n), mask=self%parts%x(2, 1:n) < yg)
-    call self%exchange%sum_reals(a)
-    s = -a(1)/(self%plate%width*min(yg, self%plate%height + self%top_disp))
-  end function applied_stress
-
-  !> The height y_g under which the plate's body is measured (applied_stress,
-  !> the top cell row's stress ratio): the platen's lowest node row, or the
-  !> platen's plane with platen = 'contact' (no node row; docs/research/bands.md).
-  pure real(dp) function platen_base(self) result(yg)
-    type(mpm_scene_t), intent(in) :: self
-    if (self%plate%platen == platen_contact) then
-      yg = self%plate%height + self%top_disp
-    else
-      yg = self%origin(2) + self%dx*self%platen_row
-    end if
-  end function platen_base
-
-  !> Magnitude of the plastic strain tensor ||eps^p|| of each particle
-  !> (STATEV 5-10, engineering shears halved), as in fig. 4.2 and 4.4;
-  !> zero where NSTATV < 10 (a user's UMAT: its outputs are left out).
-  pure function plastic_strain(self) result(ep)
-    type(mpm_scene_t), intent(in) :: self
-    real(dp) :: ep(self%parts%n)
-    integer :: p
-    ep = 0.0_dp
-    if (self%parts%nstatv < 10) return
-    do p = 1, self%parts%n
-      associate (e => self%parts%statev(5:10, p))
-        ep(p) = sqrt(e(1)**2 + e(2)**2 + e(3)**2 + 0.5_dp*(e(4)**2 + e(5)**2 + e(6)**2))
-      end associate
-    end do
-  end function plastic_strain
-
   !> The largest UMAT cut-back split used so far on any rank (collective).
   integer function max_substeps(self) result(nsub)
     type(mpm_scene_t), intent(inout) :: self
@@ -509,13 +357,34 @@ contains
     nsub = nint(x)
   end function max_substeps
 
-  !> This rank's share of the plastic particles of the last step: their sum
-  !> over the ranks is the scene's count (Algorithm 1 counts them over
-  !> every rank, and rank 0 reports them).
-  integer function plastic_count(self) result(count_mine)
-    type(mpm_scene_t), intent(in) :: self
-    count_mine = self%nl%last%n_plastic
-    if (self%exchange%rank() /= 0) count_mine = 0
-  end function plastic_count
+  !> A kind that puts no force on the grid before the ghost sum.
+  subroutine kind_no_forces(self, sc)
+    class(scene_kind_t), intent(inout) :: self
+    class(mpm_scene_t), intent(inout) :: sc
+  end subroutine kind_no_forces
+
+  !> After the grid update, before G2P: a kind's change to the grid's
+  !> answer (none by default); `reaction` (ndim) the fixed nodes' force.
+  subroutine kind_grid_solved(self, sc, reaction, err)
+    class(scene_kind_t), intent(inout) :: self
+    class(mpm_scene_t), intent(inout) :: sc
+    real(dp), intent(in) :: reaction(:)
+    type(error_t), allocatable, intent(out) :: err
+  end subroutine kind_grid_solved
+
+  !> The kind's bookkeeping a checkpoint keeps: `partial_sums`, this rank's
+  !> shares of sums over the ranks; `scalars`, values alike on every rank
+  !> (none by default).
+  function kind_no_sums(self) result(v)
+    class(scene_kind_t), intent(in) :: self
+    real(dp), allocatable :: v(:)
+    allocate (v(0))
+  end function kind_no_sums
+
+  !> The kind's bookkeeping back from a checkpoint (as kind_no_sums).
+  subroutine kind_set_no_sums(self, v)
+    class(scene_kind_t), intent(inout) :: self
+    real(dp), intent(in) :: v(:)
+  end subroutine kind_set_no_sums
 
 end module wellposed_mpm_scene

@@ -1,11 +1,11 @@
-!> The transfers of one explicit MPM step (section 4.3) for ndim = 1 and 2:
+!> The transfers of one explicit MPM step (section 4.3) in ndim dimensions:
 !> P2G (lumped mass eq. 4.4, momentum, internal force eq. 4.5), the grid
 !> update with its boundary conditions (eq. 4.9-4.10), G2P (FLIP eq. 4.13,
 !> position eq. 4.12), the MUSL rebuild and the velocity gradient (eq.
 !> 4.11), over each particle's precomputed support and the patch's nodes.
-!> Each dimension keeps its own order of summation, so every bar and plate
-!> reproduces its reference bit for bit; `nnz` skips a CPDI particle's
-!> unused support entries. Sums over ranks are the caller's.
+!> Each kernel is written once over nd; where 1D rounds otherwise (noted at
+!> the line) it keeps its own order, so every scene reproduces its
+!> reference bit for bit. `nnz` skips a CPDI particle's unused entries.
 module wellposed_mpm_transfer
   use wellposed_kinds, only: dp
   use wellposed_mpm_grid, only: grid_t, grid_reset, zero
@@ -17,9 +17,9 @@ module wellposed_mpm_transfer
 contains
 
   !> Mass, momentum and internal force of particles 1 .. n on the grid
-  !> (the grid's sums zeroed first). The force takes sigma - q I in the
-  !> plane (q: a viscous pressure per particle, optional). Components of
-  !> the stress: Abaqus order (11, 22, 33, 12, ...).
+  !> (the grid's sums zeroed first). The force takes sigma - q I (q: a
+  !> viscous pressure per particle, optional). Components of the stress:
+  !> Abaqus order (11, 22, 33, 12, 13, 23).
   subroutine p2g(g, pt, n, q, nnz)
     type(grid_t), intent(inout) :: g
     type(particles_t), intent(in) :: pt
@@ -27,91 +27,88 @@ contains
     real(dp), intent(in), optional :: q(:)
     integer, intent(in), optional :: nnz(:)
     call grid_reset(g)
-    if (g%ndim == 1) then
-      ! a bar's supports are full (nnz = nsup): the node count is a constant
-      select case (pt%nsup)
-      case (3)
-        call p2g_bar(n, 3, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
+    ! the dimension and, in 1D (full supports, nnz = nsup), the node count
+    ! as constants: the kernel's small loops unroll
+    if (g%ndim == 1 .and. pt%nsup == 3) then
+      call p2g_nodes(1, n, 3, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
                      size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q)
-      case (2)
-        call p2g_bar(n, 2, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
+    else if (g%ndim == 1 .and. pt%nsup == 2) then
+      call p2g_nodes(1, n, 2, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
                      size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q)
-      case default
-        call p2g_bar(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
-                     size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q)
-      end select
+    else if (g%ndim == 1) then
+      call p2g_nodes(1, n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, &
+                     pt%stress, size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q)
+    else if (g%ndim == 2) then
+      call p2g_nodes(2, n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, &
+                     pt%stress, size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, &
+                     q, nnz)
     else
-      call p2g_plate(n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, pt%stress, &
-                     size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, q, nnz)
+      call p2g_nodes(g%ndim, n, pt%nsup, pt%node, pt%phi, pt%grad, pt%mass, pt%v, pt%vol, &
+                     pt%stress, size(pt%stress, 1), g%glo, g%ghi, g%momentum, g%mass, g%fint, &
+                     q, nnz)
     end if
   end subroutine p2g
 
-  !> p2g of a bar on plain arrays: explicit shapes carry no descriptors to
-  !> reload after each store to the grid, and dummies are distinct, so the
-  !> particle's factors stay in registers. The arithmetic is p2g's. Every
-  !> support is full (m nodes): called with a constant m, the node loop
-  !> unrolls.
-  pure subroutine p2g_bar(n, m, node, phi, grad, mass, v, vol, stress, ns, glo, ghi, gp, gm, &
-                          gf, q)
-    integer, value :: m
+  !> p2g on plain arrays of nd components: explicit shapes carry no
+  !> descriptors to reload after each store to the grid, and dummies are
+  !> distinct, so the particle's factors stay in registers. The force on
+  !> node i is -V (sigma - q I) G_i, eq. 4.5.
+  pure subroutine p2g_nodes(nd, n, m, node, phi, grad, mass, v, vol, stress, ns, glo, ghi, &
+                            gp, gm, gf, q, nnz)
+    integer, value :: nd, m
     integer, intent(in) :: n, ns, glo, ghi, node(m, *)
-    real(dp), intent(in) :: phi(m, *), grad(m, *), mass(*), v(*), vol(*), stress(ns, *)
-    real(dp), intent(inout) :: gp(glo:ghi), gm(glo:ghi), gf(glo:ghi)
-    real(dp), intent(in), optional :: q(*)
-    integer :: p, k, i
-    real(dp) :: w, qp, mp, v1, vs
-    do p = 1, n
-      qp = 0.0_dp
-      if (present(q)) qp = q(p)
-      mp = mass(p)
-      v1 = v(p)
-      vs = vol(p)*(stress(1, p) - qp)
-      do k = 1, m
-        i = node(k, p)
-        w = phi(k, p)*mp
-        gm(i) = gm(i) + w
-        gp(i) = gp(i) + w*v1
-        gf(i) = gf(i) - vs*grad(k, p)
-      end do
-    end do
-  end subroutine p2g_bar
-
-  !> p2g of a plate on plain arrays (as p2g_bar); the force V (sigma G),
-  !> eq. 4.5.
-  pure subroutine p2g_plate(n, m, node, phi, grad, mass, v, vol, stress, ns, glo, ghi, gp, gm, &
-                            gf, q, nnz)
-    integer, intent(in) :: n, m, ns, glo, ghi, node(m, *)
-    real(dp), intent(in) :: phi(m, *), grad(2, m, *), mass(*), v(2, *), vol(*), stress(ns, *)
-    real(dp), intent(inout) :: gp(2, glo:ghi), gm(glo:ghi), gf(2, glo:ghi)
+    real(dp), intent(in) :: phi(m, *), grad(nd, m, *), mass(*), v(nd, *), vol(*), stress(ns, *)
+    real(dp), intent(inout) :: gp(nd, glo:ghi), gm(glo:ghi), gf(nd, glo:ghi)
     real(dp), intent(in), optional :: q(*)
     integer, intent(in), optional :: nnz(*)
-    integer :: p, k, i, mk
-    real(dp) :: w, qp, s11, s22, s12, vl, f1, f2, mp, v1, v2
+    integer :: p, k, i, a, b, mk
+    real(dp) :: w, qp, mp, vl, sg(3, 3), f
     mk = m
     do p = 1, n
       qp = 0.0_dp
       if (present(q)) qp = q(p)
       if (present(nnz)) mk = nnz(p)
-      s11 = stress(1, p) - qp
-      s22 = stress(2, p) - qp
-      s12 = stress(4, p)
-      vl = vol(p)
       mp = mass(p)
-      v1 = v(1, p)
-      v2 = v(2, p)
+      vl = vol(p)
+      do b = 1, nd
+        do a = 1, nd
+          sg(a, b) = stress(voigt(a, b), p)
+        end do
+        sg(b, b) = sg(b, b) - qp
+      end do
+      if (nd == 1) then
+        ! one term: V sigma first, the 1D reference's rounding (1 V = V exactly)
+        sg(1, 1) = vl*sg(1, 1)
+        vl = 1.0_dp
+      end if
       do k = 1, mk
         i = node(k, p)
         w = phi(k, p)*mp
         gm(i) = gm(i) + w
-        gp(1, i) = gp(1, i) + w*v1
-        gp(2, i) = gp(2, i) + w*v2
-        f1 = s11*grad(1, k, p) + s12*grad(2, k, p)
-        f2 = s12*grad(1, k, p) + s22*grad(2, k, p)
-        gf(1, i) = gf(1, i) - vl*f1
-        gf(2, i) = gf(2, i) - vl*f2
+        do a = 1, nd
+          gp(a, i) = gp(a, i) + w*v(a, p)
+        end do
+        do a = 1, nd
+          f = sg(a, 1)*grad(1, k, p)
+          do b = 2, nd
+            f = f + sg(a, b)*grad(b, k, p)
+          end do
+          gf(a, i) = gf(a, i) - vl*f
+        end do
       end do
     end do
-  end subroutine p2g_plate
+  end subroutine p2g_nodes
+
+  !> The row of component (a, b) of a symmetric tensor in Abaqus order:
+  !> 11, 22, 33, then 12, 13, 23.
+  elemental integer function voigt(a, b)
+    integer, intent(in) :: a, b
+    if (a == b) then
+      voigt = a
+    else
+      voigt = a + b + 1
+    end if
+  end function voigt
 
   !> Acceleration and velocity of every patch node, eq. 4.9-4.10 (nodes at
   !> or below `mmin` count as empty), then the boundary conditions: a
@@ -220,94 +217,77 @@ contains
     rebuild = .false.
     if (present(musl)) rebuild = musl
     if (rebuild) call zero(g%momentum, size(g%momentum))
-    if (g%ndim == 1) then
-      select case (pt%nsup)
-      case (3)
-        call g2p_bar(n, 3, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
+    if (g%ndim == 1 .and. pt%nsup == 3) then   ! constants, as in p2g
+      call g2p_nodes(1, n, 3, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
                      pt%x, rebuild, pt%mass, g%momentum)
-      case (2)
-        call g2p_bar(n, 2, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
+    else if (g%ndim == 1 .and. pt%nsup == 2) then
+      call g2p_nodes(1, n, 2, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
                      pt%x, rebuild, pt%mass, g%momentum)
-      case default
-        call g2p_bar(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, pt%v, &
-                     pt%x, rebuild, pt%mass, g%momentum)
-      end select
-    else
-      call g2p_plate(n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, &
+    else if (g%ndim == 1) then
+      call g2p_nodes(1, n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, &
+                     pt%v, pt%x, rebuild, pt%mass, g%momentum)
+    else if (g%ndim == 2) then
+      call g2p_nodes(2, n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, dt, &
                      pt%v, pt%x, rebuild, pt%mass, g%momentum, nnz)
+    else
+      call g2p_nodes(g%ndim, n, pt%nsup, pt%node, pt%phi, g%glo, g%ghi, g%accel, g%velocity, &
+                     dt, pt%v, pt%x, rebuild, pt%mass, g%momentum, nnz)
     end if
   end subroutine g2p
 
-  !> g2p of a bar on plain arrays (as p2g_bar): the weighted nodal sums,
-  !> then the step; with `rebuild`, the particle's new momentum onto gp.
-  pure subroutine g2p_bar(n, m, node, phi, glo, ghi, ga, gv, dt, v, x, rebuild, mass, gp)
-    integer, value :: m
+  !> g2p on plain arrays of nd components (as p2g_nodes): velocity and
+  !> position advanced over the particle's nodes in scalars; with
+  !> `rebuild`, the particle's new momentum onto gp.
+  pure subroutine g2p_nodes(nd, n, m, node, phi, glo, ghi, ga, gv, dt, v, x, rebuild, mass, &
+                            gp, nnz)
+    integer, value :: nd, m
     logical, value :: rebuild
     integer, intent(in) :: n, glo, ghi, node(m, *)
-    real(dp), intent(in) :: phi(m, *), ga(glo:ghi), gv(glo:ghi), dt, mass(*)
-    real(dp), intent(inout) :: v(*), x(*), gp(glo:ghi)
-    integer :: p, k, i
-    real(dp) :: vs, ds
-    do p = 1, n
-      vs = 0.0_dp
-      ds = 0.0_dp
-      do k = 1, m
-        i = node(k, p)
-        vs = vs + phi(k, p)*ga(i)
-        ds = ds + phi(k, p)*gv(i)
-      end do
-      v(p) = v(p) + dt*vs
-      x(p) = x(p) + dt*ds
-      if (rebuild) then
-        do k = 1, m
-          i = node(k, p)
-          gp(i) = gp(i) + (phi(k, p)*mass(p))*v(p)
-        end do
-      end if
-    end do
-  end subroutine g2p_bar
-
-  !> g2p of a plate on plain arrays (as g2p_bar): velocity and position
-  !> advanced node by node with w = dt phi, in scalars; with `rebuild`, the
-  !> particle's new momentum onto gp.
-  pure subroutine g2p_plate(n, m, node, phi, glo, ghi, ga, gv, dt, v, x, rebuild, mass, gp, &
-                            nnz)
-    logical, value :: rebuild
-    integer, intent(in) :: n, m, glo, ghi, node(m, *)
-    real(dp), intent(in) :: phi(m, *), ga(2, glo:ghi), gv(2, glo:ghi), dt, mass(*)
-    real(dp), intent(inout) :: v(2, *), x(2, *), gp(2, glo:ghi)
+    real(dp), intent(in) :: phi(m, *), ga(nd, glo:ghi), gv(nd, glo:ghi), dt, mass(*)
+    real(dp), intent(inout) :: v(nd, *), x(nd, *), gp(nd, glo:ghi)
     integer, intent(in), optional :: nnz(*)
-    integer :: p, k, i, mk
-    real(dp) :: w, v1, v2, x1, x2
+    integer :: p, k, i, a, mk
+    real(dp) :: w, vs(3), xs(3)
     mk = m
     do p = 1, n
       if (present(nnz)) mk = nnz(p)
-      v1 = v(1, p)
-      v2 = v(2, p)
-      x1 = x(1, p)
-      x2 = x(2, p)
+      ! 1D sums phi a and phi v from zero and steps once (its reference's
+      ! rounding); otherwise each node's dt phi term is added in turn
+      do a = 1, nd
+        vs(a) = 0.0_dp
+        xs(a) = 0.0_dp
+        if (nd > 1) vs(a) = v(a, p)
+        if (nd > 1) xs(a) = x(a, p)
+      end do
       do k = 1, mk
         i = node(k, p)
-        w = dt*phi(k, p)
-        v1 = v1 + w*ga(1, i)
-        v2 = v2 + w*ga(2, i)
-        x1 = x1 + w*gv(1, i)
-        x2 = x2 + w*gv(2, i)
+        w = phi(k, p)
+        if (nd > 1) w = dt*phi(k, p)
+        do a = 1, nd
+          vs(a) = vs(a) + w*ga(a, i)
+          xs(a) = xs(a) + w*gv(a, i)
+        end do
       end do
-      v(1, p) = v1
-      v(2, p) = v2
-      x(1, p) = x1
-      x(2, p) = x2
+      do a = 1, nd
+        if (nd == 1) then
+          v(a, p) = v(a, p) + dt*vs(a)
+          x(a, p) = x(a, p) + dt*xs(a)
+        else
+          v(a, p) = vs(a)
+          x(a, p) = xs(a)
+        end if
+      end do
       if (rebuild) then
         do k = 1, mk
           i = node(k, p)
           w = phi(k, p)*mass(p)
-          gp(1, i) = gp(1, i) + w*v1
-          gp(2, i) = gp(2, i) + w*v2
+          do a = 1, nd
+            gp(a, i) = gp(a, i) + w*v(a, p)
+          end do
         end do
       end if
     end do
-  end subroutine g2p_plate
+  end subroutine g2p_nodes
 
   !> Velocity gradients of particles 1 .. n, eq. 4.11: lg(a, b, p) = d v_a /
   !> d x_b (ndim x ndim each) from the grid velocity, one call for all.
@@ -317,66 +297,52 @@ contains
     integer, intent(in) :: n
     real(dp), intent(out), contiguous :: lg(:, :, :)
     integer, intent(in), optional :: nnz(:)
-    if (g%ndim == 1) then
-      select case (pt%nsup)
-      case (3)
-        call gradient_bar(n, 3, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg)
-      case (2)
-        call gradient_bar(n, 2, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg)
-      case default
-        call gradient_bar(n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg)
-      end select
+    if (g%ndim == 1 .and. pt%nsup == 3) then   ! constants, as in p2g
+      call gradient_nodes(1, n, 3, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg)
+    else if (g%ndim == 1 .and. pt%nsup == 2) then
+      call gradient_nodes(1, n, 2, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg)
+    else if (g%ndim == 1) then
+      call gradient_nodes(1, n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg)
+    else if (g%ndim == 2) then
+      call gradient_nodes(2, n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg, nnz)
     else
-      call gradient_plate(n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg, nnz)
+      call gradient_nodes(g%ndim, n, pt%nsup, pt%node, pt%grad, g%glo, g%ghi, g%velocity, lg, &
+                          nnz)
     end if
   end subroutine velocity_gradients
 
-  !> The bar's velocity gradients on plain arrays (as p2g_bar): each a sum
-  !> from zero over the particle's nodes, in their order.
-  pure subroutine gradient_bar(n, m, node, grad, glo, ghi, gv, l11)
-    integer, value :: m
+  !> The velocity gradients on plain arrays (as p2g_nodes): each entry a sum
+  !> in a scalar from zero, node by node in their order.
+  pure subroutine gradient_nodes(nd, n, m, node, grad, glo, ghi, gv, lg, nnz)
+    integer, value :: nd, m
     integer, intent(in) :: n, glo, ghi, node(m, *)
-    real(dp), intent(in) :: grad(m, *), gv(glo:ghi)
-    real(dp), intent(out) :: l11(*)
-    integer :: p, k
-    real(dp) :: l
-    do p = 1, n
-      l = 0.0_dp
-      do k = 1, m
-        l = l + gv(node(k, p))*grad(k, p)
-      end do
-      l11(p) = l
-    end do
-  end subroutine gradient_bar
-
-  !> The plate's velocity gradients on plain arrays: sums in scalars from
-  !> zero, node by node in their order.
-  pure subroutine gradient_plate(n, m, node, grad, glo, ghi, gv, lg, nnz)
-    integer, intent(in) :: n, m, glo, ghi, node(m, *)
-    real(dp), intent(in) :: grad(2, m, *), gv(2, glo:ghi)
-    real(dp), intent(out) :: lg(2, 2, *)
+    real(dp), intent(in) :: grad(nd, m, *), gv(nd, glo:ghi)
+    real(dp), intent(out) :: lg(nd, nd, *)
     integer, intent(in), optional :: nnz(*)
-    integer :: p, k, i, mk
-    real(dp) :: l11, l21, l12, l22
+    integer :: p, k, i, a, b, mk
+    real(dp) :: l(3, 3)
     mk = m
     do p = 1, n
       if (present(nnz)) mk = nnz(p)
-      l11 = 0.0_dp
-      l21 = 0.0_dp
-      l12 = 0.0_dp
-      l22 = 0.0_dp
+      do b = 1, nd
+        do a = 1, nd
+          l(a, b) = 0.0_dp
+        end do
+      end do
       do k = 1, mk
         i = node(k, p)
-        l11 = l11 + gv(1, i)*grad(1, k, p)
-        l21 = l21 + gv(2, i)*grad(1, k, p)
-        l12 = l12 + gv(1, i)*grad(2, k, p)
-        l22 = l22 + gv(2, i)*grad(2, k, p)
+        do b = 1, nd
+          do a = 1, nd
+            l(a, b) = l(a, b) + gv(a, i)*grad(b, k, p)
+          end do
+        end do
       end do
-      lg(1, 1, p) = l11
-      lg(2, 1, p) = l21
-      lg(1, 2, p) = l12
-      lg(2, 2, p) = l22
+      do b = 1, nd
+        do a = 1, nd
+          lg(a, b, p) = l(a, b)
+        end do
+      end do
     end do
-  end subroutine gradient_plate
+  end subroutine gradient_nodes
 
 end module wellposed_mpm_transfer

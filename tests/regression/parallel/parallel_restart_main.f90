@@ -31,6 +31,7 @@ program parallel_restart_main
   real(dp), allocatable :: partials(:)
   integer :: k, p, q, failures, mine, nsaved, nbad
   real(dp) :: total
+  real(dp), allocatable :: mysums(:)
 
   call comm_start(comm, err)
   call stop_on(err)
@@ -74,9 +75,8 @@ program parallel_restart_main
     scene%mat = ref%mat
     scene%t = ref%t
     scene%nstep = ref%nstep
-    scene%work_internal = 1000.0_dp*comm%rank + 0.1_dp
-    scene%work_external = 2000.0_dp*comm%rank + 0.2_dp
-    scene%impulse = 3000.0_dp*comm%rank + 0.3_dp
+    call scene%kind%set_partial_sums([1000.0_dp*comm%rank + 0.1_dp, &
+                                      2000.0_dp*comm%rank + 0.2_dp, 3000.0_dp*comm%rank + 0.3_dp])
     call save_scene(scene, ckpt)
     if (comm%rank == 0) then
       call write_checkpoint(ckpt, trim(dir), scene%nstep, 2, path, err)
@@ -120,11 +120,13 @@ program parallel_restart_main
     call allreduce_sum(comm, nbad)
     call check(nbad == 0, 'particles bitwise those of the reference run, in id order')
     if (nsaved == comm%size) then
-      call check(scene%work_internal == 1000.0_dp*comm%rank + 0.1_dp .and. &
-                 scene%impulse == 3000.0_dp*comm%rank + 0.3_dp, &
+      mysums = scene%kind%partial_sums()
+      call check(mysums(1) == 1000.0_dp*comm%rank + 0.1_dp .and. &
+                 mysums(3) == 3000.0_dp*comm%rank + 0.3_dp, &
                  'same rank count: every rank has its own partial sums back')
     else
-      total = scene%work_internal
+      mysums = scene%kind%partial_sums()
+      total = mysums(1)
       call allreduce_sum(comm, total)
       call check(total == sum(partials(1::3)), 'other rank count: the partial sums total')
     end if
