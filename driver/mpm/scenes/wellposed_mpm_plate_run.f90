@@ -40,7 +40,7 @@ module wellposed_mpm_plate_run
   use wellposed_mpi, only: comm_t, allreduce_max, &
                            allreduce_sum, broadcast
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint
-  use wellposed_mpm_resume, only: open_restart_checkpoint
+  use wellposed_mpm_checkpoints, only: open_restart_checkpoint
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
   use wellposed_h5_parallel, only: h5_parallel_file_t, h5_writer_name
@@ -312,7 +312,7 @@ contains
     call rd%commit(err)
     if (allocated(err)) call stop_alone(comm, rd, err%message)
     ! the run is complete: its checkpoints have served (as a bar's)
-    if (path_exists(ck_dir)) then
+    if (path_exists(ck_dir) .and. .not. cli%keep_checkpoints) then
       call remove_tree(ck_dir, err)
       if (allocated(err)) write (error_unit, '(a)') 'wellposed-mpm: warning: '//err%message
     end if
@@ -466,7 +466,7 @@ contains
       nplast_all = nplast(1:nit)
       if (comm%size > 1) call allreduce_sum(comm, nplast_all)
       if (.not. root) return
-      call ckw%put_text('main/deck', deck_text)
+      call ckw%put_text('run/deck', deck_text)
       call ckw%put('main/case', [ic, ncurve, nit, nsnap, merge(1, 0, measured), steps_before])
       call ckw%put('main/reals', [next_snap, next_sample, fwhm, peak_x, peak_v, yline, band_t, &
                                   wall_before + clock%elapsed()])
