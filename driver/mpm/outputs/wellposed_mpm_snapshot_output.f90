@@ -109,8 +109,6 @@ contains
     type(checkpoint_t), intent(in) :: ck
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
-    associate (c => comm)
-    end associate
     call ck%get(self%name//'/wall', self%before, err)
   end subroutine progress_get
 

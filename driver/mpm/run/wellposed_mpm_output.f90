@@ -80,22 +80,16 @@ contains
     type(mpm_scene_t), intent(in) :: sc
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
-    associate (o => self, s => sc, c => comm)
-    end associate
   end subroutine output_nothing
 
   subroutine output_no_lines(self, sm)
     class(mpm_output_t), intent(inout) :: self
     type(summary_t), intent(inout) :: sm
-    associate (o => self, s => sm)
-    end associate
   end subroutine output_no_lines
 
   subroutine output_no_h5(self, h5)
     class(mpm_output_t), intent(inout) :: self
     type(h5_parallel_file_t), intent(inout) :: h5
-    associate (o => self, h => h5)
-    end associate
   end subroutine output_no_h5
 
   !> Append output `o` (a target its owner keeps).

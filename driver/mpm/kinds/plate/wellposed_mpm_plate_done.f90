@@ -57,8 +57,6 @@ contains
     type(mpm_scene_t), intent(in) :: sc
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
-    associate (o => self, s => sc, c => comm)
-    end associate
   end subroutine done_sample
 
   !> The case running, the steps before it, the finished cases and the

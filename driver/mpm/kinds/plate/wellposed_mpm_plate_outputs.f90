@@ -174,6 +174,7 @@ contains
     integer, allocatable :: nplast(:)
     character(len=:), allocatable :: p
     integer :: n, m
+    allocate (nplast(self%nit))
     nplast = self%nplast(1:self%nit)
     if (comm%size > 1) call allreduce_sum(comm, nplast)
     if (comm%rank /= 0) return
@@ -295,8 +296,6 @@ contains
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
     integer :: m
-    associate (c => comm)
-    end associate
     call ck%get(self%name//'/measured', m, err); if (allocated(err)) return
     self%measured = m == 1
     call ck%get(self%name//'/fwhm', self%fwhm, err); if (allocated(err)) return
@@ -335,8 +334,6 @@ contains
     type(checkpoint_t), intent(in) :: ck
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
-    associate (c => comm)
-    end associate
     call self%bw%get(ck, self%name//'/', err)
   end subroutine watch_get
 
@@ -358,8 +355,6 @@ contains
     class(plate_stations_output_t), intent(inout) :: self
     type(checkpoint_t), intent(inout) :: ck
     type(comm_t), intent(inout) :: comm
-    associate (c => comm)
-    end associate
     call self%pst%put(ck, self%name//'/')
   end subroutine stations_put
 
@@ -368,8 +363,6 @@ contains
     type(checkpoint_t), intent(in) :: ck
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
-    associate (c => comm)
-    end associate
     call self%pst%get(ck, self%name//'/', err)
   end subroutine stations_get
 

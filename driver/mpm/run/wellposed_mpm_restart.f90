@@ -5,7 +5,7 @@
 !> continues exactly as the uninterrupted run. Entries `mpm/<field>`
 !> (layout, counts, particles, partials, scalars, steps, nonlocal); a
 !> checkpoint of another layout, cell size or time step is refused.
-!> Design: docs/guide/parallel.md.
+!> Called by wellposed_mpm_checkpoints; design: docs/guide/parallel.md.
 module wellposed_mpm_restart
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
