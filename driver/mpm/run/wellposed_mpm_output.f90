@@ -13,7 +13,10 @@ module wellposed_mpm_output
   use wellposed_h5_parallel, only: h5_parallel_file_t
   implicit none
   private
-  public :: mpm_output_t, output_list_t
+  public :: mpm_output_t, output_list_t, stage_start, stage_sample, stage_finish
+
+  !> The moments the loop asks every output of a list (output_list_t%ask).
+  integer, parameter :: stage_start = 1, stage_sample = 2, stage_finish = 3
 
   !> One output; `name` prefixes its checkpoint entries ('<name>/...').
   !> Every procedure but summarise is collective (called on every rank).
@@ -21,7 +24,7 @@ module wellposed_mpm_output
     character(len=:), allocatable :: name
   contains
     procedure :: start => output_nothing       !< a fresh case, before its first step
-    procedure(sample_i), deferred :: sample     !< after every step
+    procedure :: sample => output_nothing      !< after every step
     procedure :: finish => output_nothing      !< after the last step
     procedure :: summarise => output_no_lines  !< rank 0: its summary lines
     procedure :: write_h5 => output_no_h5      !< its datasets, at the end
@@ -30,13 +33,6 @@ module wellposed_mpm_output
   end type mpm_output_t
 
   abstract interface
-    subroutine sample_i(self, sc, comm, err)
-      import :: mpm_output_t, mpm_scene_t, comm_t, error_t
-      class(mpm_output_t), intent(inout) :: self
-      type(mpm_scene_t), intent(in) :: sc
-      type(comm_t), intent(inout) :: comm
-      type(error_t), allocatable, intent(out) :: err
-    end subroutine sample_i
     !> Into `ck` (on rank 0, which writes it; the others may take part).
     subroutine put_i(self, ck, comm)
       import :: mpm_output_t, checkpoint_t, comm_t
@@ -64,9 +60,7 @@ module wellposed_mpm_output
     type(output_ref_t), allocatable :: items(:)
   contains
     procedure :: add => list_add
-    procedure :: start => list_start
-    procedure :: sample => list_sample
-    procedure :: finish => list_finish
+    procedure :: ask => list_ask
     procedure :: summarise => list_summarise
     procedure :: write_h5 => list_write_h5
     procedure :: put => list_put
@@ -102,41 +96,27 @@ contains
     self%items = [self%items, r]
   end subroutine list_add
 
-  subroutine list_start(self, sc, comm, err)
+  !> Every output's start, sample or finish (`stage`), in the list's
+  !> order; the first error stops the round.
+  subroutine list_ask(self, stage, sc, comm, err)
     class(output_list_t), intent(inout) :: self
+    integer, intent(in) :: stage
     type(mpm_scene_t), intent(in) :: sc
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
     integer :: k
     do k = 1, size(self%items)
-      call self%items(k)%o%start(sc, comm, err)
+      select case (stage)
+      case (stage_start)
+        call self%items(k)%o%start(sc, comm, err)
+      case (stage_sample)
+        call self%items(k)%o%sample(sc, comm, err)
+      case default
+        call self%items(k)%o%finish(sc, comm, err)
+      end select
       if (allocated(err)) return
     end do
-  end subroutine list_start
-
-  subroutine list_sample(self, sc, comm, err)
-    class(output_list_t), intent(inout) :: self
-    type(mpm_scene_t), intent(in) :: sc
-    type(comm_t), intent(inout) :: comm
-    type(error_t), allocatable, intent(out) :: err
-    integer :: k
-    do k = 1, size(self%items)
-      call self%items(k)%o%sample(sc, comm, err)
-      if (allocated(err)) return
-    end do
-  end subroutine list_sample
-
-  subroutine list_finish(self, sc, comm, err)
-    class(output_list_t), intent(inout) :: self
-    type(mpm_scene_t), intent(in) :: sc
-    type(comm_t), intent(inout) :: comm
-    type(error_t), allocatable, intent(out) :: err
-    integer :: k
-    do k = 1, size(self%items)
-      call self%items(k)%o%finish(sc, comm, err)
-      if (allocated(err)) return
-    end do
-  end subroutine list_finish
+  end subroutine list_ask
 
   subroutine list_summarise(self, sm)
     class(output_list_t), intent(inout) :: self

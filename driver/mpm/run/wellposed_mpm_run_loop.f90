@@ -12,7 +12,7 @@ module wellposed_mpm_run_loop
   use wellposed_mpi, only: comm_t
   use wellposed_mpm_scene, only: mpm_scene_t
   use wellposed_mpm_solver, only: advance
-  use wellposed_mpm_output, only: output_list_t
+  use wellposed_mpm_output, only: output_list_t, stage_sample
   use wellposed_mpm_checkpoints, only: run_checkpoints_t
   use wellposed_mpm_step_keeper, only: step_keeper_t
   implicit none
@@ -65,7 +65,7 @@ contains
         call keeper%restore(sc, err)
         return
       end if
-      call outs%sample(sc, comm, err)
+      call outs%ask(stage_sample, sc, comm, err)
       if (allocated(err)) return
       if (checkpoint_due(cks%every, sc%nstep, sc%t, t_end, sc%dt)) call cks%write(sc, outs, comm)
     end do

@@ -31,7 +31,7 @@ module wellposed_mpm_bar_run
   use wellposed_fs, only: shell_quote
   use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_mpm_stop, only: stop_alone, stop_all
-  use wellposed_mpm_output, only: output_list_t
+  use wellposed_mpm_output, only: output_list_t, stage_start, stage_finish
   use wellposed_mpm_snapshots, only: new_snapshot_store
   use wellposed_mpm_checkpoints, only: run_checkpoints_t, new_run_checkpoints
   use wellposed_mpm_run_loop, only: checkpoint_every, run_steps, loop_end_t
@@ -181,7 +181,7 @@ contains
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable :: err
     if (.not. cli%restart) then
-      call r%outs%start(r%scene, comm, err)
+      call r%outs%ask(stage_start, r%scene, comm, err)
       if (allocated(err)) call stop_all(comm, r%rd, err)
       call r%progress%clock%start(2.0_dp)
       return
@@ -213,7 +213,7 @@ contains
     integer :: substeps, i
     logical :: plotted
     wall = r%progress%wall()
-    call r%outs%finish(r%scene, comm, err)
+    call r%outs%ask(stage_finish, r%scene, comm, err)
     if (allocated(err)) call stop_all(comm, r%rd, err)
     substeps = r%scene%max_substeps
     call allreduce_max(comm, substeps)

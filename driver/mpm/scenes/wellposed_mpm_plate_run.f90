@@ -37,7 +37,7 @@ module wellposed_mpm_plate_run
   use wellposed_plot, only: run_plot
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
   use wellposed_fs, only: shell_quote
-  use wellposed_mpm_output, only: output_list_t
+  use wellposed_mpm_output, only: output_list_t, stage_start, stage_finish
   use wellposed_mpm_checkpoints, only: run_checkpoints_t, new_run_checkpoints
   use wellposed_mpm_run_loop, only: checkpoint_every, run_steps, loop_end_t
   use wellposed_mpm_plate_outputs, only: plate_curve_t, plate_band_t, plate_watch_t, &
@@ -242,7 +242,7 @@ contains
       if (comm%rank == 0) write (output_unit, '(a)') '    '//c%tag//': continuing at step '// &
         int_text(c%sc%nstep)//', t = '//real_text(c%sc%t)//' s'
     else
-      call c%outs%start(c%sc, comm, err)
+      call c%outs%ask(stage_start, c%sc, comm, err)
       if (allocated(err)) call stop_all(comm, r%rd, err)
     end if
     call run_steps(c%sc, c%cfg%t_end, c%outs, r%cks, comm, r%study%stop_on_cutback, c%ended, err)
@@ -337,7 +337,7 @@ contains
     type(error_t), allocatable :: err
     real(dp) :: wall
     integer :: nsub, moved
-    call c%outs%finish(c%sc, comm, err)
+    call c%outs%ask(stage_finish, c%sc, comm, err)
     if (allocated(err)) call stop_all(comm, r%rd, err)
     wall = c%progress%wall()
     nsub = max_substeps(c%sc)

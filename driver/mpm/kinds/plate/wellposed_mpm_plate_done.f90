@@ -9,7 +9,6 @@ module wellposed_mpm_plate_done
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
   use wellposed_mpi, only: comm_t
-  use wellposed_mpm_scene, only: mpm_scene_t
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_summary, only: summary_t
   use wellposed_h5_parallel, only: h5_parallel_file_t
@@ -31,7 +30,6 @@ module wellposed_mpm_plate_done
     real(dp) :: t_end = 0.0_dp
   contains
     procedure :: setup => done_setup
-    procedure :: sample => done_sample
     procedure :: put => done_put
     procedure :: get => done_get
     procedure :: write_case => done_write_case
@@ -51,13 +49,6 @@ contains
     self%sm => sm
     allocate (self%outs(study%ncases), self%st(study%ncases))
   end subroutine done_setup
-
-  subroutine done_sample(self, sc, comm, err)
-    class(plate_done_t), intent(inout) :: self
-    type(mpm_scene_t), intent(in) :: sc
-    type(comm_t), intent(inout) :: comm
-    type(error_t), allocatable, intent(out) :: err
-  end subroutine done_sample
 
   !> The case running, the steps before it, the finished cases and the
   !> summary lines (rank 0).
