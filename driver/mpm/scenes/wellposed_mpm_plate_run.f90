@@ -243,7 +243,7 @@ contains
         int_text(c%sc%nstep)//', t = '//real_text(c%sc%t)//' s'
     else
       call c%outs%ask(stage_start, c%sc, comm, err)
-      if (allocated(err)) call stop_all(comm, r%rd, err)
+      if (allocated(err)) call stop_all(comm, r%rd, 'case '//c%tag//': '//err%message)
     end if
     call run_steps(c%sc, c%cfg%t_end, c%outs, r%cks, comm, r%study%stop_on_cutback, c%ended, err)
     if (allocated(err)) call stop_all(comm, r%rd, 'case '//c%tag//': '//err%message)
@@ -338,7 +338,7 @@ contains
     real(dp) :: wall
     integer :: nsub, moved
     call c%outs%ask(stage_finish, c%sc, comm, err)
-    if (allocated(err)) call stop_all(comm, r%rd, err)
+    if (allocated(err)) call stop_all(comm, r%rd, 'case '//c%tag//': '//err%message)
     wall = c%progress%wall()
     nsub = max_substeps(c%sc)
     moved = c%sc%moved

@@ -398,7 +398,6 @@ contains
     if (snapshot_due(self%interval, sc%t, self%next, 1.0e-12_dp)) &
       self%next = self%next + self%interval
     call self%take(sc, comm, err)
-    if (allocated(err)) err%message = 'case '//self%tag//': '//err%message
   end subroutine plate_snap
 
   !> A case's first snapshot, at t = 0.
