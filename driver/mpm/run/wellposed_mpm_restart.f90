@@ -2,9 +2,9 @@
 !> (--restart), on any number of ranks: time, step, time step, every rank's
 !> partial sums, Algorithm 1's totals and every particle, bit for bit; the
 !> grid is rebuilt from the particles each step, so a restored scene
-!> continues exactly as the uninterrupted run. Entries `mpm/<field>`
-!> (layout, counts, particles, partials, scalars, steps, nonlocal); a
-!> checkpoint of another layout, cell size or time step is refused.
+!> continues exactly as the uninterrupted run. Entries `mpm/<field>`, one
+!> per value (the layout's sizes, t, dt, nstep, ...) beside the particle
+!> records; a checkpoint of another layout, cell size or time step is refused.
 !> Called by wellposed_mpm_checkpoints; design: docs/guide/parallel.md.
 module wellposed_mpm_restart
   use wellposed_kinds, only: dp
@@ -19,7 +19,11 @@ module wellposed_mpm_restart
   public :: save_scene, restore_scene
 
   !> Version of the entries below; a restart refuses any other.
-  integer, parameter :: layout_version = 3   !< 3: one layout for bars and plates
+  !> 3: one layout for bars and plates; 4: every value an entry of its own
+  integer, parameter :: layout_version = 4
+  !> The real entries of a scene, as restore_scene reads them into sc(1:6).
+  character(len=10), parameter :: real_names(6) = [character(len=10) :: 't', 'dt', 'dx', &
+    'top_disp', 'kinetic0', 'momentum0']
 
 contains
 
@@ -46,17 +50,30 @@ contains
     moved = scene%moved
     call scene%exchange%sum_int(moved)
     if (scene%exchange%rank() /= 0) return
-    call ckpt%put('mpm/layout', [layout_version, scene%parts%ndim, scene%parts%nsup, &
-                                 scene%parts%nstatv, scene%ntotal, size(counts), reclen])
+    call ckpt%put('mpm/layout_version', layout_version)
+    call ckpt%put('mpm/ndim', scene%parts%ndim)
+    call ckpt%put('mpm/nsup', scene%parts%nsup)
+    call ckpt%put('mpm/nstatv', scene%parts%nstatv)
+    call ckpt%put('mpm/ntotal', scene%ntotal)
+    call ckpt%put('mpm/nranks', size(counts))
+    call ckpt%put('mpm/record_length', reclen)
     call ckpt%put('mpm/counts', counts/reclen)
     call ckpt%put('mpm/particles', recs)
     call ckpt%put('mpm/partials', partials)
-    call ckpt%put('mpm/scalars', [scene%t, scene%dt, scene%dx, scene%top_disp, scene%kinetic0, &
-                                  scene%momentum0])
-    call ckpt%put('mpm/steps', [scene%nstep, nsub, moved])
-    call ckpt%put('mpm/nonlocal', [scene%nl%steps_iterated, scene%nl%iterations_total, &
-                                   scene%nl%iterations_max, merge(1, 0, scene%nl%warned_sharp), &
-                                   merge(1, 0, scene%nl%warned_printed)])
+    call ckpt%put('mpm/t', scene%t)
+    call ckpt%put('mpm/dt', scene%dt)
+    call ckpt%put('mpm/dx', scene%dx)
+    call ckpt%put('mpm/top_disp', scene%top_disp)
+    call ckpt%put('mpm/kinetic0', scene%kinetic0)
+    call ckpt%put('mpm/momentum0', scene%momentum0)
+    call ckpt%put('mpm/nstep', scene%nstep)
+    call ckpt%put('mpm/max_substeps', nsub)
+    call ckpt%put('mpm/moved', moved)
+    call ckpt%put('mpm/nl_steps_iterated', scene%nl%steps_iterated)
+    call ckpt%put('mpm/nl_iterations_total', scene%nl%iterations_total)
+    call ckpt%put('mpm/nl_iterations_max', scene%nl%iterations_max)
+    call ckpt%put('mpm/nl_warned_sharp', merge(1, 0, scene%nl%warned_sharp))
+    call ckpt%put('mpm/nl_warned_printed', merge(1, 0, scene%nl%warned_printed))
   end subroutine save_scene
 
   !> Continue `scene`, freshly built by new_scene from the deck of the run
@@ -71,28 +88,27 @@ contains
     type(mpm_scene_t), intent(inout) :: scene
     type(checkpoint_t), intent(in) :: ckpt
     type(error_t), allocatable, intent(out) :: err
-    integer, allocatable :: layout(:), counts(:), steps(:), nl(:), order(:)
-    real(dp), allocatable :: recs(:), sc(:), partials(:)
+    integer, allocatable :: counts(:), order(:)
+    real(dp), allocatable :: recs(:), partials(:)
+    integer :: layout(7), steps(3), nl(5)
+    real(dp) :: sc(6)
     integer :: plen, reclen, nsaved, first, p, m, g, k, rank, nranks, d
-    call ckpt%get('mpm/layout', layout, err)
+    call get_ints([character(len=24) :: 'layout_version', 'ndim', 'nsup', 'nstatv', 'ntotal', &
+                   'nranks', 'record_length'], layout)
     if (allocated(err)) return
     rank = scene%exchange%rank()
     nranks = scene%exchange%nranks()
     d = scene%ndim
     plen = particle_record_length(scene%parts)
-    if (size(layout) /= 7) then
-      call bad('its layout entry is garbled'); return
-    end if
     if (layout(1) /= layout_version) then
       call bad('MPM checkpoint layout '//int_text(layout(1))//', this program reads '// &
                int_text(layout_version)); return
     end if
     reclen = layout(7)
     nsaved = layout(6)
-    call ckpt%get('mpm/scalars', sc, err); if (allocated(err)) return
-    if (size(sc) /= 6) then
-      call bad('its scalars entry is garbled'); return
-    end if
+    do k = 1, 6
+      call ckpt%get('mpm/'//trim(real_names(k)), sc(k), err); if (allocated(err)) return
+    end do
     if (sc(3) /= scene%dx .or. sc(2) /= scene%dt) then
       call new_error(err, status_invalid, 'checkpoint', 'the checkpoint was written with '// &
         'dx = '//real_text(sc(3))//' m and dt = '//real_text(sc(2))//' s; this deck gives '// &
@@ -112,11 +128,13 @@ contains
     call ckpt%get('mpm/counts', counts, err); if (allocated(err)) return
     call ckpt%get('mpm/particles', recs, err); if (allocated(err)) return
     call ckpt%get('mpm/partials', partials, err); if (allocated(err)) return
-    call ckpt%get('mpm/steps', steps, err); if (allocated(err)) return
-    call ckpt%get('mpm/nonlocal', nl, err); if (allocated(err)) return
+    call get_ints([character(len=24) :: 'nstep', 'max_substeps', 'moved'], steps)
+    if (allocated(err)) return
+    call get_ints([character(len=24) :: 'nl_steps_iterated', 'nl_iterations_total', &
+                   'nl_iterations_max', 'nl_warned_sharp', 'nl_warned_printed'], nl)
+    if (allocated(err)) return
     if (size(counts) /= nsaved .or. sum(counts) /= scene%ntotal .or. &
-        size(recs) /= reclen*scene%ntotal .or. size(partials) /= 3*nsaved .or. &
-        size(steps) /= 3 .or. size(nl) /= 5) then
+        size(recs) /= reclen*scene%ntotal .or. size(partials) /= 3*nsaved) then
       call bad('its particle entries do not match its layout'); return
     end if
     ! which saved records this rank takes, in which order
@@ -184,6 +202,17 @@ contains
     scene%nl%warned_sharp = nl(4) == 1
     scene%nl%warned_printed = nl(5) == 1
   contains
+    !> The integer entries mpm/<names(k)> into v(k).
+    subroutine get_ints(names, v)
+      character(len=*), intent(in) :: names(:)
+      integer, intent(out) :: v(:)
+      integer :: j
+      v = 0
+      do j = 1, size(names)
+        call ckpt%get('mpm/'//trim(names(j)), v(j), err)
+        if (allocated(err)) return
+      end do
+    end subroutine get_ints
     subroutine bad(why)
       character(len=*), intent(in) :: why
       call new_error(err, status_invalid, 'checkpoint', 'the checkpoint cannot continue this '// &
