@@ -1,6 +1,7 @@
 !> The command line of wellposed-mpm, read once for every scene kind:
 !>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot]
-!>       [--checkpoint-every STEPS] [--restart | --restart-from FILE]
+!>       [--checkpoint-every STEPS] [--keep-checkpoints]
+!>       [--restart | --restart-from FILE]
 !>       [DECK] [group.key=value ...]
 !>   [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] [--no-plot]
 !> A word with '=' overrides the deck, one starting with '-' is an option
@@ -23,6 +24,8 @@ module wellposed_mpm_cli
     !> --checkpoint-every STEPS; -1: the scene's default (a tenth of a run)
     integer :: ck_every = -1
     logical :: restart = .false.
+    !> --keep-checkpoints: a finished run leaves ROOT/NAME.checkpoints
+    logical :: keep_checkpoints = .false.
     logical :: no_plot = .false.
     logical :: help = .false.
   end type mpm_cli_t
@@ -65,6 +68,8 @@ contains
         read (arg, *) cli%ck_every
       case ('--restart')
         cli%restart = .true.
+      case ('--keep-checkpoints')
+        cli%keep_checkpoints = .true.
       case ('--restart-from')
         call value_of(cli%ck_file); if (allocated(err)) return
         cli%restart = .true.
@@ -88,7 +93,8 @@ contains
       end select
     end do
     if (len(cli%batch_file) > 0 .and. (len(cli%deck_path) > 0 .or. size(cli%overrides) > 0 &
-        .or. cli%restart .or. cli%ck_every >= 0 .or. len(cli%run_name) > 0)) &
+        .or. cli%restart .or. cli%ck_every >= 0 .or. len(cli%run_name) > 0 &
+        .or. cli%keep_checkpoints)) &
       call bad('--batch FILE takes only --out and --no-plot; give decks, names and '// &
                'overrides on the lines of FILE')
 
@@ -127,8 +133,8 @@ contains
     character(len=*), intent(in) :: default_deck
     write (output_unit, '(a)') 'usage: [mpirun -np N] wellposed-mpm [--out ROOT] '// &
       '[--name NAME] [--no-plot] [--checkpoint-every STEPS]'
-    write (output_unit, '(a)') '         [--restart | --restart-from FILE] [DECK] '// &
-      '[group.key=value ...]'
+    write (output_unit, '(a)') '         [--keep-checkpoints] [--restart | --restart-from FILE] '// &
+      '[DECK] [group.key=value ...]'
     write (output_unit, '(a)') '       [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] '// &
       '[--no-plot]'
     write (output_unit, '(a)') '  DECK: a 1D bar (inputs/fig2_*.nml) or a plane-strain plate '// &
@@ -139,6 +145,8 @@ contains
     write (output_unit, '(a)') '  overrides, e.g. grid.dx=0.5 time.cfl=0.1 material.h=-5e8'
     write (output_unit, '(a)') '  --checkpoint-every STEPS  into ROOT/NAME.checkpoints/ '// &
       '(default a tenth of the run or case, 0: none), the newest two kept'
+    write (output_unit, '(a)') '  --keep-checkpoints        keep them when the run is done '// &
+      '(by default a finished run removes them)'
     write (output_unit, '(a)') '  --restart                 continue from the newest '// &
       '(same deck and overrides; any number of ranks)'
     write (output_unit, '(a)') '  --restart-from FILE       continue from checkpoint FILE'

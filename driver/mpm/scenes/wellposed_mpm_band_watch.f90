@@ -238,17 +238,28 @@ contains
     end if
   end subroutine watch_summarise
 
-  !> The watch into a checkpoint (under `pre`).
+  !> The watch into a checkpoint (under `pre`), each value by name.
   subroutine watch_put(self, ck, pre)
     class(band_watch_t), intent(in) :: self
     type(checkpoint_t), intent(inout) :: ck
     character(len=*), intent(in) :: pre
-    call ck%put(pre//'reals', [self%onset_t, self%onset_x, self%onset_ep, self%peak, self%stage, &
-                               self%fit%fwhm, self%fit%angle_deg, self%fit%x0, self%fit%slope, &
-                               self%fit%peak, self%fit%rms, self%top_ratio])
-    call ck%put(pre//'ints', [merge(1, 0, self%onset), merge(1, 0, self%staged), &
-                              merge(1, 0, self%fit%found), self%fit%slices])
-    call ck%put_text(pre//'why', self%fit%why)
+    call ck%put(pre//'onset', merge(1, 0, self%onset))
+    call ck%put(pre//'onset_t', self%onset_t)
+    call ck%put(pre//'onset_x', self%onset_x)
+    call ck%put(pre//'onset_ep', self%onset_ep)
+    call ck%put(pre//'peak', self%peak)
+    call ck%put(pre//'staged', merge(1, 0, self%staged))
+    call ck%put(pre//'stage', self%stage)
+    call ck%put(pre//'top_ratio', self%top_ratio)
+    call ck%put(pre//'fit/found', merge(1, 0, self%fit%found))
+    call ck%put(pre//'fit/slices', self%fit%slices)
+    call ck%put(pre//'fit/fwhm', self%fit%fwhm)
+    call ck%put(pre//'fit/angle_deg', self%fit%angle_deg)
+    call ck%put(pre//'fit/x0', self%fit%x0)
+    call ck%put(pre//'fit/slope', self%fit%slope)
+    call ck%put(pre//'fit/peak', self%fit%peak)
+    call ck%put(pre//'fit/rms', self%fit%rms)
+    call ck%put_text(pre//'fit/why', self%fit%why)
   end subroutine watch_put
 
   !> The watch that watch_put stored under `pre`.
@@ -258,19 +269,36 @@ contains
     character(len=*), intent(in) :: pre
     type(error_t), allocatable, intent(out) :: err
     real(dp), allocatable :: a(:)
-    integer, allocatable :: iv(:)
     character(len=:), allocatable :: why
-    call ck%get(pre//'reals', a, err); if (allocated(err)) return
-    call ck%get(pre//'ints', iv, err); if (allocated(err)) return
-    call ck%get_text(pre//'why', why, err); if (allocated(err)) return
-    self%onset_t = a(1); self%onset_x = a(2:3); self%onset_ep = a(4); self%peak = a(5)
-    self%stage = a(6:8)
-    self%fit%fwhm = a(9); self%fit%angle_deg = a(10); self%fit%x0 = a(11)
-    self%fit%slope = a(12); self%fit%peak = a(13); self%fit%rms = a(14)
-    self%top_ratio = a(15)
-    self%onset = iv(1) == 1; self%staged = iv(2) == 1; self%fit%found = iv(3) == 1
-    self%fit%slices = iv(4)
+    call get_flag('onset', self%onset); if (allocated(err)) return
+    call ck%get(pre//'onset_t', self%onset_t, err); if (allocated(err)) return
+    call ck%get(pre//'onset_x', a, err); if (allocated(err)) return
+    self%onset_x = a
+    call ck%get(pre//'onset_ep', self%onset_ep, err); if (allocated(err)) return
+    call ck%get(pre//'peak', self%peak, err); if (allocated(err)) return
+    call get_flag('staged', self%staged); if (allocated(err)) return
+    call ck%get(pre//'stage', a, err); if (allocated(err)) return
+    self%stage = a
+    call ck%get(pre//'top_ratio', self%top_ratio, err); if (allocated(err)) return
+    call get_flag('fit/found', self%fit%found); if (allocated(err)) return
+    call ck%get(pre//'fit/slices', self%fit%slices, err); if (allocated(err)) return
+    call ck%get(pre//'fit/fwhm', self%fit%fwhm, err); if (allocated(err)) return
+    call ck%get(pre//'fit/angle_deg', self%fit%angle_deg, err); if (allocated(err)) return
+    call ck%get(pre//'fit/x0', self%fit%x0, err); if (allocated(err)) return
+    call ck%get(pre//'fit/slope', self%fit%slope, err); if (allocated(err)) return
+    call ck%get(pre//'fit/peak', self%fit%peak, err); if (allocated(err)) return
+    call ck%get(pre//'fit/rms', self%fit%rms, err); if (allocated(err)) return
+    call ck%get_text(pre//'fit/why', why, err); if (allocated(err)) return
     self%fit%why = why
+  contains
+    subroutine get_flag(name, flag)
+      character(len=*), intent(in) :: name
+      logical, intent(out) :: flag
+      integer :: v
+      v = 0
+      call ck%get(pre//name, v, err)
+      flag = v == 1
+    end subroutine get_flag
   end subroutine watch_get
 
 end module wellposed_mpm_band_watch

@@ -28,6 +28,10 @@ module wellposed_mpm_plate_cases
     integer :: nsnap = 0, nparticles = 0, nsteps = 0
   end type case_out_t
 
+  !> The checkpoint names of case_out_t%scal(1:8).
+  character(len=16), parameter :: scal_names(8) = [character(len=16) :: 'dt', 't_final', &
+    'bound_sharp', 'wall_time', 'peak_strain', 'peak_stress', 'band_fwhm', 'band_fwhm_normal']
+
 contains
 
   !> Case k's name: its label, else h<dx>[_s<scale>].
@@ -58,19 +62,25 @@ contains
     c%top_velocity = cfg0%top_velocity*f
   end function case_config
 
-  !> A finished case into checkpoint ck under the prefix pre (arrays with a
-  !> leading dummy entry, so that an empty one is still a dataset).
+  !> A finished case into checkpoint ck under the prefix pre, each value by
+  !> name (arrays with a leading dummy entry, so that an empty one is still
+  !> a dataset).
   subroutine put_case_out(ck, pre, o)
     type(checkpoint_t), intent(inout) :: ck
     character(len=*), intent(in) :: pre
     type(case_out_t), intent(in) :: o
+    integer :: k
     call ck%put_text(pre//'tag', o%tag)
     call ck%put(pre//'curve', [0.0_dp, reshape(o%curve, [size(o%curve)])])
     call ck%put(pre//'its', [0, o%its])
     call ck%put(pre//'nplast', [0, o%nplast])
     call ck%put(pre//'bounds', [0.0_dp, reshape(o%bounds, [size(o%bounds)])])
-    call ck%put(pre//'scal', o%scal)
-    call ck%put(pre//'ints', [o%nsnap, o%nparticles, o%nsteps])
+    do k = 1, size(o%scal)
+      call ck%put(pre//trim(scal_names(k)), o%scal(k))
+    end do
+    call ck%put(pre//'nsnap', o%nsnap)
+    call ck%put(pre//'nparticles', o%nparticles)
+    call ck%put(pre//'nsteps', o%nsteps)
   end subroutine put_case_out
 
   !> The finished case that put_case_out stored under pre.
@@ -81,14 +91,14 @@ contains
     type(error_t), allocatable, intent(out) :: err
     integer, allocatable :: iv(:)
     real(dp), allocatable :: a(:)
+    integer :: k
     call ck%get_text(pre//'tag', o%tag, err); if (allocated(err)) return
-    call ck%get(pre//'ints', iv, err); if (allocated(err)) return
-    o%nsnap = iv(1)
-    o%nparticles = iv(2)
-    o%nsteps = iv(3)
-    call ck%get(pre//'scal', a, err); if (allocated(err)) return
-    o%scal = 0.0_dp
-    o%scal(1:min(size(a), size(o%scal))) = a(1:min(size(a), size(o%scal)))
+    call ck%get(pre//'nsnap', o%nsnap, err); if (allocated(err)) return
+    call ck%get(pre//'nparticles', o%nparticles, err); if (allocated(err)) return
+    call ck%get(pre//'nsteps', o%nsteps, err); if (allocated(err)) return
+    do k = 1, size(o%scal)
+      call ck%get(pre//trim(scal_names(k)), o%scal(k), err); if (allocated(err)) return
+    end do
     call ck%get(pre//'its', iv, err); if (allocated(err)) return
     o%its = iv(2:)
     call ck%get(pre//'nplast', iv, err); if (allocated(err)) return

@@ -2,19 +2,17 @@
 !> chapter 4 (fig. 4.1-4.6), one or more cases per deck (&study;
 !> wellposed_mpm_plate_cases). Writes ROOT/NAME/ (the deck, run.h5, a
 !> <case>.xdmf, curve and iteration CSVs per case, summary.txt, plots)
-!> through ROOT/NAME.partial, renamed at the end. Ranks advance their strips
-!> and write run.h5 collectively; rank 0 writes the rest, in the serial
-!> layout. Checkpoints every STEPS steps; `--restart` gives the
-!> uninterrupted run's files bit for bit. Outputs: docs/guide/mpm.md.
+!> through ROOT/NAME.partial, renamed at the end. Each case is the one run
+!> loop (wellposed_mpm_run_loop) over the plate's outputs
+!> (wellposed_mpm_plate_outputs); ranks write run.h5 collectively, rank 0
+!> the rest. Checkpoints and --restart as the bar's. Outputs: docs/guide/mpm.md.
 module wellposed_mpm_plate_run
-  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
+  use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
-  use wellposed_error, only: error_t, status_cutback
+  use wellposed_error, only: error_t
   use wellposed_text, only: int_text, real_text
-  use wellposed_mpm_plane_strain, only: ps_config_t, apparent_strain
-  use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, applied_stress, &
-                                  plastic_strain, max_substeps, plastic_count
-  use wellposed_mpm_restart, only: save_scene, restore_scene
+  use wellposed_mpm_plane_strain, only: ps_config_t
+  use wellposed_mpm_solver, only: mpm_scene_t, new_scene, max_substeps
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpm_shape_2d, only: shape2d_names
   use wellposed_mpm_config, only: scheme_names
@@ -22,35 +20,65 @@ module wellposed_mpm_plate_run
   use wellposed_mpm_ps_deck, only: read_ps_deck, ps_study_t
   use wellposed_mpm_deck_checks, only: check_plate_deck
   use wellposed_mpm_paths, only: find_data, plate_plot_name
-  use wellposed_mpm_plate_cases, only: case_out_t, case_tag, case_config, put_case_out, &
-                                       get_case_out, band_width, curve_difference, &
+  use wellposed_mpm_plate_cases, only: case_out_t, case_tag, case_config, curve_difference, &
                                        write_csv_curve, write_csv_iterations
   use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_mpm_nonlocal_summary, only: add_nonlocal_summary, bound_text
-  use wellposed_mpm_band_watch, only: band_watch_t, new_band_watch
+  use wellposed_mpm_band_watch, only: new_band_watch
   use wellposed_mpm_statev_outputs, only: plate_field_names, plate_field_widths, &
-                                          plate_field_rows, add_plate_band, no_slot_why, &
                                           slot_plastic_strain
-  use wellposed_mpm_plate_stations, only: plate_stations_t, new_plate_stations, &
-                                          restore_plate_stations
+  use wellposed_mpm_plate_stations, only: new_plate_stations
   use wellposed_mpm_stop, only: stop_alone, stop_all
-  use wellposed_mpm_run_loop, only: run_clock_t, checkpoint_every, checkpoint_due, snapshot_due
-  use wellposed_mpm_decomposition, only: gather_by_gid
-  use wellposed_mpm_snapshots, only: snapshot_store_t, new_snapshot_store
-  use wellposed_mpi, only: comm_t, allreduce_max, &
-                           allreduce_sum, broadcast
-  use wellposed_checkpoint, only: checkpoint_t, write_checkpoint
-  use wellposed_mpm_resume, only: open_restart_checkpoint
+  use wellposed_mpm_snapshots, only: new_snapshot_store
+  use wellposed_mpi, only: comm_t, allreduce_sum, broadcast
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
   use wellposed_h5_parallel, only: h5_parallel_file_t, h5_writer_name
   use wellposed_plot, only: run_plot
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
-  use wellposed_fs, only: shell_quote, path_exists, remove_tree
-  use wellposed_mpm_step_keeper, only: step_keeper_t
+  use wellposed_fs, only: shell_quote
+  use wellposed_mpm_output, only: output_list_t, stage_start, stage_finish
+  use wellposed_mpm_checkpoints, only: run_checkpoints_t, new_run_checkpoints
+  use wellposed_mpm_run_loop, only: checkpoint_every, run_steps, loop_end_t
+  use wellposed_mpm_plate_outputs, only: plate_curve_t, plate_band_t, plate_watch_t, &
+                                         plate_stations_output_t, plate_snapshots_t, &
+                                         plate_progress_t
+  use wellposed_mpm_plate_done, only: plate_done_t, checkpoint_case
   implicit none
   private
   public :: run_plate
+
+  !> A plate run: its deck, files, finished cases and the snapshots of
+  !> every case (a target, never copied: the outputs point into it).
+  type :: plate_run_t
+    type(ps_config_t) :: cfg0
+    type(ps_study_t) :: study
+    type(mpm_ranks_t) :: ranks
+    type(run_dir_t) :: rd
+    type(h5_parallel_file_t) :: h5
+    type(summary_t) :: sm
+    type(plate_done_t) :: done
+    type(plate_snapshots_t) :: snaps
+    type(run_checkpoints_t) :: cks
+    character(len=:), allocatable :: deck_text
+    integer :: ic0 = 1               !< the first case to run (--restart: the interrupted one)
+  end type plate_run_t
+
+  !> One case: its scene and outputs (a target, never copied).
+  type :: plate_case_t
+    integer :: ic = 0, nsteps_est = 0
+    type(ps_config_t) :: cfg
+    type(mpm_scene_t) :: sc
+    character(len=:), allocatable :: tag
+    type(plate_curve_t) :: curve
+    type(plate_band_t) :: band
+    type(plate_watch_t) :: watch
+    type(plate_stations_output_t) :: stations
+    type(plate_progress_t) :: progress
+    !> every output, and those a --restart gets back into the case
+    type(output_list_t) :: outs, resumed
+    type(loop_end_t) :: ended
+  end type plate_case_t
 
 contains
 
@@ -59,89 +87,100 @@ contains
   subroutine run_plate(cli, comm)
     type(mpm_cli_t), intent(in) :: cli
     type(comm_t), intent(inout) :: comm
-    type(ps_config_t) :: cfg0, cfg
-    type(ps_study_t) :: study
-    type(mpm_scene_t) :: sc
-    !> the last complete step, for stop_on_cutback
-    type(step_keeper_t) :: keeper
-    type(mpm_ranks_t) :: ranks
-    type(case_out_t), allocatable :: outs(:)
-    type(band_watch_t) :: bw
-    !> the stations of the case being run and of every case (for run.h5)
-    type(plate_stations_t) :: pst
-    type(plate_stations_t), allocatable :: done_st(:)
-    !> particle snapshots of every case: each rank keeps its particles' rows
-    type(snapshot_store_t) :: store
-    logical :: ended_early, measured, root, resuming
-    real(dp) :: band_t
-    character(len=512) :: end_message
-    type(run_dir_t) :: rd
-    type(h5_parallel_file_t) :: h5
-    type(summary_t) :: sm
-    type(error_t), allocatable :: err
-    type(checkpoint_t) :: ck
-    character(len=:), allocatable :: deck_text, tag, script
-    character(len=:), allocatable :: ck_dir, ck_file, h5_path
-    integer :: i, ic, ic0, nsteps_est, nsnap, ncurve, nit, ck_every, ck_every_deck
-    integer :: steps_before, ntotal, moved_sum
-    type(run_clock_t) :: clock
-    real(dp) :: wall, wall_before, next_snap, next_sample, s, fwhm, peak_x, peak_v, yline, epmax
-    real(dp), allocatable :: curve(:, :), bounds(:, :)
-    integer, allocatable :: its(:), nplast(:)
-
-    root = comm%rank == 0
-    call new_mpm_ranks(ranks, comm)
-    ck_every_deck = cli%ck_every
-    ck_file = cli%ck_file
-
-    call read_ps_deck(cli%deck_path, cli%overrides, cfg0, study, deck_text, err)
-    if (.not. allocated(err)) call check_plate_deck(cli%deck_path, cfg0, study, err)
-    if (allocated(err)) call die(err%message)
-    if (len(cli%run_name) > 0) cfg0%name = cli%run_name
-    ! check every case before writing anything
-    do ic = 1, study%ncases
-      do i = 1, ic - 1
-        if (case_tag(study, i) == case_tag(study, ic)) call die(cli%deck_path// &
-          ': &study: cases '//int_text(i)//' and '//int_text(ic)//' are both "'// &
-          trim(case_tag(study, ic))//'"; give distinct dx/scale or labels')
-      end do
-      cfg = case_config(cfg0, study, ic)
-      call new_scene(sc, cfg, err, ranks)
-      if (allocated(err)) call die(cli%deck_path//' (case '//int_text(ic)//'): '//err%message)
+    type(plate_run_t), target :: r
+    integer :: ic
+    call open_plate(r, cli, comm)
+    do ic = r%ic0, r%study%ncases
+      call run_case(r, ic, cli, comm)
     end do
-    ck_dir = cli%out_root//'/'//cfg0%name//'.checkpoints'
-    ic0 = 1
-    call new_snapshot_store(store, plate_field_names(cfg0%nstatv), &
-                            plate_field_widths(cfg0%nstatv), time_first=.false.)
-    if (cli%restart) call read_restart()
+    call finish_plate(r, cli, comm)
+  end subroutine run_plate
+
+  !> The deck (every case checked before anything is written), on
+  !> --restart the checkpoint, the run folder, run.h5 and the opening
+  !> lines (collective).
+  subroutine open_plate(r, cli, comm)
+    type(plate_run_t), target, intent(inout) :: r
+    type(mpm_cli_t), intent(in) :: cli
+    type(comm_t), intent(inout) :: comm
+    type(error_t), allocatable :: err
+    character(len=:), allocatable :: h5_path
+    logical :: root
+    root = comm%rank == 0
+    call new_mpm_ranks(r%ranks, comm)
+    call read_ps_deck(cli%deck_path, cli%overrides, r%cfg0, r%study, r%deck_text, err)
+    if (.not. allocated(err)) call check_plate_deck(cli%deck_path, r%cfg0, r%study, err)
+    if (allocated(err)) call stop_all(comm, r%rd, err)
+    if (len(cli%run_name) > 0) r%cfg0%name = cli%run_name
+    call check_cases(r, cli, comm)
+    r%cks = new_run_checkpoints(cli%out_root, r%cfg0%name, cli%ck_every, cli%ck_file, &
+                                r%deck_text, r%rd)
+    call new_snapshot_store(r%snaps%store, plate_field_names(r%cfg0%nstatv), &
+                            plate_field_widths(r%cfg0%nstatv), time_first=.false.)
+    r%snaps%name = 'snapshots'
+    r%snaps%h5 => r%h5
+    r%snaps%interval = r%study%snapshot_dt
+    call r%done%setup(r%study, r%cfg0%t_end, r%sm)
+    if (cli%restart) then
+      call r%cks%open(cli%deck_path, err)
+      if (.not. allocated(err)) call checkpoint_case(r%cks%ck, r%study%ncases, r%ic0, err)
+      if (allocated(err)) call stop_all(comm, r%rd, err)
+      r%done%current = r%ic0
+    end if
     ! rank 0 makes the run folder; run.h5 in it is written by every rank
     h5_path = ''
     if (root) then
-      call rd%create(cli%out_root, cfg0%name, cli%deck_path, err)
-      if (allocated(err)) call stop_alone(comm, rd, err%message)
-      h5_path = rd%path('run.h5')
+      call r%rd%create(cli%out_root, r%cfg0%name, cli%deck_path, err)
+      if (allocated(err)) call stop_alone(comm, r%rd, err%message)
+      h5_path = r%rd%path('run.h5')
     end if
     call broadcast(comm, h5_path, 0)
-    call h5%create(comm, h5_path, err)
-    if (allocated(err)) call die(err%message)
-    call h5%write_attr('wellposed_version', wellposed_version)
-    call h5%write_attr('git_revision', wellposed_git_revision)
-    call h5%write_attr('deck', deck_text)
-    call h5%write_attr('props', cfg0%props(1:cfg0%nprops))
+    call r%h5%create(comm, h5_path, err)
+    if (allocated(err)) call stop_all(comm, r%rd, err)
+    call r%h5%write_attr('wellposed_version', wellposed_version)
+    call r%h5%write_attr('git_revision', wellposed_git_revision)
+    call r%h5%write_attr('deck', r%deck_text)
+    call r%h5%write_attr('props', r%cfg0%props(1:r%cfg0%nprops))
     if (root) then
-      write (output_unit, '(a)') 'wellposed-mpm '//wellposed_version//': '//cfg0%name// &
-        ' ('//trim(cfg0%title)//'), '//int_text(study%ncases)//' case(s)'
+      write (output_unit, '(a)') 'wellposed-mpm '//wellposed_version//': '//r%cfg0%name// &
+        ' ('//trim(r%cfg0%title)//'), '//int_text(r%study%ncases)//' case(s)'
       if (comm%size > 1) write (output_unit, '(a)') '  on '//int_text(comm%size)// &
         ' ranks (strips of cell rows; run.h5: '//h5_writer_name(comm)//')'
-      write (output_unit, '(a)') '  writing '//rd%partial//' (renamed to '//rd%final// &
+      write (output_unit, '(a)') '  writing '//r%rd%partial//' (renamed to '//r%rd%final// &
         ' when done)'
       flush (output_unit)
     end if
-    allocate (outs(study%ncases), done_st(study%ncases))
-    steps_before = 0
     if (cli%restart) then
-      call resume_run()
+      call resume_run(r, comm)
     else if (root) then
+      call summary_head(r)
+    end if
+  end subroutine open_plate
+
+  !> Every case's tag distinct and its scene buildable (collective).
+  subroutine check_cases(r, cli, comm)
+    type(plate_run_t), intent(inout) :: r
+    type(mpm_cli_t), intent(in) :: cli
+    type(comm_t), intent(inout) :: comm
+    type(mpm_scene_t) :: sc
+    type(error_t), allocatable :: err
+    integer :: i, ic
+    do ic = 1, r%study%ncases
+      do i = 1, ic - 1
+        if (case_tag(r%study, i) == case_tag(r%study, ic)) call stop_all(comm, r%rd, &
+          cli%deck_path//': &study: cases '//int_text(i)//' and '//int_text(ic)// &
+          ' are both "'//trim(case_tag(r%study, ic))//'"; give distinct dx/scale or labels')
+      end do
+      call new_scene(sc, case_config(r%cfg0, r%study, ic), err, r%ranks)
+      if (allocated(err)) call stop_all(comm, r%rd, cli%deck_path//' (case '//int_text(ic)// &
+                                        '): '//err%message)
+    end do
+  end subroutine check_cases
+
+  !> The run's summary lines before its cases' (rank 0).
+  subroutine summary_head(r)
+    type(plate_run_t), intent(inout) :: r
+    associate (sm => r%sm, study => r%study, cfg0 => r%cfg0)
       call sm%add('scene', cfg0%name)
       call sm%add('cases', study%ncases)
       call sm%add('shape', trim(shape2d_names(cfg0%shape)))
@@ -158,436 +197,288 @@ contains
                     'particle spacing of it')
         call sm%add('band_x', study%band_x, 'm (unscaled plate)')
       end if
+    end associate
+  end subroutine summary_head
+
+  !> --restart, before the cases: the finished cases, the snapshots, on
+  !> rank 0 the summary lines, and run.h5 as it was at the checkpoint.
+  subroutine resume_run(r, comm)
+    type(plate_run_t), intent(inout) :: r
+    type(comm_t), intent(inout) :: comm
+    type(error_t), allocatable :: e
+    integer :: k
+    call r%done%get(r%cks%ck, comm, e)
+    if (.not. allocated(e)) call r%snaps%get(r%cks%ck, comm, e)
+    if (allocated(e)) call stop_alone(comm, r%rd, r%cks%file//': '//e%message)
+    r%cks%steps_before = r%done%steps_before
+    ! run.h5 in the order the interrupted run wrote it
+    do k = 1, r%ic0 - 1
+      call r%snaps%store%write_stored(r%h5, comm, e, prefix='cases/'//r%done%outs(k)%tag//'/')
+      if (allocated(e)) call stop_all(comm, r%rd, e)
+      call r%done%write_case(r%h5, k)
+    end do
+    call r%snaps%store%write_stored(r%h5, comm, e, prefix='cases/'//case_tag(r%study, r%ic0)//'/')
+    if (allocated(e)) call stop_all(comm, r%rd, e)
+    if (comm%rank /= 0) return
+    write (output_unit, '(a)') '  restarted from '//r%cks%file//' (case '// &
+      int_text(r%ic0)//', '//int_text(r%done%steps_before)//' steps of earlier cases)'
+    flush (output_unit)
+  end subroutine resume_run
+
+  !> Case ic from its start (or, on --restart, from the checkpoint) to its
+  !> end, its outputs recorded with the finished cases (collective).
+  subroutine run_case(r, ic, cli, comm)
+    type(plate_run_t), target, intent(inout) :: r
+    integer, intent(in) :: ic
+    type(mpm_cli_t), intent(in) :: cli
+    type(comm_t), intent(inout) :: comm
+    type(plate_case_t), target :: c
+    type(error_t), allocatable :: err
+    call new_case(r, c, ic, cli, comm)
+    call c%progress%clock%start(10.0_dp)
+    if (cli%restart .and. ic == r%ic0) then
+      call r%cks%resume(c%sc, c%resumed, comm, err)
+      if (allocated(err)) call stop_alone(comm, r%rd, err)
+      if (comm%rank == 0) write (output_unit, '(a)') '    '//c%tag//': continuing at step '// &
+        int_text(c%sc%nstep)//', t = '//real_text(c%sc%t)//' s'
+    else
+      call c%outs%ask(stage_start, c%sc, comm, err)
+      if (allocated(err)) call stop_all(comm, r%rd, 'case '//c%tag//': '//err%message)
     end if
+    call run_steps(c%sc, c%cfg%t_end, c%outs, r%cks, comm, r%study%stop_on_cutback, c%ended, err)
+    if (allocated(err)) call stop_all(comm, r%rd, 'case '//c%tag//': '//err%message)
+    ! the material gave out: the case ends at the last complete step
+    if (c%ended%early .and. comm%rank == 0) write (output_unit, '(a)') '    '//c%tag// &
+      ': ended at t = '//real_text(c%sc%t)//' s (&time stop_on_cutback): '// &
+      trim(c%ended%message)
+    call end_case(r, c, comm)
+  end subroutine run_case
 
-    do ic = ic0, study%ncases
-      cfg = case_config(cfg0, study, ic)
-      s = study%scale(ic)
-      tag = case_tag(study, ic)
-      call new_scene(sc, cfg, err, ranks)
-      if (allocated(err)) call die(err%message)
-      ntotal = sc%ntotal
-      nsteps_est = ceiling(cfg%t_end/sc%dt)
-      ck_every = ck_every_deck
-      ck_every = checkpoint_every(ck_every, nsteps_est)
-      if (root) then
-        write (output_unit, '(a)') '  case '//tag//': '//int_text(ntotal)//' particles, '// &
-          int_text(sc%grid%nnodes)//' nodes, dt = '//real_text(sc%dt)//' s, ~'// &
-          int_text(nsteps_est)//' steps, c = '//real_text(sc%c_max)//' m/s'
-        if (sc%nl%active) write (output_unit, '(a)') '    nonlocal: L = '// &
-          real_text(sc%nl%length)//' m, support radius '//real_text(sc%nl%radius)// &
-          ' m, |h_zeta/(a + h_eta)| = '//bound_text(sc%nl%bound_43, real_text(sc%nl%bound_43))// &
-          ' (eq. 4.43), |(h_eta + h_zeta)/a| = '//bound_text(sc%nl%bound_45, &
-          real_text(sc%nl%bound_45))//' (eq. 4.45), scheme '// &
-          trim(nl_scheme_names(cfg%nonlocal%scheme))
-        flush (output_unit)
+  !> Case ic's scene, its opening lines and its outputs, in the order the
+  !> loop asks them (collective).
+  subroutine new_case(r, c, ic, cli, comm)
+    type(plate_run_t), target, intent(inout) :: r
+    type(plate_case_t), target, intent(inout) :: c
+    integer, intent(in) :: ic
+    type(mpm_cli_t), intent(in) :: cli
+    type(comm_t), intent(inout) :: comm
+    type(error_t), allocatable :: err
+    real(dp) :: s
+    c%ic = ic
+    c%cfg = case_config(r%cfg0, r%study, ic)
+    c%tag = case_tag(r%study, ic)
+    s = r%study%scale(ic)
+    call new_scene(c%sc, c%cfg, err, r%ranks)
+    if (allocated(err)) call stop_all(comm, r%rd, err)
+    c%nsteps_est = ceiling(c%cfg%t_end/c%sc%dt)
+    r%cks%every = checkpoint_every(cli%ck_every, c%nsteps_est)
+    r%done%current = ic
+    if (comm%rank == 0) call say_case(c)
+    call c%curve%setup(c%tag, c%nsteps_est, r%study%sample_dt)
+    c%band%name = 'band'
+    c%band%tag = c%tag
+    c%band%axis = r%study%band_axis
+    c%band%line = merge(r%study%band_y, r%study%band_x, r%study%band_axis == 'x')*s
+    c%band%half_spacing = 0.5_dp*c%cfg%dx/c%cfg%ppc
+    c%band%band_time = r%study%band_time
+    c%band%nstatv = c%sc%parts%nstatv
+    c%watch%name = 'band_watch'
+    c%watch%tag = c%tag
+    c%watch%bw = new_band_watch(c%sc, r%study%band_drop, r%study%band_onset_strain)
+    c%watch%curve => c%curve
+    c%watch%nstatv = c%sc%parts%nstatv
+    c%stations%name = 'stations'
+    c%stations%tag = c%tag
+    call new_plate_stations(c%stations%pst, r%study, ic, c%sc, c%cfg%t_end, comm)
+    r%snaps%tag = c%tag
+    r%snaps%watch => c%watch
+    c%progress%name = 'progress'
+    c%progress%on = r%study%progress .and. comm%rank == 0
+    c%progress%tag = c%tag
+    c%progress%nsteps_est = c%nsteps_est
+    c%progress%curve => c%curve
+    call c%outs%add(c%curve)
+    call c%outs%add(c%band)
+    call c%outs%add(c%watch)
+    call c%outs%add(c%stations)
+    call c%outs%add(r%snaps)
+    call c%outs%add(r%done)
+    call c%outs%add(c%progress)
+    call c%resumed%add(c%curve)
+    call c%resumed%add(c%band)
+    call c%resumed%add(c%watch)
+    call c%resumed%add(c%stations)
+    call c%resumed%add(c%progress)
+  end subroutine new_case
+
+  !> The case's opening lines (rank 0).
+  subroutine say_case(c)
+    type(plate_case_t), intent(in) :: c
+    associate (sc => c%sc)
+      write (output_unit, '(a)') '  case '//c%tag//': '//int_text(sc%ntotal)//' particles, '// &
+        int_text(sc%grid%nnodes)//' nodes, dt = '//real_text(sc%dt)//' s, ~'// &
+        int_text(c%nsteps_est)//' steps, c = '//real_text(sc%c_max)//' m/s'
+      if (sc%nl%active) write (output_unit, '(a)') '    nonlocal: L = '// &
+        real_text(sc%nl%length)//' m, support radius '//real_text(sc%nl%radius)// &
+        ' m, |h_zeta/(a + h_eta)| = '//bound_text(sc%nl%bound_43, real_text(sc%nl%bound_43))// &
+        ' (eq. 4.43), |(h_eta + h_zeta)/a| = '//bound_text(sc%nl%bound_45, &
+        real_text(sc%nl%bound_45))//' (eq. 4.45), scheme '// &
+        trim(nl_scheme_names(c%cfg%nonlocal%scheme))
+      flush (output_unit)
+    end associate
+  end subroutine say_case
+
+  !> After the case's last step: its outputs' measures, its record among
+  !> the finished cases, its summary lines and run.h5 datasets (collective).
+  subroutine end_case(r, c, comm)
+    type(plate_run_t), intent(inout) :: r
+    type(plate_case_t), intent(inout) :: c
+    type(comm_t), intent(inout) :: comm
+    type(error_t), allocatable :: err
+    real(dp) :: wall
+    integer :: nsub, moved
+    call c%outs%ask(stage_finish, c%sc, comm, err)
+    if (allocated(err)) call stop_all(comm, r%rd, 'case '//c%tag//': '//err%message)
+    wall = c%progress%wall()
+    nsub = max_substeps(c%sc)
+    moved = c%sc%moved
+    if (comm%size > 1) call allreduce_sum(comm, moved)
+    r%done%steps_before = r%done%steps_before + c%sc%nstep
+    r%cks%steps_before = r%done%steps_before
+    ! (on every rank: the curves and counts are alike on all)
+    associate (o => r%done%outs(c%ic), cv => c%curve)
+      o%tag = c%tag; o%curve = cv%curve(:, 1:cv%ncurve)
+      o%its = cv%its(1:cv%nit); o%nplast = cv%nplast(1:cv%nit)
+      o%bounds = cv%bounds(:, 1:cv%nit); o%nsnap = r%snaps%taken
+      o%nparticles = c%sc%ntotal; o%nsteps = c%sc%nstep
+      o%scal(1:4) = [c%sc%dt, c%sc%t, c%sc%nl%bound_43, wall]
+      o%scal(7) = c%band%fwhm
+    end associate
+    r%done%st(c%ic) = c%stations%pst
+    if (comm%rank == 0) call case_summary(r, c, nsub, moved, wall, comm%size)
+    call r%done%write_case(r%h5, c%ic)
+  end subroutine end_case
+
+  !> The summary lines of the case just finished and its closing lines
+  !> (rank 0); `nsub` the largest UMAT cut-back split over the ranks.
+  subroutine case_summary(r, c, nsub, moved, wall, nranks)
+    type(plate_run_t), intent(inout) :: r
+    type(plate_case_t), intent(inout) :: c
+    integer, intent(in) :: nsub, moved, nranks
+    real(dp), intent(in) :: wall
+    character(len=:), allocatable :: band_text, tag
+    integer :: j
+    tag = c%tag
+    associate (o => r%done%outs(c%ic), sm => r%sm, sc => c%sc)
+      j = maxloc(o%curve(3, :), dim=1)
+      o%scal(5:6) = [o%curve(2, j), o%curve(3, j)]
+      call sm%add(tag//'.dx', c%cfg%dx, 'm')
+      call sm%add(tag//'.scale', r%study%scale(c%ic))
+      call sm%add(tag//'.particles', sc%ntotal)
+      call sm%add(tag//'.steps', sc%nstep)
+      call sm%add(tag//'.dt', sc%dt, 's')
+      call sm%add(tag//'.wall_time', wall, 's')
+      call sm%add(tag//'.ns_per_particle_step', &
+                  wall*1.0e9_dp/max(1.0_dp, real(sc%ntotal, dp)*sc%nstep))
+      call c%outs%summarise(sm)
+      if (c%watch%bw%staged .and. c%watch%bw%fit%found) o%scal(8) = c%watch%bw%fit%fwhm
+      call sm%add(tag//'.max_substeps', nsub)
+      call sm%add(tag//'.ended_early', c%ended%early, 'true: the UMAT could not go on '// &
+                  '(stop_on_cutback); the curve ends at final_strain')
+      if (c%ended%early) call sm%add(tag//'.end_reason', trim(c%ended%message))
+      if (sc%nl%active) then
+        call add_nonlocal_summary(sm, tag//'.', sc%nl)
+        if (sc%nl%calls_sweeps > 0 .and. sc%nl%calls_local > 0) &
+          call sm%add(tag//'.sweep_cost_over_local_update', &
+                      (real(sc%nl%ticks_sweeps, dp)/sc%nl%calls_sweeps)/ &
+                      (real(max(sc%nl%ticks_local, 1_int64), dp)/sc%nl%calls_local), &
+                      'time per particle of one sweep (average + UMAT + eq. 4.49-4.50) '// &
+                      'over one local UMAT update')
       end if
-      allocate (curve(3, nsteps_est + 10), its(nsteps_est + 10), nplast(nsteps_est + 10), &
-                bounds(3, nsteps_est + 10))
-      ncurve = 0
-      nit = 0
-      nsnap = 0
-      next_snap = 0.0_dp
-      next_sample = 0.0_dp
-      wall_before = 0.0_dp
-      measured = .false.
-      bw = new_band_watch(sc, study%band_drop, study%band_onset_strain)
-      call new_plate_stations(pst, study, ic, sc, cfg%t_end, comm)
-      resuming = cli%restart .and. ic == ic0
-      call clock%start(10.0_dp)
-      if (resuming) then
-        call resume_case()
-      else
-        call snapshot()
-      end if
-      ended_early = .false.
-      end_message = ''
-      call keeper%clear()
-      do while (sc%t < cfg%t_end - 0.5_dp*sc%dt)
-        if (study%stop_on_cutback) call keeper%keep(sc)
-        call advance(sc, err)
-        if (allocated(err)) then
-          if (.not. (study%stop_on_cutback .and. err%status == status_cutback)) &
-            call die('case '//tag//': '//err%message)
-          ! the material gave out: end the case at the last complete step
-          end_message = err%message
-          call keeper%restore(sc, err)
-          if (allocated(err)) call die('case '//tag//': '//err%message)
-          ended_early = .true.
-          if (root) write (output_unit, '(a)') '    '//tag//': ended at t = '// &
-            real_text(sc%t)//' s (&time stop_on_cutback): '//trim(end_message)
-          exit
-        end if
-        nit = nit + 1
-        call pst%sample(sc, comm)
-        if (study%band_time > 0.0_dp .and. .not. measured .and. sc%t >= study%band_time) &
-          call measure_band()
-        its(nit) = sc%nl%last%iterations
-        nplast(nit) = plastic_count(sc)     ! this rank's share, summed at the end
-        bounds(:, nit) = [sc%nl%last%n_alpha, sc%nl%last%bound_printed, sc%nl%last%error]
-        if (sc%t >= next_sample - 1.0e-12_dp) then
-          ncurve = ncurve + 1
-          curve(:, ncurve) = [sc%t, apparent_strain(sc), applied_stress(sc)]
-          next_sample = next_sample + study%sample_dt
-        end if
-        call bw%step(sc, comm, curve(:, 1:ncurve))
-        if (bw%just_staged .or. snapshot_due(study%snapshot_dt, sc%t, next_snap, 1.0e-12_dp)) call snapshot()
-        if (checkpoint_due(ck_every, sc%nstep, sc%t, cfg%t_end, sc%dt)) call checkpoint()
-        if (root .and. study%progress) then
-          if (clock%progress_due()) then
-            write (output_unit, '(a)') '    '//tag//': step '//int_text(sc%nstep)//'/'// &
-              int_text(nsteps_est)//', t = '//real_text(sc%t)//' s, stress = '// &
-              real_text(curve(3, max(ncurve, 1))*1.0e-6_dp)//' MPa, plastic '// &
-              int_text(nplast(nit))// &
-              ', iterations '//int_text(sc%nl%last%iterations)// &
-              ', ~'//int_text(nint(clock%elapsed()*(nsteps_est - sc%nstep)/ &
-              max(sc%nstep, 1)))//' s left'
-            flush (output_unit)
-          end if
-        end if
+      band_text = 'no band: NSTATV = '//int_text(sc%parts%nstatv)//' has no plastic strain'
+      if (sc%parts%nstatv >= slot_plastic_strain) band_text = 'band FWHM '// &
+        real_text(c%band%fwhm)//' m along the line at '//real_text(c%band%line)//' m'
+      write (output_unit, '(a)') '    done in '//real_text(wall)//' s: peak '// &
+        real_text(o%scal(6)*1.0e-6_dp)//' MPa at strain '//real_text(o%scal(5))//', '// &
+        band_text
+      if (sc%nl%active) write (output_unit, '(a)') '    nonlocal iterations per step: '// &
+        'mean '//real_text(real(sc%nl%iterations_total, dp)/max(sc%nl%steps_iterated, 1))// &
+        ', max '//int_text(sc%nl%iterations_max)//' over '// &
+        int_text(sc%nl%steps_iterated)//' plastic steps'
+      if (nranks > 1) write (output_unit, '(a)') '    particles handed between ranks: '// &
+        int_text(moved)
+      flush (output_unit)
+    end associate
+  end subroutine case_summary
+
+  !> After the cases: run.h5 closed, the lines across cases, summary.txt,
+  !> the CSVs and XDMF of every case, the plots; the folder renamed.
+  subroutine finish_plate(r, cli, comm)
+    type(plate_run_t), intent(inout) :: r
+    type(mpm_cli_t), intent(in) :: cli
+    type(comm_t), intent(inout) :: comm
+    type(error_t), allocatable :: err
+    character(len=:), allocatable :: args
+    integer :: ic
+    real(dp) :: total
+    call r%h5%close(err)
+    if (allocated(err)) call stop_all(comm, r%rd, err)
+    if (comm%rank /= 0) return
+    associate (outs => r%done%outs, sm => r%sm)
+      ! across cases: successive meshes, sizes
+      do ic = 2, r%study%ncases
+        call sm%add(outs(ic)%tag//'.curve_difference_to_'//outs(ic - 1)%tag, &
+                    curve_difference(outs(ic - 1)%curve, outs(ic)%curve)*1.0e-6_dp, &
+                    'MPa: max |stress difference| over the common strain range')
+        call width_ratio(sm, outs(ic - 1), outs(ic), 'band_fwhm', 7)
+        call width_ratio(sm, outs(ic - 1), outs(ic), 'band_fwhm_normal', 8)
       end do
-      if (study%snapshot_dt <= 0.0_dp .or. next_snap - study%snapshot_dt < sc%t - 0.5_dp*sc%dt) &
-        call snapshot()
-      wall = wall_before + clock%elapsed()
-      ! ---- measures (collective: band width, largest plastic strain, substeps)
-      if (.not. measured) call measure_band()
-      epmax = maxval(plastic_strain(sc))
-      if (comm%size > 1) call allreduce_max(comm, epmax)
-      i = max_substeps(sc)
-      if (comm%size > 1) call allreduce_sum(comm, nplast(1:nit))
-      moved_sum = sc%moved
-      if (comm%size > 1) call allreduce_sum(comm, moved_sum)
-      steps_before = steps_before + sc%nstep
-      ! (on every rank: the curves and counts are alike on all)
-      outs(ic)%tag = tag; outs(ic)%curve = curve(:, 1:ncurve)
-      outs(ic)%its = its(1:nit); outs(ic)%nplast = nplast(1:nit)
-      outs(ic)%bounds = bounds(:, 1:nit); outs(ic)%nsnap = nsnap
-      outs(ic)%nparticles = ntotal; outs(ic)%nsteps = sc%nstep
-      outs(ic)%scal(1:4) = [sc%dt, sc%t, sc%nl%bound_43, wall]
-      outs(ic)%scal(7) = fwhm
-      done_st(ic) = pst
-      if (root) call finish_case(i)
-      call write_case(ic)
-      deallocate (curve, its, nplast, bounds)
-    end do
-
-    call h5%close(err)
-    if (allocated(err)) call die(err%message)
-    if (.not. root) return
-    ! ---- across cases: successive meshes, sizes
-    do ic = 2, study%ncases
-      call sm%add(outs(ic)%tag//'.curve_difference_to_'//outs(ic - 1)%tag, &
-                  curve_difference(outs(ic - 1)%curve, outs(ic)%curve)*1.0e-6_dp, &
-                  'MPa: max |stress difference| over the common strain range')
-      call width_ratio('band_fwhm', 7)
-      call width_ratio('band_fwhm_normal', 8)
-    end do
-    call sm%add('h5_writer', h5_writer_name(comm), 'how run.h5 was written: every rank its '// &
-                'rows through MPI-IO (mpio-collective), or rank 0 alone (rank0-gather)')
-    call sm%add('total_wall_time', sum([(outs(ic)%scal(4), ic=1, study%ncases)]), 's')
-    call sm%write(rd%path('summary.txt'), err)
-    if (allocated(err)) call stop_alone(comm, rd, err%message)
-    do ic = 1, study%ncases
-      associate (o => outs(ic))
-        call write_csv_curve(rd%path(o%tag//'_curve.csv'), o%curve)
-        call write_csv_iterations(rd%path(o%tag//'_iterations.csv'), o%its, o%nplast, &
-                                  o%scal(1), o%bounds, o%scal(3))
-        call store%write_xdmf(rd%path(o%tag//'.xdmf'), 'run.h5', o%tag, o%nparticles, 2, 'xy', &
-                              err, prefix='cases/'//o%tag//'/')
-        if (allocated(err)) call stop_alone(comm, rd, err%message)
-      end associate
-    end do
-    if (study%plot .and. .not. cli%no_plot) then
-      script = find_data(plate_plot_name)
-      block
-        character(len=:), allocatable :: args
-        args = shell_quote(rd%partial)
-        do ic = 1, study%ncases
+      total = sum([(outs(ic)%scal(4), ic=1, r%study%ncases)])
+      call sm%add('h5_writer', h5_writer_name(comm), 'how run.h5 was written: every rank its '// &
+                  'rows through MPI-IO (mpio-collective), or rank 0 alone (rank0-gather)')
+      call sm%add('total_wall_time', total, 's')
+      call sm%write(r%rd%path('summary.txt'), err)
+      if (allocated(err)) call stop_alone(comm, r%rd, err)
+      do ic = 1, r%study%ncases
+        associate (o => outs(ic))
+          call write_csv_curve(r%rd%path(o%tag//'_curve.csv'), o%curve)
+          call write_csv_iterations(r%rd%path(o%tag//'_iterations.csv'), o%its, o%nplast, &
+                                    o%scal(1), o%bounds, o%scal(3))
+          call r%snaps%store%write_xdmf(r%rd%path(o%tag//'.xdmf'), 'run.h5', o%tag, &
+                                        o%nparticles, 2, 'xy', err, prefix='cases/'//o%tag//'/')
+          if (allocated(err)) call stop_alone(comm, r%rd, err)
+        end associate
+      end do
+      if (r%study%plot .and. .not. cli%no_plot) then
+        args = shell_quote(r%rd%partial)
+        do ic = 1, r%study%ncases
           args = args//' '//shell_quote(outs(ic)%tag)
         end do
-        call run_plot(script, args, err)
-      end block
-      if (allocated(err)) call stop_alone(comm, rd, err%message)
-    end if
-    call rd%commit(err)
-    if (allocated(err)) call stop_alone(comm, rd, err%message)
-    ! the run is complete: its checkpoints have served (as a bar's)
-    if (path_exists(ck_dir)) then
-      call remove_tree(ck_dir, err)
-      if (allocated(err)) write (error_unit, '(a)') 'wellposed-mpm: warning: '//err%message
-    end if
-    write (output_unit, '(a)') '  finished: '//rd%final//' (total '// &
-      real_text(sum([(outs(ic)%scal(4), ic=1, study%ncases)]))//' s)'
-
-  contains
-
-    !> A band width of case ic over case ic - 1's (scal slot k), if both have one.
-    subroutine width_ratio(key, k)
-      character(len=*), intent(in) :: key
-      integer, intent(in) :: k
-      if (outs(ic)%scal(k) > 0.0_dp .and. outs(ic - 1)%scal(k) > 0.0_dp) then
-        call sm%add(outs(ic)%tag//'.'//key//'_ratio_to_'//outs(ic - 1)%tag, &
-                    outs(ic)%scal(k)/outs(ic - 1)%scal(k))
-      else
-        i = merge(ic - 1, ic, outs(ic - 1)%scal(k) <= 0.0_dp)
-        call sm%not_applicable(outs(ic)%tag//'.'//key//'_ratio_to_'//outs(ic - 1)%tag, &
-                               'case '//outs(i)%tag//' has no band width (its '//key//')')
+        call run_plot(find_data(plate_plot_name), args, err)
+        if (allocated(err)) call stop_alone(comm, r%rd, err)
       end if
-    end subroutine width_ratio
+    end associate
+    call r%rd%commit(err)
+    if (allocated(err)) call stop_alone(comm, r%rd, err)
+    call r%cks%finish(cli%keep_checkpoints)
+    write (output_unit, '(a)') '  finished: '//r%rd%final//' (total '//real_text(total)//' s)'
+  end subroutine finish_plate
 
-    !> The summary lines of the case just finished (rank 0); `nsub` the
-    !> largest UMAT cut-back split over the ranks.
-    subroutine finish_case(nsub)
-      integer, intent(in) :: nsub
-      integer :: j
-      character(len=:), allocatable :: band_text
-      associate (o => outs(ic))
-        j = maxloc(o%curve(3, :), dim=1)
-        o%scal(5:6) = [o%curve(2, j), o%curve(3, j)]
-        call sm%add(tag//'.dx', cfg%dx, 'm')
-        call sm%add(tag//'.scale', s)
-        call sm%add(tag//'.particles', ntotal)
-        call sm%add(tag//'.steps', sc%nstep)
-        call sm%add(tag//'.dt', sc%dt, 's')
-        call sm%add(tag//'.wall_time', wall, 's')
-        call sm%add(tag//'.ns_per_particle_step', wall*1.0e9_dp/max(1.0_dp, real(ntotal, dp)*sc%nstep))
-        call sm%add(tag//'.peak_stress', o%scal(6)*1.0e-6_dp, 'MPa, compression +')
-        call sm%add(tag//'.strain_at_peak', o%scal(5), 'apparent axial strain')
-        call sm%add(tag//'.final_stress', o%curve(3, size(o%curve, 2))*1.0e-6_dp, 'MPa')
-        call sm%add(tag//'.final_strain', o%curve(2, size(o%curve, 2)))
-        call add_plate_band(sm, tag, sc%parts%nstatv, epmax, fwhm, yline, band_t, peak_x, peak_v)
-        if (sc%parts%nstatv < slot_plastic_strain) then
-          call bw%summarise(sm, tag, no_slot_why('plastic strain', sc%parts%nstatv))
-        else
-          call bw%summarise(sm, tag)
-        end if
-        call pst%summarise(sm, tag)
-        if (bw%staged .and. bw%fit%found) o%scal(8) = bw%fit%fwhm
-        call sm%add(tag//'.max_substeps', nsub)
-        call sm%add(tag//'.ended_early', ended_early, 'true: the UMAT could not go on '// &
-                    '(stop_on_cutback); the curve ends at final_strain')
-        if (ended_early) call sm%add(tag//'.end_reason', trim(end_message))
-        if (sc%nl%active) then
-          call add_nonlocal_summary(sm, tag//'.', sc%nl)
-          if (sc%nl%calls_sweeps > 0 .and. sc%nl%calls_local > 0) &
-            call sm%add(tag//'.sweep_cost_over_local_update', &
-                        (real(sc%nl%ticks_sweeps, dp)/sc%nl%calls_sweeps)/ &
-                        (real(max(sc%nl%ticks_local, 1_int64), dp)/sc%nl%calls_local), &
-                        'time per particle of one sweep (average + UMAT + eq. 4.49-4.50) '// &
-                        'over one local UMAT update')
-        end if
-        band_text = 'no band: NSTATV = '//int_text(sc%parts%nstatv)//' has no plastic strain'
-        if (sc%parts%nstatv >= slot_plastic_strain) band_text = 'band FWHM '// &
-          real_text(fwhm)//' m along the line at '//real_text(yline)//' m'
-        write (output_unit, '(a)') '    done in '//real_text(wall)//' s: peak '// &
-          real_text(o%scal(6)*1.0e-6_dp)//' MPa at strain '//real_text(o%scal(5))//', '// &
-          band_text
-        if (sc%nl%active) write (output_unit, '(a)') '    nonlocal iterations per step: '// &
-          'mean '//real_text(real(sc%nl%iterations_total, dp)/max(sc%nl%steps_iterated, 1))// &
-          ', max '//int_text(sc%nl%iterations_max)//' over '// &
-          int_text(sc%nl%steps_iterated)//' plastic steps'
-        if (comm%size > 1) write (output_unit, '(a)') '    particles handed between ranks: '// &
-          int_text(moved_sum)
-        flush (output_unit)
-      end associate
-    end subroutine finish_case
-
-    !> The run.h5 datasets of finished case k beside its snapshots
-    !> (collective; rank 0's values).
-    subroutine write_case(k)
-      integer, intent(in) :: k
-      associate (o => outs(k))
-        call h5%write('cases/'//o%tag//'/curve', transpose(o%curve))
-        call h5%write('cases/'//o%tag//'/iterations', o%its)
-        call h5%write('cases/'//o%tag//'/n_plastic', o%nplast)
-        call done_st(k)%write_h5(h5, 'cases/'//o%tag//'/stations/')
-      end associate
-    end subroutine write_case
-
-    !> The band width now (fwhm, peak_x, peak_v on rank 0; yline, band_t,
-    !> measured everywhere). Collective: rank 0 gathers the particles.
-    subroutine measure_band()
-      real(dp), allocatable :: f(:, :), all(:, :)
-      integer :: n, axis
-      n = sc%parts%n
-      allocate (f(3, n))
-      f(1:2, :) = sc%parts%x(:, 1:n)
-      f(3, :) = plastic_strain(sc)
-      call gather_by_gid(comm, sc%parts%gid(1:n), f, 0, all)
-      if (study%band_axis == 'x') then
-        yline = study%band_y*study%scale(ic)
-        axis = 1
-      else
-        yline = study%band_x*study%scale(ic)
-        axis = 2
-      end if
-      fwhm = 0.0_dp; peak_x = 0.0_dp; peak_v = 0.0_dp
-      if (root) call band_width(all(1:2, :), all(3, :), axis, yline, &
-                               0.5_dp*cfg%dx/cfg%ppc, fwhm, peak_x, peak_v)
-      band_t = sc%t
-      measured = .true.
-    end subroutine measure_band
-
-    !> Particle fields of the current state into run.h5: cases/<tag>/snap_<n>/
-    !> (collective: every rank its own particles' rows, in global-id order in
-    !> the file; `store` keeps them); also at the band's stage, off schedule.
-    subroutine snapshot()
-      real(dp), allocatable :: f(:, :)
-      type(error_t), allocatable :: e
-      integer :: n
-      nsnap = nsnap + 1
-      if (snapshot_due(study%snapshot_dt, sc%t, next_snap, 1.0e-12_dp)) next_snap = next_snap + study%snapshot_dt
-      n = sc%parts%n
-      allocate (f(8, n))
-      f(1:2, :) = sc%parts%x(:, 1:n)
-      f(3, :) = plastic_strain(sc)
-      f(4, :) = sc%parts%stress(1, 1:n)
-      f(5, :) = sc%parts%stress(2, 1:n)
-      f(6, :) = sc%parts%stress(4, 1:n)
-      f(7:8, :) = 0.0_dp
-      if (sc%parts%nstatv >= 2) f(7, :) = sc%parts%statev(2, 1:n)
-      if (sc%parts%nstatv >= 4) f(8, :) = sc%parts%statev(4, 1:n)
-      call store%take(h5, comm, 'cases/'//tag//'/snap_'//int_text(nsnap)//'/', sc%t, &
-                      sc%parts%gid(1:n), f(plate_field_rows(sc%parts%nstatv), :), e)
-      if (allocated(e)) call die('case '//tag//': '//e%message)
-    end subroutine snapshot
-
-    !> The run's state after this step into ROOT/NAME.checkpoints (collective;
-    !> rank 0 writes): the scene, the snapshots so far, this case's curves
-    !> and counters, the finished cases and the summary lines.
-    subroutine checkpoint()
-      type(checkpoint_t) :: ckw
-      type(error_t), allocatable :: e
-      character(len=:), allocatable :: path, pre, lines
-      integer :: k
-      integer, allocatable :: nplast_all(:)
-      call save_scene(sc, ckw)
-      call store%put(ckw, comm, 'snapshots/')
-      nplast_all = nplast(1:nit)
-      if (comm%size > 1) call allreduce_sum(comm, nplast_all)
-      if (.not. root) return
-      call ckw%put_text('main/deck', deck_text)
-      call ckw%put('main/case', [ic, ncurve, nit, nsnap, merge(1, 0, measured), steps_before])
-      call ckw%put('main/reals', [next_snap, next_sample, fwhm, peak_x, peak_v, yline, band_t, &
-                                  wall_before + clock%elapsed()])
-      call ckw%put('main/curve', [0.0_dp, reshape(curve(:, 1:ncurve), [3*ncurve])])
-      call ckw%put('main/its', [0, its(1:nit)])
-      call ckw%put('main/nplast', [0, nplast_all])
-      call ckw%put('main/bounds', [0.0_dp, reshape(bounds(:, 1:nit), [3*nit])])
-      call bw%put(ckw, 'main/band_watch/')
-      call pst%put(ckw, 'main/stations/')
-      do k = 1, ic - 1
-        pre = 'main/done_'//int_text(k)//'/'
-        call put_case_out(ckw, pre, outs(k))
-        call done_st(k)%put(ckw, pre//'stations/')
-      end do
-      lines = ''
-      do k = 1, sm%n
-        lines = lines//sm%lines(k)%text//new_line('a')
-      end do
-      call ckw%put_text('main/summary', lines)
-      call write_checkpoint(ckw, ck_dir, steps_before + sc%nstep, 2, path, e)
-      if (allocated(e)) call stop_alone(comm, rd, e%message)
-    end subroutine checkpoint
-
-    !> --restart: read the newest checkpoint (or --restart-from FILE) on every
-    !> rank and check that it belongs to this deck; ic0 is its case.
-    subroutine read_restart()
-      type(error_t), allocatable :: e
-      integer, allocatable :: cs(:)
-      call open_restart_checkpoint(ck_dir, cli%deck_path, deck_text, ck_file, ck, e)
-      if (allocated(e)) call die(e%message)
-      call ck%get('main/case', cs, e)
-      if (allocated(e)) call die(ck_file//': '//e%message)
-      if (size(cs) /= 6) call die(ck_file//': its case entry is garbled')
-      if (cs(1) < 1 .or. cs(1) > study%ncases) call die(ck_file//': case '//int_text(cs(1))// &
-        ' is not a case of '//cli%deck_path)
-      ic0 = cs(1)
-    end subroutine read_restart
-
-    !> --restart, before the cases: the finished cases, steps so far, the
-    !> snapshots, on rank 0 the summary lines, and run.h5 as it was at the
-    !> checkpoint (collective).
-    subroutine resume_run()
-      type(error_t), allocatable :: e
-      integer, allocatable :: cs(:)
-      character(len=:), allocatable :: pre, lines, line
-      integer :: k, at, n, eq
-      call ck%get('main/case', cs, e)
-      steps_before = cs(6)
-      do k = 1, ic0 - 1
-        pre = 'main/done_'//int_text(k)//'/'
-        call get_case_out(ck, pre, outs(k), e)
-        if (allocated(e)) call die(ck_file//': '//e%message)
-        cfg = case_config(cfg0, study, k)
-        call restore_plate_stations(done_st(k), study, cfg%t_end, comm, ck, pre//'stations/', e)
-        if (allocated(e)) call stop_alone(comm, rd, ck_file//': '//e%message)
-      end do
-      call store%get(ck, comm, 'snapshots/', e)
-      if (allocated(e)) call die(ck_file//': '//e%message)
-      ! run.h5 in the order the interrupted run wrote it
-      do k = 1, ic0 - 1
-        call store%write_stored(h5, comm, e, prefix='cases/'//outs(k)%tag//'/')
-        if (allocated(e)) call die(e%message)
-        call write_case(k)
-      end do
-      call store%write_stored(h5, comm, e, prefix='cases/'//case_tag(study, ic0)//'/')
-      if (allocated(e)) call die(e%message)
-      if (.not. root) return
-      call ck%get_text('main/summary', lines, e); if (allocated(e)) call stop_alone(comm, rd, e)
-      at = 1
-      do while (at <= len(lines))
-        n = index(lines(at:), new_line('a'))
-        line = lines(at:at + n - 2)
-        at = at + n
-        eq = index(line, ' = ')
-        call sm%add(line(1:eq - 1), line(eq + 3:))
-      end do
-      write (output_unit, '(a)') '  restarted from '//ck_file//' (case '// &
-        int_text(ic0)//', '//int_text(steps_before)//' steps of earlier cases)'
-      flush (output_unit)
-    end subroutine resume_run
-
-    !> --restart, in the case it interrupted: the scene on every rank and the
-    !> case's curves and counters.
-    subroutine resume_case()
-      type(error_t), allocatable :: e
-      integer, allocatable :: cs(:), iv(:)
-      real(dp), allocatable :: a(:)
-      call restore_scene(sc, ck, e)
-      if (allocated(e)) call die(ck_file//': '//e%message)
-      call ck%get('main/case', cs, e)
-      ncurve = cs(2)
-      nit = cs(3)
-      nsnap = cs(4)
-      measured = cs(5) == 1
-      call ck%get('main/reals', a, e)
-      if (allocated(e) .or. size(a) /= 8) call die(ck_file//': its main/reals entry is garbled')
-      next_snap = a(1); next_sample = a(2); fwhm = a(3); peak_x = a(4); peak_v = a(5)
-      yline = a(6); band_t = a(7); wall_before = a(8)
-      call ck%get('main/curve', a, e); if (allocated(e)) call die(ck_file//': '//e%message)
-      curve(:, 1:ncurve) = reshape(a(2:), [3, ncurve])
-      call ck%get('main/bounds', a, e); if (allocated(e)) call die(ck_file//': '//e%message)
-      bounds(:, 1:nit) = reshape(a(2:), [3, nit])
-      call ck%get('main/its', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
-      its(1:nit) = iv(2:)
-      call ck%get('main/nplast', iv, e); if (allocated(e)) call die(ck_file//': '//e%message)
-      nplast(1:nit) = iv(2:)
-      call bw%get(ck, 'main/band_watch/', e); if (allocated(e)) call die(ck_file//': '//e%message)
-      call pst%get(ck, 'main/stations/', e)
-      if (allocated(e)) call stop_alone(comm, rd, ck_file//': '//e%message)
-      if (.not. root) nplast(1:nit) = 0      ! rank 0 holds the counts so far
-      if (root) write (output_unit, '(a)') '    '//tag//': continuing at step '// &
-        int_text(sc%nstep)//', t = '//real_text(sc%t)//' s'
-    end subroutine resume_case
-
-    !> Stop every rank with `message` (collective: every rank calls it; rank 0
-    !> prints).
-    subroutine die(message)
-      character(len=*), intent(in) :: message
-      call stop_all(comm, rd, message)
-    end subroutine die
-
-  end subroutine run_plate
+  !> A band width of case b over case a's (scal slot k), if both have one.
+  subroutine width_ratio(sm, a, b, key, k)
+    type(summary_t), intent(inout) :: sm
+    type(case_out_t), intent(in) :: a, b
+    character(len=*), intent(in) :: key
+    integer, intent(in) :: k
+    character(len=:), allocatable :: name
+    name = b%tag//'.'//key//'_ratio_to_'//a%tag
+    if (b%scal(k) > 0.0_dp .and. a%scal(k) > 0.0_dp) then
+      call sm%add(name, b%scal(k)/a%scal(k))
+    else if (a%scal(k) <= 0.0_dp) then
+      call sm%not_applicable(name, 'case '//a%tag//' has no band width (its '//key//')')
+    else
+      call sm%not_applicable(name, 'case '//b%tag//' has no band width (its '//key//')')
+    end if
+  end subroutine width_ratio
 
 end module wellposed_mpm_plate_run

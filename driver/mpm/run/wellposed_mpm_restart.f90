@@ -1,11 +1,10 @@
 !> The state of a running MPM scene (bar or plate) in a checkpoint and back
 !> (--restart), on any number of ranks: time, step, time step, every rank's
 !> partial sums and the kind's scalars (scene_kind_t), Algorithm 1's totals
-!> and every particle, bit for bit; the grid is rebuilt from the particles
-!> each step, so a restored scene continues exactly as the uninterrupted
-!> run. Entries `mpm/<field>` (layout, counts, particles, partials, scalars,
-!> steps, nonlocal); a checkpoint of another layout, cell size or time step
-!> is refused. Design: docs/guide/parallel.md.
+!> and every particle, bit for bit. Entries `mpm/<field>`, one per value (the
+!> layout's sizes, t, dt, nstep, ...) beside the particle records and the
+!> kind's own arrays; another layout, cell size or time step is refused.
+!> Called by wellposed_mpm_checkpoints; design: docs/guide/parallel.md.
 module wellposed_mpm_restart
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -19,7 +18,11 @@ module wellposed_mpm_restart
   public :: save_scene, restore_scene
 
   !> Version of the entries below; a restart refuses any other.
-  integer, parameter :: layout_version = 4   !< 4: the kind's own sums and scalars
+  !> 3: one layout for bars and plates; 4: every value an entry of its own,
+  !> the kind's partial sums and scalars (mpm/partials, mpm/kind_scalars) its own
+  integer, parameter :: layout_version = 4
+  !> The real entries of a scene, as restore_scene reads them into sc(1:3).
+  character(len=2), parameter :: real_names(3) = [character(len=2) :: 't', 'dt', 'dx']
 
 contains
 
@@ -45,16 +48,28 @@ contains
     moved = scene%moved
     call scene%exchange%sum_int(moved)
     if (scene%exchange%rank() /= 0) return
-    call ckpt%put('mpm/layout', [layout_version, scene%parts%ndim, scene%parts%nsup, &
-                                 scene%parts%nstatv, scene%ntotal, size(counts), reclen])
+    call ckpt%put('mpm/layout_version', layout_version)
+    call ckpt%put('mpm/ndim', scene%parts%ndim)
+    call ckpt%put('mpm/nsup', scene%parts%nsup)
+    call ckpt%put('mpm/nstatv', scene%parts%nstatv)
+    call ckpt%put('mpm/ntotal', scene%ntotal)
+    call ckpt%put('mpm/nranks', size(counts))
+    call ckpt%put('mpm/record_length', reclen)
     call ckpt%put('mpm/counts', counts/reclen)
     call ckpt%put('mpm/particles', recs)
     call ckpt%put('mpm/partials', partials)
-    call ckpt%put('mpm/scalars', [scene%t, scene%dt, scene%dx, scene%kind%scalars()])
-    call ckpt%put('mpm/steps', [scene%nstep, nsub, moved])
-    call ckpt%put('mpm/nonlocal', [scene%nl%steps_iterated, scene%nl%iterations_total, &
-                                   scene%nl%iterations_max, merge(1, 0, scene%nl%warned_sharp), &
-                                   merge(1, 0, scene%nl%warned_printed)])
+    call ckpt%put('mpm/t', scene%t)
+    call ckpt%put('mpm/dt', scene%dt)
+    call ckpt%put('mpm/dx', scene%dx)
+    call ckpt%put('mpm/kind_scalars', scene%kind%scalars())
+    call ckpt%put('mpm/nstep', scene%nstep)
+    call ckpt%put('mpm/max_substeps', nsub)
+    call ckpt%put('mpm/moved', moved)
+    call ckpt%put('mpm/nl_steps_iterated', scene%nl%steps_iterated)
+    call ckpt%put('mpm/nl_iterations_total', scene%nl%iterations_total)
+    call ckpt%put('mpm/nl_iterations_max', scene%nl%iterations_max)
+    call ckpt%put('mpm/nl_warned_sharp', merge(1, 0, scene%nl%warned_sharp))
+    call ckpt%put('mpm/nl_warned_printed', merge(1, 0, scene%nl%warned_printed))
   end subroutine save_scene
 
   !> Continue `scene`, freshly built by new_scene from the deck of the run
@@ -69,29 +84,31 @@ contains
     type(mpm_scene_t), intent(inout) :: scene
     type(checkpoint_t), intent(in) :: ckpt
     type(error_t), allocatable, intent(out) :: err
-    integer, allocatable :: layout(:), counts(:), steps(:), nl(:), order(:)
-    real(dp), allocatable :: recs(:), sc(:), partials(:)
-    integer :: plen, reclen, nsaved, first, p, m, g, k, rank, nranks, d, npart, nsc
-    call ckpt%get('mpm/layout', layout, err)
+    integer, allocatable :: counts(:), order(:)
+    real(dp), allocatable :: recs(:), partials(:), kind_sc(:)
+    integer :: layout(7), steps(3), nl(5)
+    real(dp) :: sc(3)
+    integer :: plen, reclen, nsaved, first, p, m, g, k, rank, nranks, d, npart
+    call get_ints([character(len=24) :: 'layout_version', 'ndim', 'nsup', 'nstatv', 'ntotal', &
+                   'nranks', 'record_length'], layout)
     if (allocated(err)) return
     rank = scene%exchange%rank()
     nranks = scene%exchange%nranks()
     d = scene%ndim
     plen = particle_record_length(scene%parts)
-    if (size(layout) /= 7) then
-      call bad('its layout entry is garbled'); return
-    end if
     if (layout(1) /= layout_version) then
       call bad('MPM checkpoint layout '//int_text(layout(1))//', this program reads '// &
                int_text(layout_version)); return
     end if
     reclen = layout(7)
     nsaved = layout(6)
+    do k = 1, 3
+      call ckpt%get('mpm/'//trim(real_names(k)), sc(k), err); if (allocated(err)) return
+    end do
     npart = size(scene%kind%partial_sums())
-    nsc = size(scene%kind%scalars())
-    call ckpt%get('mpm/scalars', sc, err); if (allocated(err)) return
-    if (size(sc) /= 3 + nsc) then
-      call bad('its scalars entry is garbled'); return
+    call ckpt%get('mpm/kind_scalars', kind_sc, err); if (allocated(err)) return
+    if (size(kind_sc) /= size(scene%kind%scalars())) then
+      call bad('its kind_scalars entry is garbled'); return
     end if
     if (sc(3) /= scene%dx .or. sc(2) /= scene%dt) then
       call new_error(err, status_invalid, 'checkpoint', 'the checkpoint was written with '// &
@@ -112,11 +129,13 @@ contains
     call ckpt%get('mpm/counts', counts, err); if (allocated(err)) return
     call ckpt%get('mpm/particles', recs, err); if (allocated(err)) return
     call ckpt%get('mpm/partials', partials, err); if (allocated(err)) return
-    call ckpt%get('mpm/steps', steps, err); if (allocated(err)) return
-    call ckpt%get('mpm/nonlocal', nl, err); if (allocated(err)) return
+    call get_ints([character(len=24) :: 'nstep', 'max_substeps', 'moved'], steps)
+    if (allocated(err)) return
+    call get_ints([character(len=24) :: 'nl_steps_iterated', 'nl_iterations_total', &
+                   'nl_iterations_max', 'nl_warned_sharp', 'nl_warned_printed'], nl)
+    if (allocated(err)) return
     if (size(counts) /= nsaved .or. sum(counts) /= scene%ntotal .or. &
-        size(recs) /= reclen*scene%ntotal .or. size(partials) /= npart*nsaved .or. &
-        size(steps) /= 3 .or. size(nl) /= 5) then
+        size(recs) /= reclen*scene%ntotal .or. size(partials) /= npart*nsaved) then
       call bad('its particle entries do not match its layout'); return
     end if
     ! which saved records this rank takes, in which order
@@ -158,7 +177,7 @@ contains
     end do
     scene%parts%n = m
     scene%t = sc(1)
-    call scene%kind%set_scalars(sc(4:))
+    call scene%kind%set_scalars(kind_sc)
     scene%nstep = steps(1)
     scene%max_substeps = steps(2)
     scene%moved = 0
@@ -176,6 +195,17 @@ contains
     scene%nl%warned_sharp = nl(4) == 1
     scene%nl%warned_printed = nl(5) == 1
   contains
+    !> The integer entries mpm/<names(k)> into v(k).
+    subroutine get_ints(names, v)
+      character(len=*), intent(in) :: names(:)
+      integer, intent(out) :: v(:)
+      integer :: j
+      v = 0
+      do j = 1, size(names)
+        call ckpt%get('mpm/'//trim(names(j)), v(j), err)
+        if (allocated(err)) return
+      end do
+    end subroutine get_ints
     subroutine bad(why)
       character(len=*), intent(in) :: why
       call new_error(err, status_invalid, 'checkpoint', 'the checkpoint cannot continue this '// &
