@@ -14,9 +14,10 @@ module wellposed_mpm_vumat_call
   use wellposed_vumat_interface, only: vumat
   use wellposed_abaqus_job, only: abaqus_take_error
   use wellposed_umat_layout, only: sv_dlambda, sv_avg_dlambda, sv_eps_p, sv_over, nstatv_gdl
+  use wellposed_umat_host, only: umat_host_t, host_update, vumat_is_ours
   implicit none
   private
-  public :: vumat_work_t, vumat_particles, vumat_block
+  public :: vumat_work_t, vumat_particles, vumat_block, material_update
 
   !> Points per VUMAT call (Abaqus/Explicit's blocks are of this order).
   integer, parameter :: vumat_block = 128
@@ -112,6 +113,45 @@ contains
       end do
     end do
   end subroutine vumat_particles
+
+  !> One point of a material as host_update advances it (its arguments;
+  !> the step host%time, host%dtime), through the linked VUMAT when `vumat`
+  !> (a block of one: density 1, our slots where the VUMAT is ours), else,
+  !> or when our VUMAT refuses it, through host_update: a probe of the
+  !> material by the interface its particles are called through.
+  subroutine material_update(host, props, vumat, stress, statev, stran, dstran, nsub, err)
+    type(umat_host_t), intent(inout) :: host
+    real(dp), intent(in), contiguous :: props(:), dstran(:)
+    logical, intent(in) :: vumat
+    real(dp), intent(inout), contiguous :: stress(:), statev(:), stran(:)
+    integer, intent(out) :: nsub
+    type(error_t), allocatable, intent(out) :: err
+    type(vumat_work_t) :: w
+    type(vumat_material_t) :: mat
+    real(dp) :: s(6, 1), sv(size(statev), 1), e(6, 1), d(6, 1), dl(1)
+    logical :: done(1)
+    integer :: nt
+    nt = host%ntens
+    nsub = 1
+    if (vumat) then
+      mat = vumat_material_t(props, vumat_is_ours(), vumat_is_ours(), host%cmname, 1.0_dp, &
+                             host%celent)
+      s(1:nt, 1) = stress(1:nt)
+      sv(:, 1) = statev
+      e(1:nt, 1) = stran(1:nt)
+      d(1:nt, 1) = dstran(1:nt)
+      call vumat_particles(w, mat, nt, host%time(2), host%dtime, [1], [host%noel], d, s, sv, e, &
+                           dl, done, err)
+      if (allocated(err)) return
+      if (done(1)) then
+        stress(1:nt) = s(1:nt, 1)
+        statev = sv(:, 1)
+        stran(1:nt) = e(1:nt, 1)
+        return
+      end if
+    end if
+    call host_update(host, props, stress, statev, stran, dstran, nsub, err)
+  end subroutine material_update
 
   !> One call on the block's n points; ok when it answered with finite
   !> values (else bad: the point at fault, 0 when unknown; a user's message

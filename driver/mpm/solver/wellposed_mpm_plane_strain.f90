@@ -11,6 +11,7 @@ module wellposed_mpm_plane_strain
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: real_text
   use wellposed_umat_host, only: host_call, host_error, verdict_ok, verdict_cutback
+  use wellposed_mpm_vumat_call, only: material_update
   use wellposed_mpm_materials, only: single_material
   use wellposed_mpm_exchange, only: mpm_exchange_t
   use wellposed_mpm_particles, only: particles_t
@@ -115,12 +116,13 @@ contains
   contains
 
     !> The stress of one UMAT call from the natural state (0 when the UMAT
-    !> asks to cut back; a refusal or a non-finite answer is the error err).
+    !> asks to cut back; a refusal or a non-finite answer is the error err),
+    !> or of the VUMAT's for a material called through it.
     function probe(m, d) result(dsig)
       integer, intent(in) :: m
       real(dp), intent(in) :: d(4)
       real(dp) :: dsig(4), s(4), sv(cfg%nstatv), e(4)
-      integer :: verdict
+      integer :: verdict, nsub
       s = 0.0_dp
       sv = 0.0_dp
       e = 0.0_dp
@@ -128,6 +130,14 @@ contains
       self%host%dtime = 1.0e-6_dp
       self%host%noel = 1
       self%host%coords = 0.0_dp
+      if (self%mats%vumat(m)) then
+        ! through the VUMAT its particles are called through
+        call material_update(self%host, self%mats%props(1:self%mats%nprops(m), m), .true., s, &
+                             sv, e, d, nsub, err)
+        dsig = s
+        if (allocated(err)) err%message = err%message//' (probing the moduli)'
+        return
+      end if
       call host_call(self%host, self%mats%props(1:self%mats%nprops(m), m), s, sv, e, d, verdict)
       dsig = s
       if (verdict /= verdict_ok) dsig = 0.0_dp
