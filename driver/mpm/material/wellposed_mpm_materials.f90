@@ -1,13 +1,11 @@
-!> The materials of an MPM scene by region: each material's PROPS and NSTATV,
-!> the interface it is called through (the VUMAT on blocks, or the UMAT per
-!> particle), whether that routine is ours (wellposed's: PROPS slots of
-!> docs/guide/umat.md) and whether it follows the nonlocal contract (STATEV 2
-!> out, STATEV 3 in),
-!> and the region it fills: a box (x range in 1D, x and y ranges in 2D) or
-!> "rest" (every particle no box holds). A particle takes the material of
-!> the first box, in deck order, that holds its initial centre (bounds
-!> included), else the rest's; boxes may touch but not overlap. Both MPM
-!> solvers look a particle's PROPS up here (docs/guide/decks.md, docs/guide/mpm.md).
+!> The materials of an MPM scene by region: each material's PROPS, NSTATV,
+!> interface (the VUMAT on blocks, or the UMAT per particle), whether that
+!> routine is ours (PROPS slots of docs/guide/umat.md), whether it follows
+!> the nonlocal contract (STATEV 2 out, 3 in), and its region: a box (x, and
+!> y in 2D) or "rest" (every particle no box holds). A particle takes the
+!> material of the first box, in deck order, holding its initial centre
+!> (bounds included), else the rest's; boxes may touch but not overlap
+!> (docs/guide/decks.md, docs/guide/mpm.md).
 module wellposed_mpm_materials
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
