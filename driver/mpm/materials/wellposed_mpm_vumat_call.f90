@@ -10,7 +10,8 @@ module wellposed_mpm_vumat_call
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_finite, only: all_finite
   use wellposed_text, only: int_text, real_text
-  use wellposed_vumat_adapter, only: vumat_update
+  use wellposed_vumat_adapter, only: vumat_update, vumat_props
+  use wellposed_dp_params, only: dp_params_t
   use wellposed_vumat_interface, only: vumat
   use wellposed_abaqus_job, only: abaqus_take_error
   use wellposed_umat_layout, only: sv_dlambda, sv_avg_dlambda, sv_eps_p, sv_over, nstatv_gdl
@@ -43,6 +44,10 @@ module wellposed_mpm_vumat_call
     character(len=80) :: cmname = 'WELLPOSED'
     real(dp) :: density = 0.0_dp
     real(dp) :: celent = 1.0_dp    !< charLength (the cell size)
+    !> ours: the block checks of PROPS, layout and DT, made once for dt = par_dt
+    type(dp_params_t) :: par
+    real(dp) :: par_dt = -1.0_dp
+    logical :: par_ok = .false.
   end type vumat_material_t
 
 contains
@@ -59,7 +64,7 @@ contains
   subroutine vumat_particles(w, mat, nt, t, dt, idx, gid, de, stress, statev, stran, dl, done, &
                              err, avg)
     type(vumat_work_t), intent(inout) :: w
-    type(vumat_material_t), intent(in) :: mat
+    type(vumat_material_t), intent(inout) :: mat
     integer, intent(in) :: nt
     real(dp), intent(in) :: t, dt
     integer, intent(in) :: idx(:), gid(:)
@@ -158,7 +163,7 @@ contains
   !> raised in the call is err).
   subroutine call_vumat(w, mat, n, t, dt, ok, bad, err)
     type(vumat_work_t), intent(inout) :: w
-    type(vumat_material_t), intent(in) :: mat
+    type(vumat_material_t), intent(inout) :: mat
     integer, intent(in) :: n
     real(dp), intent(in) :: t, dt
     logical, intent(out) :: ok
@@ -174,9 +179,17 @@ contains
     w%dens(1:n) = mat%density
     w%en_old(1:n) = 0.0_dp
     if (mat%ours) then
+      ! the block checks once a step (they depend on PROPS, layout and DT only)
+      if (.not. mat%par_dt == dt) then
+        call vumat_props(3, nr, nv, size(mat%props), mat%props, dt, mat%par, e)
+        mat%par_ok = .not. allocated(e)
+        mat%par_dt = dt
+      end if
+      ok = mat%par_ok
+      if (.not. ok) return
       call vumat_update(n, 3, nr, nv, size(mat%props), t + dt, t + dt, dt, mat%props, w%dens, &
                         w%de, w%s_old, w%sv_old, w%en_old, w%en_old, w%s_new, w%sv_new, &
-                        w%en_new, w%en_new2, e, bad)
+                        w%en_new, w%en_new2, e, bad, mat%par)
       ok = .not. allocated(e)
       if (.not. ok) return
     else
