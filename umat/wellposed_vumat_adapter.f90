@@ -24,7 +24,7 @@ module wellposed_vumat_adapter
                                    nstatv_gdl
   implicit none
   private
-  public :: vumat_update
+  public :: vumat_update, vumat_props
 
   !> Model component i (11, 22, 33, 12, 13, 23) is VUMAT component comp(i):
   !> the model is isotropic, the order only keeps its arithmetic the UMAT's.
@@ -42,11 +42,13 @@ contains
   !> the point of the block at fault (0: the block's PROPS, layout or DT),
   !> STATENEW(point, 12) holds the status when it can, and the New arrays are
   !> otherwise untouched when the inputs were at fault (a return that fails
-  !> to converge may leave earlier points of the block updated).
+  !> to converge may leave earlier points of the block updated). `checked`:
+  !> the block's PROPS, layout and DT as vumat_props accepted them (a host
+  !> calling with the same ones many times checks them once).
   subroutine vumat_update(nblock, ndir, nshr, nstatev, nprops, step_time, total_time, dt, &
                           props, density, strain_inc, stress_old, state_old, ener_intern_old, &
                           ener_inelas_old, stress_new, state_new, ener_intern_new, &
-                          ener_inelas_new, err, point)
+                          ener_inelas_new, err, point, checked)
     integer, intent(in) :: nblock, ndir, nshr, nstatev, nprops
     real(dp), intent(in) :: step_time, total_time, dt, props(nprops), density(nblock)
     real(dp), intent(in) :: strain_inc(nblock, ndir + nshr), stress_old(nblock, ndir + nshr)
@@ -56,11 +58,12 @@ contains
     real(dp), intent(inout) :: ener_intern_new(nblock), ener_inelas_new(nblock)
     type(error_t), allocatable, intent(out) :: err
     integer, intent(out) :: point
+    type(dp_params_t), intent(in), optional :: checked
     type(dp_params_t) :: p
     real(dp) :: sig(ntens6), de(ntens6), eps_p(ntens6), z, zeta, dlambda, f, sig_sum(ntens6)
     real(dp) :: dep(ntens6), over(ntens6), z_over
-    integer :: fault, ntens, k, i, j, status, k0, n, ndefer
-    logical :: want_tangent, closed, packaging
+    integer :: ntens, k, i, j, status, k0, n, ndefer
+    logical :: closed, packaging
     ! One chunk of points in the block kernel's layout (its arrays stay in
     ! L1 cache).
     integer, parameter :: chunk = block_chunk
@@ -72,10 +75,11 @@ contains
 
     point = 0
     ntens = ndir + nshr
-    call check_props(ndir, nshr, ntens, nstatev, nprops, props, dt, p, want_tangent, fault)
-    if (fault /= 0) then
-      call explain(fault, ndir, nshr, ntens, nstatev, nprops, props, dt, err)
-      return
+    if (present(checked)) then
+      p = checked
+    else
+      call vumat_props(ndir, nshr, nstatev, nprops, props, dt, p, err)
+      if (allocated(err)) return
     end if
     call check_points(p, nblock, ndir, ntens, nstatev, merge(nstatv_gdl, nstatv_min, p%gdl), &
                       density, strain_inc, stress_old, state_old, ener_intern_old, &
@@ -249,6 +253,20 @@ contains
     end subroutine store
 
   end subroutine vumat_update
+
+  !> The checks of a VUMAT call that concern the whole block: layout,
+  !> NSTATEV, PROPS and DT, as the UMAT checks them; `p` their parameters,
+  !> else `err` (status -1).
+  pure subroutine vumat_props(ndir, nshr, nstatev, nprops, props, dt, p, err)
+    integer, intent(in) :: ndir, nshr, nstatev, nprops
+    real(dp), intent(in) :: props(nprops), dt
+    type(dp_params_t), intent(inout) :: p
+    type(error_t), allocatable, intent(out) :: err
+    integer :: fault
+    logical :: want_tangent
+    call check_props(ndir, nshr, ndir + nshr, nstatev, nprops, props, dt, p, want_tangent, fault)
+    if (fault /= 0) call explain(fault, ndir, nshr, ndir + nshr, nstatev, nprops, props, dt, err)
+  end subroutine vumat_props
 
   !> a : b of two symmetric tensors in tensor components.
   pure function contract(a, b) result(c)

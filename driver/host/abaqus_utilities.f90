@@ -1,7 +1,7 @@
 !> The Abaqus/Standard utility routines legacy UMATs call, as external
 !> subroutines with Abaqus' names and arguments (Abaqus User Subroutines
-!> Reference, "Utility routines"; docs/guide/hosting.md): XIT, STDB_ABQERR, SINV,
-!> SPRINC, SPRIND, ROTSIG, GETOUTDIR, GETJOBNAME. LSTR = 1: stress; 2: strain
+!> Reference, "Utility routines"; docs/guide/hosting.md): XIT, XPLB_EXIT, STDB_ABQERR,
+!> SINV, SPRINC, SPRIND, ROTSIG, GETOUTDIR, GETJOBNAME. LSTR = 1: stress; 2: strain
 !> with engineering shears.
 
 !> XIT: end the run at once with a clear message (no output is finished).
@@ -10,6 +10,13 @@ subroutine xit()
   implicit none
   call abaqus_abort('the UMAT called XIT (Abaqus: terminate the analysis)')
 end subroutine xit
+
+!> XPLB_EXIT: Abaqus/Explicit's XIT, for a VUMAT.
+subroutine xplb_exit()
+  use wellposed_abaqus_job, only: abaqus_abort
+  implicit none
+  call abaqus_abort('the VUMAT called XPLB_EXIT (Abaqus/Explicit: terminate the analysis)')
+end subroutine xplb_exit
 
 !> STDB_ABQERR: a note, warning or error of the UMAT on standard error.
 !> LOP = 1 note, -1 warning, -2 error (the host stops the run after the

@@ -16,7 +16,7 @@ module wellposed_umat_host
   implicit none
   private
   public :: umat_host_t, new_umat_host, host_call, host_error, host_update, host_probe, &
-            host_tangent, umat_is_ours
+            host_tangent, umat_is_ours, vumat_is_ours
   public :: verdict_ok, verdict_cutback, verdict_refused, verdict_nonfinite, max_halvings
 
   integer, parameter :: verdict_ok = 0         !< accepted increment
@@ -70,6 +70,9 @@ module wellposed_umat_host
     !> a user-UMAT build links its own answer, false).
     logical function wellposed_umat_is_ours()
     end function wellposed_umat_is_ours
+    !> The same for the linked `vumat` (driver/host/vumat_origin.f90).
+    logical function wellposed_vumat_is_ours()
+    end function wellposed_vumat_is_ours
   end interface
 
 contains
@@ -78,6 +81,11 @@ contains
   logical function umat_is_ours()
     umat_is_ours = wellposed_umat_is_ours()
   end function umat_is_ours
+
+  !> True when the linked `vumat` is wellposed's own.
+  logical function vumat_is_ours()
+    vumat_is_ours = wellposed_vumat_is_ours()
+  end function vumat_is_ours
 
   !> Set up a host for NTENS = 6 (NDI = 3, NSHR = 3) or 4 (NDI = 3,
   !> NSHR = 1) and NSTATV >= 0; `what` names a point in messages.

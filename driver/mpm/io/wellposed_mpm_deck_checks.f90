@@ -14,7 +14,8 @@ module wellposed_mpm_deck_checks
   use wellposed_mpm_loads, only: surface_stress
   use wellposed_mpm_plane_strain, only: ps_config_t
   use wellposed_mpm_ps_deck, only: ps_study_t
-  use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_error, &
+  use wellposed_mpm_vumat_call, only: material_update
+  use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_error, vumat_is_ours, &
                                  verdict_ok, umat_is_ours
   implicit none
   private
@@ -165,21 +166,25 @@ contains
     do k = 1, cfg%materials%n
       which = '&material group '//int_text(k)
       if (cfg%materials%n == 1) which = 'its &material'
-      call check_yield_of(path, cfg, cfg%materials%props(1:cfg%materials%nprops(k), k), which, err)
+      call check_yield_of(path, cfg, cfg%materials%props(1:cfg%materials%nprops(k), k), which, err, &
+                          cfg%materials%vumat(k) .and. .not. vumat_is_ours())
       if (allocated(err)) return
     end do
   end subroutine check_yield
 
   !> check_yield for one material of PROPS `mat_props`, named `which`.
-  subroutine check_yield_of(path, cfg, mat_props, which, err)
+  subroutine check_yield_of(path, cfg, mat_props, which, err, user_vumat)
     character(len=*), intent(in) :: path, which
     type(mpm_config_t), intent(in) :: cfg
     real(dp), intent(in) :: mat_props(:)
     type(error_t), allocatable, intent(out) :: err
+    logical, intent(in), optional :: user_vumat  !< the zero increment through a user's VUMAT
     type(umat_host_t) :: h
     real(dp) :: props(max(size(mat_props), slot_tau)), s(6), sv(cfg%nstatv), zero(6), f, moved, &
                 scale
-    integer :: verdict, np
+    integer :: verdict, np, nsub
+    real(dp) :: e(6)
+    logical :: via
     np = size(mat_props)
     if (cfg%nstatv < 12 .or. np < 1) return   ! the scene's own checks say why
     call new_umat_host(h, 6, cfg%nstatv, err, what='particle')
@@ -194,7 +199,17 @@ contains
     props(1:np) = mat_props
     s = cfg%stress0
     sv = 0.0_dp
-    call host_call(h, props(1:np), s, sv, zero, zero, verdict)
+    via = .false.
+    if (present(user_vumat)) via = user_vumat
+    verdict = verdict_ok
+    if (via) then
+      e = zero
+      call material_update(h, props(1:np), .true., s, sv, e, zero, nsub, err)
+      if (allocated(err)) err%message = path//': '//err%message
+      if (allocated(err)) return
+    else
+      call host_call(h, props(1:np), s, sv, zero, zero, verdict)
+    end if
     if (verdict /= verdict_ok) then
       call host_error(h, verdict, err, 'a zero increment from the initial stress')
       err%message = path//': '//err%message

@@ -1,8 +1,9 @@
 !> The &material groups of an MPM deck (bar and plate alike) into the
 !> scene's material set (wellposed_mpm_materials); namelists cannot repeat a
 !> group in one READ, so each occurrence is one READ, in order. Keys:
-!> density, nstatv, model ('wellposed': our UMAT by its named keys, PROPS
-!> 1-13; 'umat': props as given), nonlocal_contract, region ('rest'|'box')
+!> density, nstatv, model ('wellposed': our model by its named keys, PROPS
+!> 1-13, through the VUMAT; 'vumat', 'umat': the linked VUMAT on blocks, the
+!> linked UMAT per particle, props as given), nonlocal_contract, region ('rest'|'box')
 !> with x(2), y(2). Overrides: material.key=value (the first group),
 !> materialN.key=value (the N-th). Keys: docs/guide/decks.md.
 module wellposed_mpm_material_deck
@@ -14,7 +15,7 @@ module wellposed_mpm_material_deck
   use wellposed_umat_layout, only: prop_bulk, prop_shear, prop_beta, prop_beta_p, prop_k0, &
                                    prop_h, prop_k_lim, prop_z_ref, prop_p_v, prop_p_d, &
                                    prop_tau, prop_h_zeta, prop_length, prop_explicit
-  use wellposed_umat_host, only: umat_is_ours
+  use wellposed_umat_host, only: umat_is_ours, vumat_is_ours
   use wellposed_mpm_materials, only: mpm_materials_t, max_materials, max_material_props, &
                                      add_material, check_regions, least_nstatv, &
                                      nstatv_why
@@ -177,11 +178,13 @@ contains
       character(len=:), allocatable :: g, m, r
       real(dp) :: pr(max_material_props)
       integer :: np, j
-      logical :: box
+      logical :: box, via_vumat, mine
       g = label(k, n)
       m = lower(trim(v_model(k)))
       if (len(m) == 0) m = merge('umat     ', 'wellposed', any(is_set(v_props(:, k))))
       m = trim(m)
+      via_vumat = m /= 'umat'
+      mine = merge(vumat_is_ours(), umat_is_ours(), via_vumat)
       if (k > 1 .and. is_set(v_dens(k))) then
         if (v_dens(k) /= density) then
           call new_error(err, status_invalid, 'density', path//': &'//g//': density = '// &
@@ -208,10 +211,11 @@ contains
             prop_z_ref, prop_p_v, prop_p_d, prop_tau, prop_h_zeta, prop_length]) = v_named(:, k)
         pr(prop_explicit) = 1.0_dp
         np = prop_explicit
-      case ('umat')
+      case ('umat', 'vumat')
         if (.not. any(is_set(v_props(:, k)))) then
-          call new_error(err, status_invalid, 'props', path//': &'//g//': model = '// &
-            '''umat'' needs props = <the UMAT''s PROPS>'); return
+          call new_error(err, status_invalid, 'props', path//': &'//g//': model = '''// &
+            m//''' needs props = <the '//trim(merge('VUMAT', 'UMAT ', via_vumat))// &
+            '''s PROPS>'); return
         end if
         np = findloc(is_set(v_props(:, k)), .true., back=.true., dim=1)
         if (.not. all(is_set(v_props(1:np, k)))) then
@@ -224,14 +228,14 @@ contains
       case default
         call new_error(err, status_invalid, 'model', path//': &'//g//': model = '''// &
           trim(v_model(k))//''' is not a known material: ''wellposed'' (our model, named '// &
-          'keys) or ''umat'' (the linked UMAT with props)'); return
+          'keys), ''vumat'' or ''umat'' (the linked VUMAT or UMAT with props)'); return
       end select
       ! our model's length where the UMAT is ours or follows the contract
-      if (v_nstatv(k) < least_nstatv(umat_is_ours(), v_contract(k))) then
+      if (v_nstatv(k) < least_nstatv(mine, v_contract(k))) then
         call new_error(err, status_invalid, 'nstatv', path//': &'//g//': nstatv = '// &
           int_text(v_nstatv(k))//' is below '// &
-          int_text(least_nstatv(umat_is_ours(), v_contract(k)))// &
-          nstatv_why(umat_is_ours() .or. v_contract(k))); return
+          int_text(least_nstatv(mine, v_contract(k)))// &
+          nstatv_why(mine .or. v_contract(k))); return
       end if
       r = lower(trim(v_region(k)))
       if (len(r) == 0) r = merge('box ', 'rest', any(is_set(v_x(:, k))))
@@ -264,15 +268,15 @@ contains
         call new_error(err, status_invalid, 'region', path//': &'//g//': region = '''// &
           trim(v_region(k))//''' is not one of ''rest'', ''box'''); return
       end select
-      ! our slots (PROPS 12-14, STATEV 2/3) where the linked UMAT is ours,
-      ! however its PROPS are given; a user's UMAT build passes named keys
+      ! our slots (PROPS 12-14, STATEV 2/3) where the linked routine is
+      ! ours, however its PROPS are given; a user's build passes named keys
       ! as plain PROPS
       if (box) then
-        call add_material(mats, pr(1:np), v_nstatv(k), umat_is_ours(), &
-                          v_contract(k), err, [v_x(1, k), v_y(1, k)], [v_x(2, k), v_y(2, k)])
+        call add_material(mats, pr(1:np), v_nstatv(k), mine, v_contract(k), err, &
+                          [v_x(1, k), v_y(1, k)], [v_x(2, k), v_y(2, k)], vumat=via_vumat)
       else
-        call add_material(mats, pr(1:np), v_nstatv(k), umat_is_ours(), &
-                          v_contract(k), err)
+        call add_material(mats, pr(1:np), v_nstatv(k), mine, v_contract(k), err, &
+                          vumat=via_vumat)
       end if
     end subroutine convert
 

@@ -1,11 +1,11 @@
-!> The materials of an MPM scene by region: each material's UMAT PROPS and
-!> NSTATV, whether it is ours (wellposed's UMAT: PROPS slots of docs/guide/umat.md) and whether it
-!> follows the nonlocal contract (STATEV 2 out, STATEV 3 in: docs/guide/umat.md),
-!> and the region it fills: a box (x range in 1D, x and y ranges in 2D) or
-!> "rest" (every particle no box holds). A particle takes the material of
-!> the first box, in deck order, that holds its initial centre (bounds
-!> included), else the rest's; boxes may touch but not overlap. Both MPM
-!> solvers look a particle's PROPS up here (docs/guide/decks.md, docs/guide/mpm.md).
+!> The materials of an MPM scene by region: each material's PROPS, NSTATV,
+!> interface (the VUMAT on blocks, or the UMAT per particle), whether that
+!> routine is ours (PROPS slots of docs/guide/umat.md), whether it follows
+!> the nonlocal contract (STATEV 2 out, 3 in), and its region: a box (x, and
+!> y in 2D) or "rest" (every particle no box holds). A particle takes the
+!> material of the first box, in deck order, holding its initial centre
+!> (bounds included), else the rest's; boxes may touch but not overlap
+!> (docs/guide/decks.md, docs/guide/mpm.md).
 module wellposed_mpm_materials
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -32,7 +32,8 @@ module wellposed_mpm_materials
     integer :: nprops(max_materials) = 0
     real(dp) :: props(max_material_props, max_materials) = 0.0_dp
     integer :: nstatv(max_materials) = 0
-    logical :: ours(max_materials) = .false.       !< the linked UMAT is wellposed's
+    logical :: vumat(max_materials) = .false.      !< called through the VUMAT, on blocks
+    logical :: ours(max_materials) = .false.       !< the linked UMAT (VUMAT) is wellposed's
     logical :: contract(max_materials) = .false.   !< STATEV 2/3 of Algorithm 1
     logical :: rest(max_materials) = .false.       !< region "rest"
     real(dp) :: lo(2, max_materials) = 0.0_dp      !< box lower corner (m)
@@ -52,15 +53,17 @@ contains
   end function occurrence
 
   !> Append a material: PROPS, NSTATV, ours, contract, and its region (a box
-  !> lo(1:ndim) .. hi(1:ndim), or the rest when lo and hi are absent).
-  !> Errors name the occurrence and the key.
-  subroutine add_material(self, props, nstatv, ours, contract, err, lo, hi)
+  !> lo(1:ndim) .. hi(1:ndim), or the rest when lo and hi are absent);
+  !> through the VUMAT when `vumat` is true (else the UMAT). Errors name the
+  !> occurrence and the key.
+  subroutine add_material(self, props, nstatv, ours, contract, err, lo, hi, vumat)
     type(mpm_materials_t), intent(inout) :: self
     real(dp), intent(in) :: props(:)
     integer, intent(in) :: nstatv
     logical, intent(in) :: ours, contract
     type(error_t), allocatable, intent(out) :: err
     real(dp), intent(in), optional :: lo(:), hi(:)
+    logical, intent(in), optional :: vumat
     integer :: k
     if (self%n >= max_materials) then
       call new_error(err, status_invalid, 'material', occurrence(self, self%n + 1)// &
@@ -82,6 +85,8 @@ contains
     self%props(1:size(props), k) = props
     self%nstatv(k) = nstatv
     self%ours(k) = ours
+    self%vumat(k) = .false.
+    if (present(vumat)) self%vumat(k) = vumat
     self%contract(k) = ours .or. contract
     self%rest(k) = .not. (present(lo) .and. present(hi))
     if (self%rest(k)) return
@@ -157,7 +162,8 @@ contains
   end subroutine check_covered
 
   !> A set of one material filling the scene, from a config's PROPS when
-  !> `given` holds none (configs built in code); else `given`.
+  !> `given` holds none (configs built in code; ours through the VUMAT);
+  !> else `given`.
   function single_material(given, props, nstatv, ndim, ours) result(m)
     type(mpm_materials_t), intent(in) :: given
     real(dp), intent(in) :: props(:)
@@ -168,7 +174,8 @@ contains
     m = given
     if (m%n > 0) return
     m%ndim = ndim
-    call add_material(m, props, max(nstatv, least_nstatv(ours, .false.)), ours, .false., err)
+    call add_material(m, props, max(nstatv, least_nstatv(ours, .false.)), ours, .false., err, &
+                      vumat=ours)
   end function single_material
 
   !> Least NSTATV of a material: our model's (min_nstatv) where the UMAT is

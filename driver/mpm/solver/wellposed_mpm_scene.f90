@@ -14,8 +14,8 @@ module wellposed_mpm_scene
   use wellposed_mpm_materials, only: mpm_materials_t
   use wellposed_umat_host, only: umat_host_t, umat_is_ours
   use wellposed_step_kinematics, only: step_kinematics
-  use wellposed_mpm_particle_umat, only: umat_particle, umat_block, umat_point, point_params
-  use wellposed_dp_params, only: dp_params_t
+  use wellposed_mpm_particle_umat, only: umat_particle
+  use wellposed_mpm_vumat_call, only: vumat_work_t, vumat_material_t, vumat_particles
   use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t
   implicit none
   private
@@ -87,13 +87,15 @@ module wellposed_mpm_scene
     !> F at the step's start (ndim x ndim), kept for a user's UMAT only:
     !> its DFGRD0 and DROT (wellposed's own reads neither)
     real(dp), allocatable :: f_n(:, :, :)
-    integer, allocatable :: block_idx(:)  !< particles of one material (block update)
+    ! the material calls (update, update_local, update_list): particles of
+    ! one VUMAT material, their places in the update, averages, answers
+    integer, allocatable :: block_idx(:), block_pos(:)
+    real(dp), allocatable :: block_avg(:), block_dl(:)
+    logical, allocatable :: block_done(:)
+    logical, allocatable :: done(:)       !< answered by the VUMAT (by place in the update)
     integer, allocatable :: nnz(:)        !< support nodes in use of each particle, this step
-    logical, allocatable :: done(:)       !< updated by the block kernel this step
-    real(dp), allocatable :: block_avg(:), block_dl(:)  !< a list's averages, dlambda (by particle)
-    type(dp_params_t), allocatable :: point_par(:)  !< each material's PROPS, checked this step
-    logical, allocatable :: point_ok(:)   !< material k goes through umat_point
-    integer :: point_step = -1            !< the step point_par was checked for
+    type(vumat_work_t) :: vw              !< the VUMAT's block arrays
+    type(vumat_material_t), allocatable :: vmat(:)  !< what each material's VUMAT call is told
     type(nonlocal_t) :: nl                !< Algorithm 1 (the dissertation's chapter 4)
     type(umat_host_t) :: host             !< the UMAT host, one per scene
   contains
@@ -155,16 +157,17 @@ contains
       mat = self%mat(1:n)
       q = self%q(1:n)
       deallocate (self%mat, self%q, self%s0, self%sv0, self%e0, self%de, self%vol_n, &
-                  self%lgrad, self%block_idx, self%done, self%nnz, self%block_avg, &
-                  self%block_dl)
+                  self%lgrad, self%block_idx, self%block_pos, self%block_done, self%done, &
+                  self%nnz, self%block_avg, self%block_dl)
     else
       n = 0
       allocate (mat(0), q(0))
     end if
     allocate (self%mat(cap), self%q(cap), self%s0(self%ntens, cap), self%sv0(ns, cap), &
               self%e0(self%ntens, cap), self%de(self%ntens, cap), self%vol_n(cap), &
-              self%lgrad(self%ndim, self%ndim, cap), self%block_idx(cap), self%done(cap), &
-              self%nnz(cap), self%block_avg(cap), self%block_dl(cap))
+              self%lgrad(self%ndim, self%ndim, cap), self%block_idx(cap), self%block_pos(cap), &
+              self%block_done(cap), self%done(cap), self%nnz(cap), self%block_avg(cap), &
+              self%block_dl(cap))
     if (allocated(self%f_n)) deallocate (self%f_n)
     if (.not. umat_is_ours()) allocate (self%f_n(self%ndim, self%ndim, cap))
     self%mat(1:n) = mat
@@ -173,9 +176,10 @@ contains
 
   !> The host side of Algorithm 1: particle p from its start of step (the
   !> copies s0, sv0, e0 when Algorithm 1 iterates; else the particle's own
-  !> state: a local model updates each particle once) with STATEV(3) = avg
-  !> through the UMAT host (driver/host: its cut-back splitting, PNEWDT and
-  !> non-finite rules); dlambda = STATEV(2) afterwards.
+  !> state: a local model updates each particle once) with STATEV(3) = avg:
+  !> through the VUMAT (a block of one) when its material is a VUMAT's, else
+  !> (or when our VUMAT refuses it) through the UMAT host (driver/host: its
+  !> cut-back splitting, PNEWDT and non-finite rules); dlambda = STATEV(2).
   subroutine scene_update(self, p, avg, dlambda, err)
     class(mpm_scene_t), intent(inout) :: self
     integer, intent(in) :: p
@@ -185,9 +189,15 @@ contains
     integer :: nsub, k, nt
     nt = self%ntens
     call restore_start(self, p)
-    if (point_path(self, p, avg, dlambda)) return
+    k = self%mat(p)
+    if (self%mats%vumat(k)) then
+      self%block_idx(1) = p
+      self%block_avg(1) = avg
+      call vumat_of(self, k, 1, .true., err)
+      dlambda = self%block_dl(1)
+      if (allocated(err) .or. self%block_done(1)) return
+    end if
     associate (pt => self%parts)
-      k = self%mat(p)
       self%host%ours = self%mats%contract(k)
       self%host%kinematics_given = .true.
       if (allocated(self%f_n)) call step_kinematics(self%f_n(:, :, p), pt%defgrad(1:self%ndim, &
@@ -202,19 +212,17 @@ contains
   end subroutine scene_update
 
   !> Step 1 of Algorithm 1 (every particle with <dlambda> = 0): the
-  !> particles of each material of ours a block at a time (update_blocks);
-  !> every other particle, and any the block kernel leaves, through
-  !> scene_update one by one, in order, up to the first error. Each
-  !> particle's answer is its own UMAT call's.
+  !> particles of each VUMAT material a block at a time (update_blocks);
+  !> every other particle, and any our VUMAT refuses, through scene_update
+  !> one by one, in order, up to the first error.
   subroutine scene_update_local(self, dl, err)
     class(mpm_scene_t), intent(inout) :: self
     real(dp), intent(out) :: dl(:)
     type(error_t), allocatable, intent(out) :: err
-    integer :: n, p, ndone
+    integer :: n, p
     n = size(dl)
-    self%done(1:n) = .false.
-    call update_blocks(self, n, dl, ndone)
-    if (ndone == n) return
+    call update_blocks(self, n, dl, err)
+    if (allocated(err)) return
     do p = 1, n
       if (self%done(p)) cycle
       call self%update(p, 0.0_dp, dl(p), err)
@@ -232,28 +240,18 @@ contains
     real(dp), intent(in) :: avg(:)
     real(dp), intent(out) :: dl(:)
     type(error_t), allocatable, intent(out) :: err
-    integer :: q, p, m
-    logical :: blocks
-    ! The block kernel updates in place: restore its particles here; one
-    ! it cannot take (a user's UMAT, another material) scene_update restores.
-    blocks = block_kernel_on(self)
+    integer :: q
+    ! the VUMAT updates in place: its particles back at their start here
+    ! (scene_update restores the others)
     do q = 1, size(list)
-      p = list(q)
-      self%done(p) = .false.
-      self%block_avg(p) = avg(q)
-      if (blocks) then
-        if (self%mats%ours(self%mat(p))) call restore_start(self, p)
-      end if
+      if (self%mats%vumat(self%mat(list(q)))) call restore_start(self, list(q))
     end do
-    call update_blocks(self, size(list), self%block_dl, m, list, self%block_avg)
+    call update_blocks(self, size(list), dl, err, list, avg)
+    if (allocated(err)) return
     do q = 1, size(list)
-      p = list(q)
-      if (self%done(p)) then
-        dl(q) = self%block_dl(p)
-      else
-        call self%update(p, avg(q), dl(q), err)
-        if (allocated(err)) return
-      end if
+      if (self%done(q)) cycle
+      call self%update(list(q), avg(q), dl(q), err)
+      if (allocated(err)) return
     end do
   end subroutine scene_update_list
 
@@ -270,23 +268,20 @@ contains
     self%parts%stran(1:nt, p) = self%e0(:, p)
   end subroutine restore_start
 
-  !> The particles list(1:n) (1 .. n without a list) of each material of
-  !> ours through the block kernel (umat_block: the UMAT's arithmetic, a
-  !> chunk of points at once) when the linked UMAT is wellposed's: done(p)
-  !> is set for the ndone particles it updated, dl(p) is their dlambda;
-  !> avg(p) their <dlambda> (0 if absent).
-  subroutine update_blocks(self, n, dl, ndone, list, avg)
+  !> The particles list(1:n) (1 .. n without a list) of each VUMAT material
+  !> through the VUMAT, a block at a time, with <dlambda> avg(q) (0 if
+  !> absent): done(q) is set for those it answered, dl(q) is their dlambda.
+  subroutine update_blocks(self, n, dl, err, list, avg)
     type(mpm_scene_t), intent(inout) :: self
     integer, intent(in) :: n
     real(dp), intent(inout) :: dl(:)
-    integer, intent(out) :: ndone
+    type(error_t), allocatable, intent(out) :: err
     integer, intent(in), optional :: list(:)
     real(dp), intent(in), optional :: avg(:)
-    integer :: k, m, q, p
-    ndone = 0
-    if (.not. block_kernel_on(self)) return
+    integer :: k, m, q, p, j
+    self%done(1:n) = .false.
     do k = 1, self%mats%n
-      if (.not. self%mats%ours(k)) cycle
+      if (.not. self%mats%vumat(k)) cycle
       m = 0
       do q = 1, n
         p = q
@@ -294,59 +289,48 @@ contains
         if (self%mat(p) /= k) cycle
         m = m + 1
         self%block_idx(m) = p
+        self%block_pos(m) = q
+        if (present(avg)) self%block_avg(m) = avg(q)
       end do
       if (m == 0) cycle
-      associate (pt => self%parts)
-        call umat_block(self%mats%props(1:self%mats%nprops(k), k), self%ntens, &
-                        self%host%nstatv, self%dt, self%block_idx(1:m), self%de, pt%stress, &
-                        pt%statev, pt%stran, dl, self%done, avg, ndone)
-      end associate
+      call vumat_of(self, k, m, present(avg), err)
+      if (allocated(err)) return
+      do j = 1, m
+        if (.not. self%block_done(j)) cycle
+        self%done(self%block_pos(j)) = .true.
+        dl(self%block_pos(j)) = self%block_dl(j)
+      end do
     end do
   end subroutine update_blocks
 
-  !> Particle p alone through umat_point (Algorithm 1's sweeps in the serial
-  !> order, and the particles the block kernel leaves) when its material is
-  !> ours and the linked UMAT is wellposed's: the UMAT call's answer without
-  !> the call, PROPS checked once a step. True when done; else p is untouched.
-  logical function point_path(self, p, avg, dlambda) result(done)
+  !> Particles block_idx(1:m) of material k through the VUMAT, with the
+  !> averages block_avg(1:m) when with_avg (else 0): block_done, block_dl.
+  subroutine vumat_of(self, k, m, with_avg, err)
     type(mpm_scene_t), intent(inout) :: self
-    integer, intent(in) :: p
-    real(dp), intent(in) :: avg
-    real(dp), intent(inout) :: dlambda
-    integer :: k, nt
-    done = .false.
-    if (.not. block_kernel_on(self)) return
-    if (self%point_step /= self%nstep) then
-      if (allocated(self%point_ok)) then
-        if (size(self%point_ok) /= self%mats%n) deallocate (self%point_par, self%point_ok)
-      end if
-      if (.not. allocated(self%point_ok)) then
-        allocate (self%point_par(self%mats%n), self%point_ok(self%mats%n))
-      end if
-      do k = 1, self%mats%n
-        self%point_ok(k) = .false.
-        if (.not. (self%mats%ours(k) .and. self%mats%contract(k))) cycle
-        call point_params(self%mats%props(1:self%mats%nprops(k), k), self%ntens, &
-                          self%host%nstatv, self%dt, self%point_par(k), self%point_ok(k))
+    integer, intent(in) :: k, m
+    logical, intent(in) :: with_avg
+    type(error_t), allocatable, intent(out) :: err
+    integer :: j
+    if (.not. allocated(self%vmat)) then
+      allocate (self%vmat(self%mats%n))
+      do j = 1, self%mats%n
+        self%vmat(j) = vumat_material_t(self%mats%props(1:self%mats%nprops(j), j), &
+                                        self%mats%ours(j), self%mats%contract(j), &
+                                        self%host%cmname, self%density, self%dx)
       end do
-      self%point_step = self%nstep
     end if
-    k = self%mat(p)
-    if (k < 1 .or. k > size(self%point_ok)) return
-    if (.not. self%point_ok(k)) return
-    nt = self%ntens
-    associate (pt => self%parts)
-      call umat_point(self%point_par(k), nt, self%dt, avg, pt%stress(1:nt, p), &
-                      pt%statev(:, p), pt%stran(1:nt, p), self%de(:, p), dlambda, done)
+    associate (pt => self%parts, w => self%vw, mat => self%vmat(k), nt => self%ntens)
+      if (with_avg) then
+        call vumat_particles(w, mat, nt, self%t, self%dt, self%block_idx(1:m), pt%gid, &
+                             self%de, pt%stress, pt%statev, pt%stran, self%block_dl, &
+                             self%block_done, err, self%block_avg(1:m))
+      else
+        call vumat_particles(w, mat, nt, self%t, self%dt, self%block_idx(1:m), pt%gid, &
+                             self%de, pt%stress, pt%statev, pt%stran, self%block_dl, &
+                             self%block_done, err)
+      end if
     end associate
-  end function point_path
-
-  !> True when our materials go through the block kernel: the linked UMAT
-  !> is wellposed's and no user UMAT procedure is set on the host.
-  logical function block_kernel_on(self)
-    type(mpm_scene_t), intent(in) :: self
-    block_kernel_on = umat_is_ours() .and. .not. associated(self%host%fn)
-  end function block_kernel_on
+  end subroutine vumat_of
 
   !> The largest UMAT cut-back split used so far on any rank (collective).
   integer function max_substeps(self) result(nsub)

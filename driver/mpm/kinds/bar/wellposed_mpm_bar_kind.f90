@@ -11,7 +11,8 @@ module wellposed_mpm_bar_kind
   use wellposed_mpm_config, only: mpm_config_t
   use wellposed_mpm_loads, only: surface_stress
   use wellposed_mpm_mass_matrix, only: mass_matrix_update
-  use wellposed_umat_host, only: umat_host_t, new_umat_host, host_update
+  use wellposed_umat_host, only: umat_host_t, new_umat_host
+  use wellposed_mpm_vumat_call, only: material_update
   use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t
   implicit none
   private
@@ -69,7 +70,7 @@ contains
     integer :: k
     do k = 1, sc%mats%n
       call probe_moduli(self%cfg, sc%mats%props(1:sc%mats%nprops(k), k), m_elastic, m_plastic, &
-                        err)
+                        err, sc%mats%vumat(k))
       if (allocated(err)) return
       sc%modulus_elastic = max(sc%modulus_elastic, m_elastic)
       self%modulus_plastic = max(self%modulus_plastic, m_plastic)
@@ -86,32 +87,36 @@ contains
   !> (the first reaches the cone), each over a long DTIME (1000 s) so that
   !> a rate-dependent model answers with its quasi-static (stiffest) limit.
   !> Increments of 1e-5 strain. Pa.
-  subroutine probe_moduli(cfg, props, elastic, plastic, err)
+  subroutine probe_moduli(cfg, props, elastic, plastic, err, vumat)
     type(mpm_config_t), intent(in) :: cfg
     real(dp), intent(in) :: props(:)
     real(dp), intent(out) :: elastic, plastic
     type(error_t), allocatable, intent(out) :: err
+    logical, intent(in), optional :: vumat
     real(dp), parameter :: de = 1.0e-5_dp
     real(dp) :: s(6), sv(cfg%nstatv), e(6), d(6), s1
     integer :: nsub
     type(umat_host_t) :: h
+    logical :: via
+    via = .false.
+    if (present(vumat)) via = vumat
     call new_umat_host(h, 6, cfg%nstatv, err, what='particle')
     if (allocated(err)) return
     h%celent = cfg%dx
     d = 0.0_dp
     s = cfg%stress0; sv = 0.0_dp; e = 0.0_dp; d(1) = -de
     h%dtime = 1.0e-6_dp
-    call host_update(h, props, s, sv, e, d, nsub, err)
+    call material_update(h, props, via, s, sv, e, d, nsub, err)
     if (allocated(err)) return
     elastic = (s(1) - cfg%stress0(1))/(-de)
     ! the plastic modulus over slow increments (a rate-dependent model relaxed)
     s = cfg%stress0; sv = 0.0_dp; e = 0.0_dp; d(1) = de
     h%dtime = 1.0e3_dp
-    call host_update(h, props, s, sv, e, d, nsub, err)
+    call material_update(h, props, via, s, sv, e, d, nsub, err)
     if (allocated(err)) return
     s1 = s(1)
     h%time = 1.0e3_dp
-    call host_update(h, props, s, sv, e, d, nsub, err)
+    call material_update(h, props, via, s, sv, e, d, nsub, err)
     if (allocated(err)) return
     plastic = (s(1) - s1)/de
     if (.not. (elastic > 0.0_dp .and. plastic > 0.0_dp)) then

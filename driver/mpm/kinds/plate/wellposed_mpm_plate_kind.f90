@@ -13,6 +13,7 @@ module wellposed_mpm_plate_kind
   use wellposed_mpm_particles, only: particles_t
   use wellposed_mpm_shape_2d, only: shape_2d, shape2d_linear
   use wellposed_mpm_particle_umat, only: strain_increment
+  use wellposed_mpm_vumat_call, only: material_update
   use wellposed_mpm_plate_config, only: ps_config_t, bc_roller, bc_fixed2, bc_velocity, &
                                         platen_surface, platen_contact
   use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t
@@ -72,14 +73,14 @@ contains
 
   !> The stress of one UMAT call of material m from the natural state over
   !> d (0 when the UMAT asks to cut back; a refusal or a non-finite answer
-  !> is the error err).
+  !> is the error err), or of the VUMAT's for a material called through it.
   function probe_stress(sc, m, d, nstatv, err) result(dsig)
     class(mpm_scene_t), intent(inout) :: sc
     integer, intent(in) :: m, nstatv
     real(dp), intent(in) :: d(4)
     type(error_t), allocatable, intent(inout) :: err
     real(dp) :: dsig(4), s(4), sv(nstatv), e(4)
-    integer :: verdict
+    integer :: verdict, nsub
     s = 0.0_dp
     sv = 0.0_dp
     e = 0.0_dp
@@ -87,6 +88,14 @@ contains
     sc%host%dtime = 1.0e-6_dp
     sc%host%noel = 1
     sc%host%coords = 0.0_dp
+    if (sc%mats%vumat(m)) then
+      ! through the VUMAT its particles are called through
+      call material_update(sc%host, sc%mats%props(1:sc%mats%nprops(m), m), .true., s, sv, e, d, &
+                           nsub, err)
+      dsig = s
+      if (allocated(err)) err%message = err%message//' (probing the moduli)'
+      return
+    end if
     call host_call(sc%host, sc%mats%props(1:sc%mats%nprops(m), m), s, sv, e, d, verdict)
     dsig = s
     if (verdict /= verdict_ok) dsig = 0.0_dp

@@ -1,0 +1,66 @@
+C     A legacy fixed-form Abaqus/Explicit VUMAT for the MPM tests:
+C     linear isotropic elasticity from PROPS(1) = K (bulk modulus, Pa)
+C     and PROPS(2) = G (shear modulus, Pa) on a block of points, implicit
+C     typing through vaba_param.inc, tensor shears as Abaqus/Explicit
+C     passes them. Bad PROPS (fewer than 2, K or G not > 0): a message on
+C     unit 6 and XPLB_EXIT. PROPS(3) = 1 misbehaves: from the tenth of a
+C     millisecond on, the first point of each block gets a NaN stress
+C     (QNAN, vumat_nan.f90). STATEV is left as it is.
+      SUBROUTINE VUMAT(
+     1 NBLOCK, NDIR, NSHR, NSTATEV, NFIELDV, NPROPS, LANNEAL,
+     2 STEPTIME, TOTALTIME, DT, CMNAME, COORDMP, CHARLENGTH,
+     3 PROPS, DENSITY, STRAININC, RELSPININC,
+     4 TEMPOLD, STRETCHOLD, DEFGRADOLD, FIELDOLD,
+     5 STRESSOLD, STATEOLD, ENERINTERNOLD, ENERINELASOLD,
+     6 TEMPNEW, STRETCHNEW, DEFGRADNEW, FIELDNEW,
+     7 STRESSNEW, STATENEW, ENERINTERNNEW, ENERINELASNEW)
+      INCLUDE 'vaba_param.inc'
+      CHARACTER*80 CMNAME
+      DIMENSION PROPS(NPROPS), DENSITY(NBLOCK), COORDMP(NBLOCK,*),
+     1 CHARLENGTH(NBLOCK), STRAININC(NBLOCK,NDIR+NSHR),
+     2 RELSPININC(NBLOCK,NSHR), TEMPOLD(NBLOCK),
+     3 STRETCHOLD(NBLOCK,NDIR+NSHR), DEFGRADOLD(NBLOCK,NDIR+NSHR+NSHR),
+     4 FIELDOLD(NBLOCK,NFIELDV), STRESSOLD(NBLOCK,NDIR+NSHR),
+     5 STATEOLD(NBLOCK,NSTATEV), ENERINTERNOLD(NBLOCK),
+     6 ENERINELASOLD(NBLOCK), TEMPNEW(NBLOCK),
+     7 STRETCHNEW(NBLOCK,NDIR+NSHR), DEFGRADNEW(NBLOCK,NDIR+NSHR+NSHR),
+     8 FIELDNEW(NBLOCK,NFIELDV), STRESSNEW(NBLOCK,NDIR+NSHR),
+     9 STATENEW(NBLOCK,NSTATEV), ENERINTERNNEW(NBLOCK),
+     1 ENERINELASNEW(NBLOCK)
+      IF (NPROPS .LT. 2) THEN
+        WRITE(6,100) NPROPS
+        CALL XPLB_EXIT
+      END IF
+      BULK = PROPS(1)
+      SHEAR = PROPS(2)
+      IF (.NOT. (BULK .GT. 0.D0 .AND. SHEAR .GT. 0.D0)) THEN
+        WRITE(6,101) BULK, SHEAR
+        CALL XPLB_EXIT
+      END IF
+      TWOG = 2.D0*SHEAR
+      DO 20 K = 1, NBLOCK
+        TRACE = STRAININC(K,1) + STRAININC(K,2) + STRAININC(K,3)
+        DO 10 I = 1, NDIR
+          STRESSNEW(K,I) = STRESSOLD(K,I)
+     1      + TWOG*(STRAININC(K,I) - TRACE/3.D0) + BULK*TRACE
+   10   CONTINUE
+        DO 15 I = NDIR + 1, NDIR + NSHR
+          STRESSNEW(K,I) = STRESSOLD(K,I) + TWOG*STRAININC(K,I)
+   15   CONTINUE
+        DO 18 I = 1, NSTATEV
+          STATENEW(K,I) = STATEOLD(K,I)
+   18   CONTINUE
+        ENERINTERNNEW(K) = ENERINTERNOLD(K)
+        ENERINELASNEW(K) = ENERINELASOLD(K)
+   20 CONTINUE
+      IF (NPROPS .GE. 3) THEN
+        IF (PROPS(3) .EQ. 1.D0 .AND. TOTALTIME .GT. 1.D-4) THEN
+          STRESSNEW(1,1) = QNAN()
+        END IF
+      END IF
+      RETURN
+  100 FORMAT(' VUMAT_HOOKE: NPROPS = ',I3,' but PROPS(1) = K and ',
+     1 'PROPS(2) = G are needed')
+  101 FORMAT(' VUMAT_HOOKE: K = ',1PE12.4,' and G = ',1PE12.4,
+     1 ' Pa must both be > 0')
+      END
