@@ -6,7 +6,7 @@
 !> status 1 and leave only <name>.partial/ behind. `--batch FILE` runs a
 !> batch file, one process per deck, over the ranks of an mpirun.
 program wellposed_point
-  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+  use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_fs, only: int_text, shell_quote
@@ -14,6 +14,7 @@ program wellposed_point
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
   use wellposed_h5, only: h5_file_t
+  use wellposed_checked_io, only: out_file_t, end_run, say_error
   use wellposed_plot, only: run_plot
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
   use wellposed_dense, only: solve_dense
@@ -189,7 +190,9 @@ contains
   subroutine write_path(mat, hist)
     type(material_t), intent(in) :: mat
     type(history_t), intent(in) :: hist
-    integer :: unit, i, n
+    type(out_file_t) :: csv
+    integer :: i, n, ios
+    character(len=512) :: msg
     character(len=:), allocatable :: lab, header
     lab = mat%label
     n = hist%n
@@ -197,13 +200,16 @@ contains
     do i = 1, mat%nstatv
       header = header//',statev'//int_text(i)
     end do
-    open (newunit=unit, file=run%path(lab//'_path.csv'), status='replace', action='write')
-    write (unit, '(a)') header
+    call csv%open(run%path(lab//'_path.csv'), err)
+    call check(err)
+    call csv%put(header)
     do i = 1, n
-      write (unit, '(i0,",",i0,*(:,",",es24.16e3))') hist%leg(i), hist%inc(i), hist%time(i), &
-        hist%strain(i, :), hist%stress(i, :), hist%statev(i, :)
+      write (csv%unit, '(i0,",",i0,*(:,",",es24.16e3))', iostat=ios, iomsg=msg) hist%leg(i), &
+        hist%inc(i), hist%time(i), hist%strain(i, :), hist%stress(i, :), hist%statev(i, :)
+      call csv%note(ios, msg)
     end do
-    close (unit)
+    call csv%close(err)
+    call check(err)
     call h5%write(lab//'/path/time', hist%time(1:n))
     call h5%write(lab//'/path/leg', hist%leg(1:n))
     call h5%write(lab//'/path/strain', hist%strain(1:n, :))
@@ -278,7 +284,9 @@ contains
     type(lode_frame_t) :: frame
     type(acoustic_t) :: ac
     type(point_state_t) :: s1
-    integer :: i, unit, imax, imin
+    type(out_file_t) :: csv
+    integer :: i, imax, imin, ios
+    character(len=512) :: msg
     lab = mat%label
     call elastic_stiffness(mat, deck%probe_strain, c, err)
     call check(err)
@@ -292,12 +300,16 @@ contains
       theta = [(2.0_dp*pi*(i - 1)/deck%probe%n_theta, i = 1, deck%probe%n_theta)]
       call rtheta_probe(mat, s, c, deck%probe_strain, frame, theta, r, err)
       call check(err)
-      open (newunit=unit, file=run%path(lab//'_rtheta.csv'), status='replace', action='write')
-      write (unit, '(a)') 'theta_deg,R'
+      call csv%open(run%path(lab//'_rtheta.csv'), err)
+      call check(err)
+      call csv%put('theta_deg,R')
       do i = 1, size(theta)
-        write (unit, '(es24.16e3,",",es24.16e3)') theta(i)*180.0_dp/pi, r(i)
+        write (csv%unit, '(es24.16e3,",",es24.16e3)', iostat=ios, iomsg=msg) &
+          theta(i)*180.0_dp/pi, r(i)
+        call csv%note(ios, msg)
       end do
-      close (unit)
+      call csv%close(err)
+      call check(err)
       call h5%write(lab//'/rtheta/theta_deg', theta*180.0_dp/pi)
       call h5%write(lab//'/rtheta/r', r)
       call h5%write(lab//'/rtheta/normal_lode', frame%n2)
@@ -357,12 +369,16 @@ contains
                          dsig2, deps2, depsp2, err)
       if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
       call check(err)
-      open (newunit=unit, file=run%path(lab//'_gudehus.csv'), status='replace', action='write')
-      write (unit, '(a)') 'phi_deg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r'
+      call csv%open(run%path(lab//'_gudehus.csv'), err)
+      call check(err)
+      call csv%put('phi_deg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r')
       do i = 1, size(phi)
-        write (unit, '(es24.16e3,6(",",es24.16e3))') phi(i), dsig2(i, :), deps2(i, :), depsp2(i, :)
+        write (csv%unit, '(es24.16e3,6(",",es24.16e3))', iostat=ios, iomsg=msg) phi(i), &
+          dsig2(i, :), deps2(i, :), depsp2(i, :)
+        call csv%note(ios, msg)
       end do
-      close (unit)
+      call csv%close(err)
+      call check(err)
       call h5%write(lab//'/gudehus/phi_deg', phi)
       call h5%write(lab//'/gudehus/dsig', dsig2)
       call h5%write(lab//'/gudehus/deps', deps2)
@@ -377,19 +393,25 @@ contains
     type(point_state_t), intent(inout) :: s
     type(ch3_result_t) :: res
     character(len=:), allocatable :: lab
-    integer :: unit, k
+    type(out_file_t) :: csv
+    integer :: k, ios
+    character(len=512) :: msg
     lab = mat%label
     write (output_unit, '(a)') '  ['//lab//'] chapter 3 virtual experiment: '// &
       int_text(deck%ch3%n_cycles)//' cycles of 8 legs'
     call run_chapter3(mat, s, deck%ch3, deck%solver, res, err)
     if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
     call check(err)
-    open (newunit=unit, file=run%path(lab//'_chapter3.csv'), status='replace', action='write')
-    write (unit, '(a)') 'leg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r'
+    call csv%open(run%path(lab//'_chapter3.csv'), err)
+    call check(err)
+    call csv%put('leg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r')
     do k = 1, 8
-      write (unit, '(i0,6(",",es24.16e3))') k, res%s(:, k), res%r(:, k), res%rp(:, k)
+      write (csv%unit, '(i0,6(",",es24.16e3))', iostat=ios, iomsg=msg) k, res%s(:, k), &
+        res%r(:, k), res%rp(:, k)
+      call csv%note(ios, msg)
     end do
-    close (unit)
+    call csv%close(err)
+    call check(err)
     call h5%write(lab//'/chapter3/s', res%s)
     call h5%write(lab//'/chapter3/r', res%r)
     call h5%write(lab//'/chapter3/rp', res%rp)
@@ -419,17 +441,18 @@ contains
   subroutine check(e)
     type(error_t), allocatable, intent(in) :: e
     if (.not. allocated(e)) return
-    write (error_unit, '(a)') 'wellposed-point: error: '//e%message
-    if (allocated(run%partial)) write (error_unit, '(a)') &
-      'wellposed-point: the run is incomplete: '//run%partial//' is left for inspection'
-    stop 1, quiet=.true.
+    if (allocated(run%partial)) then
+      call end_run('wellposed-point', e%message, run%partial)
+    else
+      call end_run('wellposed-point', e%message)
+    end if
   end subroutine check
 
   subroutine fail_usage(message)
     character(len=*), intent(in) :: message
-    write (error_unit, '(a)') 'wellposed-point: '//message, &
-      'usage: wellposed-point DECK [--no-plot] [--out ROOT] | --batch FILE [--out ROOT] '// &
-      '[--no-plot] (see --help)'
+    call say_error('wellposed-point: '//message)
+    call say_error('usage: wellposed-point DECK [--no-plot] [--out ROOT] | --batch FILE '// &
+                   '[--out ROOT] [--no-plot] (see --help)')
     stop 2, quiet=.true.
   end subroutine fail_usage
 
