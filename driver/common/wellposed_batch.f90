@@ -407,7 +407,7 @@ contains
     subroutine write_text(path, text)
       character(len=*), intent(in) :: path, text
       type(out_file_t) :: out
-      call out%open(path, err, stream=.true.)
+      call out%open(path, err)
       if (allocated(err)) return
       call out%put_bytes(text)
       call out%close(err)

@@ -1,12 +1,14 @@
 !> The checked write layer of every program: a text output written under a
-!> temporary name, every write, flush and close checked, renamed into place
+!> temporary name through C stdio (gfortran's own writes report no error on
+!> a full disk), every write, flush and close checked, renamed into place
 !> only when complete (`out_file_t`); the one way a program ends on an error
-!> (`end_run`: message flushed to standard error whatever it is connected to,
-!> exit status 1); and, in a build with WELLPOSED_WRITE_FAULTS, a write made
-!> to fail on purpose: WELLPOSED_FAIL_WRITE=<text> fails every output whose
-!> file name contains <text> (the full-disk tests, docs/guide/outputs.md).
+!> (`end_run`: message flushed to standard error, exit status 1); and, in a
+!> build with WELLPOSED_WRITE_FAULTS, WELLPOSED_FAIL_WRITE=<text> failing
+!> every output whose file name contains <text> (docs/guide/outputs.md).
 module wellposed_checked_io
   use, intrinsic :: iso_fortran_env, only: error_unit
+  use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_associated, c_char, c_int, &
+                                         c_size_t, c_null_char, c_f_pointer
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_fs, only: rename_path, remove_file, process_id, int_text
   use wellposed_build_info, only: write_faults_enabled
@@ -14,21 +16,57 @@ module wellposed_checked_io
   private
   public :: out_file_t, write_fault, end_run, say_error
 
-  !> A text file being written: open, put/note ..., close.
+  !> Bytes kept before they are handed to fwrite.
+  integer, parameter :: chunk = 65536
+
+  !> A text file being written: open, put ... , close.
   type :: out_file_t
-    integer :: unit = -1
+    type(c_ptr) :: file = c_null_ptr
     character(len=:), allocatable :: path, tmp
     character(len=:), allocatable :: failure  !< the first failed write, if any
+    character(len=:), allocatable :: buf
+    integer :: nbuf = 0
   contains
     procedure :: open => out_open
-    !> put(line): one line of text; put_bytes(text): `text` as it is (a file
-    !> opened with stream = .true.).
+    !> put(line): one line of text (a newline added); put_bytes(text): as it is.
     procedure :: put => out_put
     procedure :: put_bytes => out_put_bytes
-    !> note(ios, msg): the outcome of the caller's own `write (f%unit, ...)`.
-    procedure :: note => out_note
     procedure :: close => out_close
   end type out_file_t
+
+  interface
+    function c_fopen(path, mode) bind(C, name='fopen') result(f)
+      import :: c_ptr, c_char
+      character(kind=c_char), intent(in) :: path(*), mode(*)
+      type(c_ptr) :: f
+    end function c_fopen
+    function c_fwrite(buf, size, n, f) bind(C, name='fwrite') result(done)
+      import :: c_ptr, c_char, c_size_t
+      character(kind=c_char), intent(in) :: buf(*)
+      integer(c_size_t), value :: size, n
+      type(c_ptr), value :: f
+      integer(c_size_t) :: done
+    end function c_fwrite
+    function c_fflush(f) bind(C, name='fflush') result(rc)
+      import :: c_ptr, c_int
+      type(c_ptr), value :: f
+      integer(c_int) :: rc
+    end function c_fflush
+    function c_fclose(f) bind(C, name='fclose') result(rc)
+      import :: c_ptr, c_int
+      type(c_ptr), value :: f
+      integer(c_int) :: rc
+    end function c_fclose
+    function c_errno_location() bind(C, name='__errno_location') result(p)
+      import :: c_ptr
+      type(c_ptr) :: p
+    end function c_errno_location
+    function c_strerror(errnum) bind(C, name='strerror') result(p)
+      import :: c_ptr, c_int
+      integer(c_int), value :: errnum
+      type(c_ptr) :: p
+    end function c_strerror
+  end interface
 
 contains
 
@@ -45,63 +83,71 @@ contains
     if (stat /= 0 .or. n == 0) return
     slash = index(path, '/', back=.true.)
     if (index(path(slash + 1:), value(1:n)) > 0) reason = &
-      'no space left on device (injected by WELLPOSED_FAIL_WRITE='//value(1:n)//')'
+      'No space left on device (injected by WELLPOSED_FAIL_WRITE='//value(1:n)//')'
   end function write_fault
 
-  !> Start writing `path` (under `<path>.tmp.<pid>`): formatted lines, or
-  !> bytes when `stream` is true.
-  subroutine out_open(self, path, err, stream)
+  !> The C library's text for the last failed call (strerror(errno)).
+  function os_reason() result(text)
+    character(len=:), allocatable :: text
+    integer(c_int), pointer :: errno
+    character(kind=c_char), pointer :: chars(:)
+    integer :: n
+    call c_f_pointer(c_errno_location(), errno)
+    call c_f_pointer(c_strerror(errno), chars, [256])
+    n = 0
+    do while (n < 256)
+      if (chars(n + 1) == c_null_char) exit
+      n = n + 1
+    end do
+    allocate (character(len=n) :: text)
+    text = transfer(chars(1:n), text)
+  end function os_reason
+
+  !> Start writing `path` (under `<path>.tmp.<pid>`).
+  subroutine out_open(self, path, err)
     class(out_file_t), intent(inout) :: self
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(out) :: err
-    logical, intent(in), optional :: stream
-    integer :: ios
-    character(len=512) :: msg
-    logical :: raw
-    raw = .false.
-    if (present(stream)) raw = stream
     self%path = path
     self%tmp = path//'.tmp.'//int_text(process_id())
     if (allocated(self%failure)) deallocate (self%failure)
-    if (raw) then
-      open (newunit=self%unit, file=self%tmp, access='stream', form='unformatted', &
-            status='replace', action='write', iostat=ios, iomsg=msg)
-    else
-      open (newunit=self%unit, file=self%tmp, status='replace', action='write', &
-            iostat=ios, iomsg=msg)
-    end if
-    if (ios /= 0) then
-      self%unit = -1
-      call new_error(err, status_invalid, path, 'cannot write "'//path//'": '//trim(msg))
-    end if
+    if (.not. allocated(self%buf)) allocate (character(len=chunk) :: self%buf)
+    self%nbuf = 0
+    self%file = c_fopen(self%tmp//c_null_char, 'wb'//c_null_char)
+    if (.not. c_associated(self%file)) call new_error(err, status_invalid, path, &
+      'cannot write "'//path//'": '//os_reason())
   end subroutine out_open
 
-  subroutine out_put(self, line)
+  !> Hand the kept bytes to fwrite; a short count is the failure.
+  subroutine drain(self)
     class(out_file_t), intent(inout) :: self
-    character(len=*), intent(in) :: line
-    integer :: ios
-    character(len=512) :: msg
-    if (allocated(self%failure) .or. self%unit == -1) return
-    write (self%unit, '(a)', iostat=ios, iomsg=msg) line
-    call self%note(ios, msg)
-  end subroutine out_put
+    integer(c_size_t) :: done
+    if (self%nbuf == 0 .or. allocated(self%failure)) return
+    done = c_fwrite(self%buf(1:self%nbuf), 1_c_size_t, int(self%nbuf, c_size_t), self%file)
+    if (done /= int(self%nbuf, c_size_t)) self%failure = os_reason()
+    self%nbuf = 0
+  end subroutine drain
 
   subroutine out_put_bytes(self, text)
     class(out_file_t), intent(inout) :: self
     character(len=*), intent(in) :: text
-    integer :: ios
-    character(len=512) :: msg
-    if (allocated(self%failure) .or. self%unit == -1) return
-    write (self%unit, iostat=ios, iomsg=msg) text
-    call self%note(ios, msg)
+    integer :: at, n
+    if (allocated(self%failure) .or. .not. c_associated(self%file)) return
+    at = 1
+    do while (at <= len(text))
+      if (self%nbuf == chunk) call drain(self)
+      n = min(chunk - self%nbuf, len(text) - at + 1)
+      self%buf(self%nbuf + 1:self%nbuf + n) = text(at:at + n - 1)
+      self%nbuf = self%nbuf + n
+      at = at + n
+    end do
   end subroutine out_put_bytes
 
-  subroutine out_note(self, ios, msg)
+  subroutine out_put(self, line)
     class(out_file_t), intent(inout) :: self
-    integer, intent(in) :: ios
-    character(len=*), intent(in) :: msg
-    if (ios /= 0 .and. .not. allocated(self%failure)) self%failure = trim(msg)
-  end subroutine out_note
+    character(len=*), intent(in) :: line
+    call self%put_bytes(line//new_line('a'))
+  end subroutine out_put
 
   !> Flush and close the file and rename it to its name; a failed write,
   !> flush or close (a full disk shows at any of them) removes the temporary
@@ -109,20 +155,18 @@ contains
   subroutine out_close(self, err)
     class(out_file_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
-    integer :: ios
-    character(len=512) :: msg
     logical :: removed
-    if (self%unit == -1) then
+    if (.not. c_associated(self%file)) then
       call new_error(err, status_invalid, 'output', 'close of an output that is not open')
       return
     end if
+    call drain(self)
     if (.not. allocated(self%failure)) then
-      flush (self%unit, iostat=ios, iomsg=msg)
-      call self%note(ios, msg)
+      if (c_fflush(self%file) /= 0) self%failure = os_reason()
     end if
-    close (self%unit, iostat=ios, iomsg=msg)
-    call self%note(ios, msg)
-    self%unit = -1
+    if (c_fclose(self%file) /= 0 .and. .not. allocated(self%failure)) &
+      self%failure = os_reason()
+    self%file = c_null_ptr
     if (.not. allocated(self%failure)) then
       if (len(write_fault(self%path)) > 0) self%failure = write_fault(self%path)
     end if

@@ -6,11 +6,12 @@
 !> every job succeeded, 1 when any failed, 2 when the batch could not run.
 !> Details: docs/guide/parallel.md.
 program wellposed_batch_main
-  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+  use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop
   use wellposed_batch_run, only: run_batch, default_figures
   use wellposed_fs, only: shell_quote
+  use wellposed_checked_io, only: say_error
   implicit none
 
   type(comm_t) :: comm
@@ -21,7 +22,7 @@ program wellposed_batch_main
 
   call comm_start(comm, err)
   if (allocated(err)) then
-    write (error_unit, '(a)') 'wellposed-batch: error: '//err%message
+    call say_error('wellposed-batch: error: '//err%message)
     stop 2, quiet=.true.
   end if
   out_root = 'out'
@@ -83,7 +84,7 @@ contains
   !> said by rank 0: the program's own line, no STOP code or backtrace.
   subroutine die(text)
     character(len=*), intent(in) :: text
-    if (comm%rank == 0) write (error_unit, '(a)') 'wellposed-batch: error: '//text
+    if (comm%rank == 0) call say_error('wellposed-batch: error: '//text)
     call comm_stop(comm)
     stop 2, quiet=.true.
   end subroutine die

@@ -191,9 +191,8 @@ contains
     type(material_t), intent(in) :: mat
     type(history_t), intent(in) :: hist
     type(out_file_t) :: csv
-    integer :: i, n, ios
-    character(len=512) :: msg
-    character(len=:), allocatable :: lab, header
+    integer :: i, n
+    character(len=:), allocatable :: lab, header, row
     lab = mat%label
     n = hist%n
     header = 'leg,increment,time,e11,e22,e33,g12,g13,g23,s11,s22,s33,s12,s13,s23'
@@ -203,10 +202,11 @@ contains
     call csv%open(run%path(lab//'_path.csv'), err)
     call check(err)
     call csv%put(header)
+    allocate (character(len=64 + 25*(1 + 2*ntens + mat%nstatv)) :: row)
     do i = 1, n
-      write (csv%unit, '(i0,",",i0,*(:,",",es24.16e3))', iostat=ios, iomsg=msg) hist%leg(i), &
-        hist%inc(i), hist%time(i), hist%strain(i, :), hist%stress(i, :), hist%statev(i, :)
-      call csv%note(ios, msg)
+      write (row, '(i0,",",i0,*(:,",",es24.16e3))') hist%leg(i), hist%inc(i), hist%time(i), &
+        hist%strain(i, :), hist%stress(i, :), hist%statev(i, :)
+      call csv%put(trim(row))
     end do
     call csv%close(err)
     call check(err)
@@ -285,8 +285,8 @@ contains
     type(acoustic_t) :: ac
     type(point_state_t) :: s1
     type(out_file_t) :: csv
-    integer :: i, imax, imin, ios
-    character(len=512) :: msg
+    integer :: i, imax, imin
+    character(len=200) :: row
     lab = mat%label
     call elastic_stiffness(mat, deck%probe_strain, c, err)
     call check(err)
@@ -304,9 +304,8 @@ contains
       call check(err)
       call csv%put('theta_deg,R')
       do i = 1, size(theta)
-        write (csv%unit, '(es24.16e3,",",es24.16e3)', iostat=ios, iomsg=msg) &
-          theta(i)*180.0_dp/pi, r(i)
-        call csv%note(ios, msg)
+        write (row, '(es24.16e3,",",es24.16e3)') theta(i)*180.0_dp/pi, r(i)
+        call csv%put(trim(row))
       end do
       call csv%close(err)
       call check(err)
@@ -373,9 +372,9 @@ contains
       call check(err)
       call csv%put('phi_deg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r')
       do i = 1, size(phi)
-        write (csv%unit, '(es24.16e3,6(",",es24.16e3))', iostat=ios, iomsg=msg) phi(i), &
-          dsig2(i, :), deps2(i, :), depsp2(i, :)
-        call csv%note(ios, msg)
+        write (row, '(es24.16e3,6(",",es24.16e3))') phi(i), dsig2(i, :), deps2(i, :), &
+          depsp2(i, :)
+        call csv%put(trim(row))
       end do
       call csv%close(err)
       call check(err)
@@ -394,8 +393,8 @@ contains
     type(ch3_result_t) :: res
     character(len=:), allocatable :: lab
     type(out_file_t) :: csv
-    integer :: k, ios
-    character(len=512) :: msg
+    integer :: k
+    character(len=200) :: row
     lab = mat%label
     write (output_unit, '(a)') '  ['//lab//'] chapter 3 virtual experiment: '// &
       int_text(deck%ch3%n_cycles)//' cycles of 8 legs'
@@ -406,9 +405,8 @@ contains
     call check(err)
     call csv%put('leg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r')
     do k = 1, 8
-      write (csv%unit, '(i0,6(",",es24.16e3))', iostat=ios, iomsg=msg) k, res%s(:, k), &
-        res%r(:, k), res%rp(:, k)
-      call csv%note(ios, msg)
+      write (row, '(i0,6(",",es24.16e3))') k, res%s(:, k), res%r(:, k), res%rp(:, k)
+      call csv%put(trim(row))
     end do
     call csv%close(err)
     call check(err)

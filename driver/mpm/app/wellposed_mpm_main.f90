@@ -6,7 +6,6 @@
 !> errors to standard error, exit status 1. `wellposed-mpm2d` is an alias.
 !> Usage: docs/guide/mpm.md.
 program wellposed_mpm
-  use, intrinsic :: iso_fortran_env, only: error_unit
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop
   use wellposed_mpm_cli, only: mpm_cli_t, read_mpm_cli, write_mpm_usage
@@ -16,6 +15,7 @@ program wellposed_mpm
   use wellposed_mpm_plate_run, only: run_plate
   use wellposed_batch_run, only: run_batch, default_figures
   use wellposed_fs, only: shell_quote
+  use wellposed_checked_io, only: say_error
   implicit none
 
   type(comm_t) :: comm
@@ -59,7 +59,7 @@ contains
                    default_figures('wellposed-mpm'), nfailed, err)
     call comm_stop(comm)
     if (allocated(err)) then
-      if (comm%rank == 0) write (error_unit, '(a)') 'wellposed-mpm: error: '//err%message
+      if (comm%rank == 0) call say_error('wellposed-mpm: error: '//err%message)
       stop 1, quiet=.true.
     end if
     if (nfailed > 0) stop 1, quiet=.true.
@@ -70,7 +70,7 @@ contains
   !> error before the run starts).
   subroutine die(text)
     character(len=*), intent(in) :: text
-    if (comm%rank == 0) write (error_unit, '(a)') 'wellposed-mpm: error: '//text
+    if (comm%rank == 0) call say_error('wellposed-mpm: error: '//text)
     call comm_stop(comm)
     stop 1, quiet=.true.
   end subroutine die

@@ -289,9 +289,11 @@ contains
     if (allocated(err)) call stop_alone(comm, rd, err%message)
     do ic = 1, study%ncases
       associate (o => outs(ic))
-        call write_csv_curve(rd%path(o%tag//'_curve.csv'), o%curve)
+        call write_csv_curve(rd%path(o%tag//'_curve.csv'), o%curve, err)
+        if (allocated(err)) call stop_alone(comm, rd, err%message)
         call write_csv_iterations(rd%path(o%tag//'_iterations.csv'), o%its, o%nplast, &
-                                  o%scal(1), o%bounds, o%scal(3))
+                                  o%scal(1), o%bounds, o%scal(3), err)
+        if (allocated(err)) call stop_alone(comm, rd, err%message)
         call store%write_xdmf(rd%path(o%tag//'.xdmf'), 'run.h5', o%tag, o%nparticles, 2, 'xy', &
                               err, prefix='cases/'//o%tag//'/')
         if (allocated(err)) call stop_alone(comm, rd, err%message)
