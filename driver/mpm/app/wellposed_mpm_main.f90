@@ -16,6 +16,8 @@ program wellposed_mpm
   use wellposed_batch_run, only: run_batch, default_figures
   use wellposed_fs, only: shell_quote
   use wellposed_checked_io, only: say_error
+  use wellposed_kinds, only: dp
+  use wellposed_mpm_memory, only: deck_memory, check_memory, parse_memory
   implicit none
 
   type(comm_t) :: comm
@@ -36,6 +38,7 @@ program wellposed_mpm
   if (len(cli%deck_path) == 0) cli%deck_path = find_data(default_deck_name)
   call deck_scene_kind(cli%deck_path, cli%overrides, kind, err)
   if (allocated(err)) call die(err%message)
+  call memory_check()
   if (kind == scene_kind_plate) then
     call run_plate(cli, comm)
   else
@@ -65,6 +68,23 @@ contains
     if (nfailed > 0) stop 1, quiet=.true.
     stop
   end subroutine batch
+
+  !> Refuse, before anything is allocated, a deck whose estimated memory
+  !> exceeds --max-memory or the machine's available memory (every rank
+  !> reads the same deck and meets the same verdict).
+  subroutine memory_check()
+    real(dp) :: bytes, nparticles, limit
+    limit = 0.0_dp
+    if (len(cli%max_memory) > 0) then
+      call parse_memory(cli%max_memory, limit, err)
+      if (allocated(err)) call die(err%message)
+    end if
+    call deck_memory(cli%deck_path, cli%overrides, kind, cli%ck_every /= 0, bytes, nparticles, &
+                     err)
+    if (allocated(err)) call die(err%message)
+    call check_memory(cli%deck_path, bytes, nparticles, limit, err)
+    if (allocated(err)) call die(err%message)
+  end subroutine memory_check
 
   !> Stop every rank with `text`, said by rank 0 (every rank meets the same
   !> error before the run starts).
