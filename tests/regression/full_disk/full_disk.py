@@ -57,28 +57,18 @@ def injected(a):
     point = [os.path.join(a.bin, 'wellposed-point'), os.path.join(src, POINT_DECK)]
     mpm = os.path.join(a.bin, 'wellposed-mpm')
     reason = 'injected by WELLPOSED_FAIL_WRITE'
-    cases = [
-        ('point summary', point + ['--no-plot'], 'summary.txt', 'fig2_5_hardening_softening'),
-        ('point HDF5', point + ['--no-plot'], 'results.h5', 'fig2_5_hardening_softening'),
-        ('point CSV', point + ['--no-plot'], '_path.csv', 'fig2_5_hardening_softening'),
-        ('point deck copy', point + ['--no-plot'], '.nml', 'fig2_5_hardening_softening'),
-        ('point PNG', point, '.png', 'fig2_5_hardening_softening'),
-        ('bar summary', [mpm, os.path.join(src, BAR_DECK)] + BAR_ARGS, 'summary.txt', 'sr_short'),
-        ('bar HDF5', [mpm, os.path.join(src, BAR_DECK)] + BAR_ARGS, 'run.h5', 'sr_short'),
-        ('bar XDMF', [mpm, os.path.join(src, BAR_DECK)] + BAR_ARGS, '.xdmf', 'sr_short'),
-        ('bar checkpoint', [mpm, os.path.join(src, BAR_DECK)] + BAR_ARGS, 'checkpoint_',
-         'sr_short'),
-        ('plate summary', [mpm, os.path.join(src, PLATE_DECK)] + PLATE_ARGS, 'summary.txt',
-         'plate_small_local'),
-        ('plate HDF5', [mpm, os.path.join(src, PLATE_DECK)] + PLATE_ARGS, 'run.h5',
-         'plate_small_local'),
-        ('plate CSV', [mpm, os.path.join(src, PLATE_DECK)] + PLATE_ARGS, '_curve.csv',
-         'plate_small_local'),
-        ('plate XDMF', [mpm, os.path.join(src, PLATE_DECK)] + PLATE_ARGS, '.xdmf',
-         'plate_small_local'),
-        ('plate checkpoint', [mpm, os.path.join(src, PLATE_DECK)] + PLATE_ARGS, 'checkpoint_',
-         'plate_small_local'),
-    ]
+    stem = 'fig2_5_hardening_softening'
+    cases = [('point ' + kind, point + ([] if kind == 'PNG' else ['--no-plot']), target, stem)
+             for kind, target in [('summary', 'summary.txt'), ('HDF5', 'results.h5'),
+                                  ('CSV', '_path.csv'), ('deck copy', '.nml'),
+                                  ('PNG', '.png')]]
+    scenes = [('bar', BAR_DECK, BAR_ARGS, 'sr_short', []),
+              ('plate', PLATE_DECK, PLATE_ARGS, 'plate_small_local', [('CSV', '_curve.csv')])]
+    for scene, deck, args, name, extra in scenes:
+        for kind, target in [('summary', 'summary.txt'), ('HDF5', 'run.h5'), ('XDMF', '.xdmf'),
+                             ('checkpoint', 'checkpoint_')] + extra:
+            cases.append((scene + ' ' + kind, [mpm, os.path.join(src, deck)] + args, target,
+                          name))
     for label, cmd, target, name in cases:
         if a.only and not label.startswith(a.only):
             continue
