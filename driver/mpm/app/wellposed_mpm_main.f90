@@ -17,7 +17,7 @@ program wellposed_mpm
   use wellposed_fs, only: shell_quote
   use wellposed_checked_io, only: say_error
   use wellposed_kinds, only: dp
-  use wellposed_mpm_memory, only: deck_memory, check_memory, parse_memory
+  use wellposed_mpm_memory, only: deck_memory, check_memory, parse_memory, resident_start
   implicit none
 
   type(comm_t) :: comm
@@ -39,6 +39,7 @@ program wellposed_mpm
   call deck_scene_kind(cli%deck_path, cli%overrides, kind, err)
   if (allocated(err)) call die(err%message)
   call memory_check()
+  call resident_start()
   if (kind == scene_kind_plate) then
     call run_plate(cli, comm)
   else

@@ -15,7 +15,8 @@ module wellposed_mpm_memory
   use wellposed_mpm_ps_deck, only: read_ps_deck, ps_study_t
   implicit none
   private
-  public :: deck_memory, check_memory, parse_memory, mem_available, memory_text
+  public :: deck_memory, check_memory, parse_memory, mem_available, memory_text, &
+            resident_start, resident_bytes_per_particle
 
   !> Measured: the program without particles, and the bytes per particle of
   !> a bar (two particles per cell, half a node each) and of a plate (four
@@ -24,6 +25,8 @@ module wellposed_mpm_memory
   real(dp), parameter :: base_bytes = 30.0e6_dp
   real(dp), parameter :: bar_out = 3430.0_dp, bar_quiet = 1420.0_dp
   real(dp), parameter :: plate_out = 2900.0_dp, plate_quiet = 1310.0_dp
+  !> The resident size when the program started (bytes; resident_start).
+  real(dp), save :: resident0 = -1.0_dp
 
 contains
 
@@ -110,6 +113,44 @@ contains
     end do
     close (unit)
   end function mem_available
+
+  !> A line `key:  <n> kB` of /proc/self/status in bytes (-1 if absent).
+  real(dp) function status_bytes(key) result(bytes)
+    character(len=*), intent(in) :: key
+    integer :: unit, ios
+    character(len=256) :: line
+    real(dp) :: kb
+    bytes = -1.0_dp
+    open (newunit=unit, file='/proc/self/status', status='old', action='read', iostat=ios)
+    if (ios /= 0) return
+    do
+      read (unit, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (index(line, key//':') /= 1) cycle
+      read (line(len(key) + 2:), *, iostat=ios) kb
+      if (ios == 0) bytes = kb*1024.0_dp
+      exit
+    end do
+    close (unit)
+  end function status_bytes
+
+  !> Note the resident size before anything of a run is allocated.
+  subroutine resident_start()
+    resident0 = status_bytes('VmRSS')
+  end subroutine resident_start
+
+  !> What the run's buffers took per particle, all of them counted: the
+  !> growth of this process's peak resident size (VmHWM) since
+  !> resident_start, over its share `nparticles` of the particles (0 when
+  !> /proc/self/status cannot be read).
+  integer function resident_bytes_per_particle(nparticles) result(bytes)
+    real(dp), intent(in) :: nparticles
+    real(dp) :: peak
+    bytes = 0
+    peak = status_bytes('VmHWM')
+    if (peak < 0.0_dp .or. resident0 < 0.0_dp .or. nparticles < 1.0_dp) return
+    bytes = nint(max(peak - resident0, 0.0_dp)/nparticles)
+  end function resident_bytes_per_particle
 
   !> "4G", "512M", "800k" or a plain number of bytes (binary multiples);
   !> err for anything else.

@@ -25,7 +25,8 @@ module wellposed_mpm_bar_run
   use wellposed_mpm_wake, only: wake_t, station_wake, wake_start
   use wellposed_mpm_paths, only: find_data, stations_plot_name
   use wellposed_mpm_reference, only: reference_plot_args
-  use wellposed_mpm_particles, only: particle_bytes, particles_t
+  use wellposed_mpm_particles, only: particles_t
+  use wellposed_mpm_memory, only: resident_bytes_per_particle
   use wellposed_mpm_nonlocal, only: nl_scheme_names
   use wellposed_mpi, only: comm_t, allreduce_sum, &
                            allreduce_max, broadcast
@@ -404,7 +405,8 @@ contains
       call sm%add('wall_time', wall, 's, time loop only')
       ! a scene of zero steps (t_end = 0: a probe of the initial state) has no rate
       call sm%add('ns_per_particle_step', 1.0e9_dp*wall/max(1.0_dp, real(scene%nstep, dp)*ntotal))
-      call sm%add('bytes_per_particle', particle_bytes(1, scene%parts%nsup, cfg%nstatv))
+      call sm%add('bytes_per_particle', resident_bytes_per_particle(real(ntotal, dp)/comm%size), &
+                  'peak resident growth over the run, every buffer counted')
       call sm%add('share_umat', share(timer_umat))
       call sm%add('share_transfers', share(timer_transfer))
       call sm%add('share_grid', share(timer_grid))
