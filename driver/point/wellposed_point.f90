@@ -1,4 +1,4 @@
-!> wellposed-point DECK [--no-plot] [--out ROOT]: the single-element driver.
+!> wellposed-point DECK [--no-plot] [--out ROOT] [--max-memory SIZE]: one element.
 !> Drives every &material of a namelist deck (keys in docs/guide/decks.md) through
 !> the UMAT along the deck's legs, probes the state and runs the chapter 3
 !> virtual experiment when asked, and writes <out_dir>/<name>/ (deck, CSV,
@@ -15,6 +15,7 @@ program wellposed_point
   use wellposed_summary, only: summary_t
   use wellposed_h5, only: h5_file_t
   use wellposed_checked_io, only: out_file_t, end_run, say_error
+  use wellposed_memory, only: check_memory, parse_memory
   use wellposed_plot, only: run_plot
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
   use wellposed_dense, only: solve_dense
@@ -36,7 +37,7 @@ program wellposed_point
   type(summary_t) :: summary
   type(h5_file_t) :: h5
   character(len=4096) :: arg
-  character(len=:), allocatable :: deck_path, out_root, batch_file
+  character(len=:), allocatable :: deck_path, out_root, batch_file, max_memory
   logical :: plot
   integer :: i, nargs, im
   integer(8) :: t0, t1, rate
@@ -46,6 +47,7 @@ program wellposed_point
   deck_path = ''
   out_root = ''
   batch_file = ''
+  max_memory = ''
   nargs = command_argument_count()
   i = 0
   do while (i < nargs)
@@ -54,10 +56,13 @@ program wellposed_point
     select case (trim(arg))
     case ('--no-plot')
       plot = .false.
-    case ('--out', '--batch')
+    case ('--out', '--batch', '--max-memory')
       if (i == nargs) call fail_usage(trim(arg)//' needs a value')
       i = i + 1
-      if (trim(arg) == '--out') then
+      if (trim(arg) == '--max-memory') then
+        call get_command_argument(i, arg)
+        max_memory = trim(arg)
+      else if (trim(arg) == '--out') then
         call get_command_argument(i, arg)
         out_root = trim(arg)
         if (len(out_root) == 0) call fail_usage('--out needs a non-empty value')
@@ -72,6 +77,7 @@ program wellposed_point
         '  DECK: namelist deck (groups and keys: docs/guide/decks.md)', &
         '  --no-plot: skip the PNG plots (same as plot = .false. in &run)', &
         '  --out ROOT: write ROOT/<name>/ instead of the deck''s out_dir', &
+        '  --max-memory SIZE: refuse a deck needing more (4G, 512M; default MemAvailable)', &
         '  --batch FILE: one deck per line (# comments); summary in ROOT/<FILE name>/'
       stop
     case default
@@ -89,6 +95,7 @@ program wellposed_point
 
   call read_point_deck(deck_path, deck, err)
   call check(err)
+  call memory_check()
   if (len(out_root) > 0) deck%out_dir = out_root
   plot = plot .and. deck%plot
   call run%create(deck%out_dir, deck%name, deck_path, err)
@@ -153,6 +160,22 @@ contains
     if (nfailed > 0) stop 1, quiet=.true.
     stop
   end subroutine run_point_batch
+
+  !> Refuse a deck whose path history would not fit (--max-memory or
+  !> MemAvailable): measured 360 bytes per increment with 12 STATEV, over
+  !> the rows of the longest material's history (docs/guide/outputs.md).
+  subroutine memory_check()
+    real(dp) :: limit, rows, bytes
+    limit = 0.0_dp
+    if (len(max_memory) > 0) then
+      call parse_memory(max_memory, limit, err)
+      call check(err)
+    end if
+    rows = 1.0_dp + sum(real(max(deck%legs%n_inc, 1), dp))
+    bytes = 20.0e6_dp + rows*360.0_dp*(13 + maxval(deck%materials%nstatv))/25.0_dp
+    call check_memory(deck_path, bytes, rows, 'increments', limit, err)
+    call check(err)
+  end subroutine memory_check
 
   subroutine run_material(mat)
     type(material_t), intent(in) :: mat

@@ -17,7 +17,8 @@ program wellposed_mpm
   use wellposed_fs, only: shell_quote
   use wellposed_checked_io, only: say_error
   use wellposed_kinds, only: dp
-  use wellposed_mpm_memory, only: deck_memory, check_memory, parse_memory, resident_start
+  use wellposed_mpm_memory, only: deck_memory, resident_start
+  use wellposed_memory, only: check_memory, parse_memory
   implicit none
 
   type(comm_t) :: comm
@@ -83,7 +84,7 @@ contains
     call deck_memory(cli%deck_path, cli%overrides, kind, cli%ck_every /= 0, bytes, nparticles, &
                      err)
     if (allocated(err)) call die(err%message)
-    call check_memory(cli%deck_path, bytes, nparticles, limit, err)
+    call check_memory(cli%deck_path, bytes, nparticles, 'particles', limit, err)
     if (allocated(err)) call die(err%message)
   end subroutine memory_check
 

@@ -1,13 +1,11 @@
 !> The memory a wellposed-mpm deck needs, estimated before anything is
-!> allocated, against what the machine has (MemAvailable of /proc/meminfo) or
-!> the limit given by --max-memory: a deck over either is refused, naming the
-!> estimate and the deck. The bytes per particle are measured (peak resident
-!> size against the particle count, nodes included at the deck's own ratio;
-!> docs/guide/outputs.md says how), with outputs on and off.
+!> allocated, for wellposed_memory's check, from measured bytes per particle
+!> (peak resident size against the particle count, nodes included at the
+!> deck's own ratio; docs/guide/outputs.md says how), outputs on and off;
+!> and the memory a run took per particle, measured, for its summary.
 module wellposed_mpm_memory
   use wellposed_kinds, only: dp
-  use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_text, only: int_text, real_text
+  use wellposed_error, only: error_t
   use wellposed_mpm_scene_kind, only: scene_kind_plate
   use wellposed_mpm_config, only: mpm_config_t
   use wellposed_mpm_deck, only: read_mpm_deck, mpm_options_t
@@ -15,8 +13,7 @@ module wellposed_mpm_memory
   use wellposed_mpm_ps_deck, only: read_ps_deck, ps_study_t
   implicit none
   private
-  public :: deck_memory, check_memory, parse_memory, mem_available, memory_text, &
-            resident_start, resident_bytes_per_particle
+  public :: deck_memory, resident_start, resident_bytes_per_particle
 
   !> Measured: the program without particles, and the bytes per particle of
   !> a bar (two particles per cell, half a node each) and of a plate (four
@@ -68,52 +65,6 @@ contains
     end if
   end subroutine deck_memory
 
-  !> Refuse (err) a deck whose estimate exceeds `limit` (bytes, from
-  !> --max-memory; <= 0: none) or the machine's available memory.
-  subroutine check_memory(path, bytes, nparticles, limit, err)
-    character(len=*), intent(in) :: path
-    real(dp), intent(in) :: bytes, nparticles, limit
-    type(error_t), allocatable, intent(out) :: err
-    real(dp) :: avail
-    character(len=:), allocatable :: what
-    if (nparticles < 2.0e9_dp) then
-      what = int_text(nint(nparticles))
-    else
-      what = real_text(nparticles)
-    end if
-    what = path//': the deck needs about '//memory_text(bytes)//' ('//what//' particles)'
-    if (limit > 0.0_dp .and. bytes > limit) then
-      call new_error(err, status_invalid, path, what//', more than --max-memory '// &
-        memory_text(limit)//'; nothing was allocated')
-      return
-    end if
-    avail = mem_available()
-    if (avail > 0.0_dp .and. bytes > avail) then
-      call new_error(err, status_invalid, path, what//', more than the machine has '// &
-        'available ('//memory_text(avail)//', MemAvailable in /proc/meminfo); nothing '// &
-        'was allocated')
-    end if
-  end subroutine check_memory
-
-  !> MemAvailable of /proc/meminfo in bytes (-1 when it cannot be read).
-  real(dp) function mem_available() result(avail)
-    integer :: unit, ios
-    character(len=256) :: line
-    real(dp) :: kb
-    avail = -1.0_dp
-    open (newunit=unit, file='/proc/meminfo', status='old', action='read', iostat=ios)
-    if (ios /= 0) return
-    do
-      read (unit, '(a)', iostat=ios) line
-      if (ios /= 0) exit
-      if (index(line, 'MemAvailable:') /= 1) cycle
-      read (line(14:), *, iostat=ios) kb
-      if (ios == 0) avail = kb*1024.0_dp
-      exit
-    end do
-    close (unit)
-  end function mem_available
-
   !> A line `key:  <n> kB` of /proc/self/status in bytes (-1 if absent).
   real(dp) function status_bytes(key) result(bytes)
     character(len=*), intent(in) :: key
@@ -151,52 +102,5 @@ contains
     if (peak < 0.0_dp .or. resident0 < 0.0_dp .or. nparticles < 1.0_dp) return
     bytes = nint(max(peak - resident0, 0.0_dp)/nparticles)
   end function resident_bytes_per_particle
-
-  !> "4G", "512M", "800k" or a plain number of bytes (binary multiples);
-  !> err for anything else.
-  subroutine parse_memory(text, bytes, err)
-    character(len=*), intent(in) :: text
-    real(dp), intent(out) :: bytes
-    type(error_t), allocatable, intent(out) :: err
-    integer :: n, ios
-    real(dp) :: scale
-    bytes = 0.0_dp
-    n = len_trim(text)
-    scale = 1.0_dp
-    if (n > 0) then
-      select case (text(n:n))
-      case ('k', 'K'); scale = 1024.0_dp
-      case ('m', 'M'); scale = 1024.0_dp**2
-      case ('g', 'G'); scale = 1024.0_dp**3
-      case ('t', 'T'); scale = 1024.0_dp**4
-      end select
-      if (scale > 1.0_dp) n = n - 1
-    end if
-    ios = 1
-    if (n > 0) then
-      if (verify(text(1:n), '0123456789.') == 0) read (text(1:n), *, iostat=ios) bytes
-    end if
-    if (ios /= 0 .or. .not. bytes > 0.0_dp) then
-      call new_error(err, status_invalid, '--max-memory', '--max-memory needs a size such '// &
-        'as 4G, 512M or 800k, not "'//trim(text)//'"')
-      return
-    end if
-    bytes = bytes*scale
-  end subroutine parse_memory
-
-  !> Bytes as "1.2 GiB", "340 MiB", "12 kiB".
-  function memory_text(bytes) result(text)
-    real(dp), intent(in) :: bytes
-    character(len=:), allocatable :: text
-    character(len=32) :: buf
-    if (bytes >= 1024.0_dp**3) then
-      write (buf, '(f0.1,a)') bytes/1024.0_dp**3, ' GiB'
-    else if (bytes >= 1024.0_dp**2) then
-      write (buf, '(i0,a)') nint(bytes/1024.0_dp**2), ' MiB'
-    else
-      write (buf, '(i0,a)') nint(bytes/1024.0_dp), ' kiB'
-    end if
-    text = trim(buf)
-  end function memory_text
 
 end module wellposed_mpm_memory

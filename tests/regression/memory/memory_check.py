@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""wellposed-mpm refuses a deck whose estimated memory exceeds --max-memory or
+"""wellposed-mpm and wellposed-point refuse a deck whose estimated memory exceeds --max-memory or
 the machine's MemAvailable, naming the deck and the estimate, before it
 allocates anything: exit status 1, no run folder, a small peak resident size.
 
-usage: memory_check.py MPM SRC_DIR WORK_DIR
+usage: memory_check.py MPM POINT SRC_DIR WORK_DIR
 """
 import os
 import resource
@@ -36,7 +36,8 @@ def refused(label, cmd, deck, needles, work, name):
 
 
 def main():
-    mpm, src, work = sys.argv[1], os.path.abspath(sys.argv[2]), os.path.abspath(sys.argv[3])
+    mpm, point = sys.argv[1], sys.argv[2]
+    src, work = os.path.abspath(sys.argv[3]), os.path.abspath(sys.argv[4])
     os.makedirs(work, exist_ok=True)
     bar, plate = os.path.join(src, BAR), os.path.join(src, PLATE)
     ok = True
@@ -47,6 +48,15 @@ def main():
                   ['--max-memory 4.0 GiB'], work, 'plate_small_local')
     ok &= refused('bar over MemAvailable', [mpm, bar, 'grid.dx=2e-5'], bar,
                   ['MemAvailable'], work, 'sr_short')
+    # a point deck of 400000 increments (its history about 150 MiB)
+    deck = os.path.join(work, 'long_path.nml')
+    with open(os.path.join(src, 'inputs/fig2_7_left_uniaxial.nml')) as f:
+        text = f.read().replace('n_inc = 300', 'n_inc = 400000')
+    with open(deck, 'w') as f:
+        f.write(text)
+    ok &= refused('point over --max-memory 100M', [point, deck, '--max-memory', '100M',
+                                                    '--no-plot'], deck,
+                  ['--max-memory 100 MiB', '400001 increments'], work, 'fig2_7_left_uniaxial')
     p = subprocess.run([mpm, bar, '--max-memory', '4X', '--out', work], capture_output=True,
                        text=True, timeout=60)
     good = p.returncode == 1 and '--max-memory needs a size' in p.stderr
