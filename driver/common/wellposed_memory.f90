@@ -9,7 +9,7 @@ module wellposed_memory
   use wellposed_text, only: int_text, real_text
   implicit none
   private
-  public :: check_memory, parse_memory, mem_available, memory_text
+  public :: check_memory, parse_memory, mem_available, memory_text, proc_bytes
 
 contains
 
@@ -43,22 +43,29 @@ contains
 
   !> MemAvailable of /proc/meminfo in bytes (-1 when it cannot be read).
   real(dp) function mem_available() result(avail)
+    avail = proc_bytes('/proc/meminfo', 'MemAvailable')
+  end function mem_available
+
+  !> The line `key:  <n> kB` of a /proc file (meminfo, self/status) in
+  !> bytes (-1 when absent).
+  real(dp) function proc_bytes(file, key) result(bytes)
+    character(len=*), intent(in) :: file, key
     integer :: unit, ios
     character(len=256) :: line
     real(dp) :: kb
-    avail = -1.0_dp
-    open (newunit=unit, file='/proc/meminfo', status='old', action='read', iostat=ios)
+    bytes = -1.0_dp
+    open (newunit=unit, file=file, status='old', action='read', iostat=ios)
     if (ios /= 0) return
     do
       read (unit, '(a)', iostat=ios) line
       if (ios /= 0) exit
-      if (index(line, 'MemAvailable:') /= 1) cycle
-      read (line(14:), *, iostat=ios) kb
-      if (ios == 0) avail = kb*1024.0_dp
+      if (index(line, key//':') /= 1) cycle
+      read (line(len(key) + 2:), *, iostat=ios) kb
+      if (ios == 0) bytes = kb*1024.0_dp
       exit
     end do
     close (unit)
-  end function mem_available
+  end function proc_bytes
 
   !> "4G", "512M", "800k" or a plain number of bytes (binary multiples);
   !> err for anything else.

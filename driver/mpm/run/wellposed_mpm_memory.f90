@@ -6,6 +6,7 @@
 module wellposed_mpm_memory
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
+  use wellposed_memory, only: proc_bytes
   use wellposed_mpm_scene_kind, only: scene_kind_plate
   use wellposed_mpm_config, only: mpm_config_t
   use wellposed_mpm_deck, only: read_mpm_deck, mpm_options_t
@@ -65,29 +66,9 @@ contains
     end if
   end subroutine deck_memory
 
-  !> A line `key:  <n> kB` of /proc/self/status in bytes (-1 if absent).
-  real(dp) function status_bytes(key) result(bytes)
-    character(len=*), intent(in) :: key
-    integer :: unit, ios
-    character(len=256) :: line
-    real(dp) :: kb
-    bytes = -1.0_dp
-    open (newunit=unit, file='/proc/self/status', status='old', action='read', iostat=ios)
-    if (ios /= 0) return
-    do
-      read (unit, '(a)', iostat=ios) line
-      if (ios /= 0) exit
-      if (index(line, key//':') /= 1) cycle
-      read (line(len(key) + 2:), *, iostat=ios) kb
-      if (ios == 0) bytes = kb*1024.0_dp
-      exit
-    end do
-    close (unit)
-  end function status_bytes
-
   !> Note the resident size before anything of a run is allocated.
   subroutine resident_start()
-    resident0 = status_bytes('VmRSS')
+    resident0 = proc_bytes('/proc/self/status', 'VmRSS')
   end subroutine resident_start
 
   !> What the run's buffers took per particle, all of them counted: the
@@ -98,7 +79,7 @@ contains
     real(dp), intent(in) :: nparticles
     real(dp) :: peak
     bytes = 0
-    peak = status_bytes('VmHWM')
+    peak = proc_bytes('/proc/self/status', 'VmHWM')
     if (peak < 0.0_dp .or. resident0 < 0.0_dp .or. nparticles < 1.0_dp) return
     bytes = nint(max(peak - resident0, 0.0_dp)/nparticles)
   end function resident_bytes_per_particle
