@@ -10,7 +10,8 @@ module wellposed_batch
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
-  use wellposed_fs, only: make_dirs, rename_path, path_exists, shell_quote, process_id
+  use wellposed_fs, only: make_dirs, path_exists, shell_quote
+  use wellposed_checked_io, only: out_file_t
   use wellposed_deck, only: read_text_file
   implicit none
   private
@@ -196,29 +197,23 @@ contains
     subroutine write_result(path, e)
       character(len=*), intent(in) :: path
       type(error_t), allocatable, intent(out) :: e
-      character(len=:), allocatable :: tmp
+      type(out_file_t) :: out
       character(len=32) :: wbuf
-      integer :: unit, ios
-      tmp = path//'.tmp.'//int_text(process_id())
-      open (newunit=unit, file=tmp, status='replace', action='write', iostat=ios)
-      if (ios /= 0) then
-        call new_error(e, status_invalid, path, 'cannot write the job record "'//path//'"')
-        return
-      end if
+      call out%open(path, e)
+      if (allocated(e)) return
       write (wbuf, '(f14.3)') wall
-      write (unit, '(a)') 'job = '//int_text(k)
-      write (unit, '(a)') 'line = '//int_text(job%line)
-      write (unit, '(a)') 'deck = '//job%deck
-      write (unit, '(a)') 'args = '//job%args
-      write (unit, '(a)') 'status = '//status
-      write (unit, '(a)') 'exit_code = '//int_text(estat)
-      write (unit, '(a)') 'wall_time = '//trim(adjustl(wbuf))
-      write (unit, '(a)') 'rank = '//int_text(rank)
-      write (unit, '(a)') 'run_dir = '//run       ! relative to the batch folder
-      write (unit, '(a)') 'log = '//log
-      write (unit, '(a)') 'error = '//message
-      close (unit)
-      call rename_path(tmp, path, e)
+      call out%put('job = '//int_text(k))
+      call out%put('line = '//int_text(job%line))
+      call out%put('deck = '//job%deck)
+      call out%put('args = '//job%args)
+      call out%put('status = '//status)
+      call out%put('exit_code = '//int_text(estat))
+      call out%put('wall_time = '//trim(adjustl(wbuf)))
+      call out%put('rank = '//int_text(rank))
+      call out%put('run_dir = '//run)       ! relative to the batch folder
+      call out%put('log = '//log)
+      call out%put('error = '//message)
+      call out%close(e)
     end subroutine write_result
   end subroutine run_one_job
 
@@ -353,8 +348,8 @@ contains
     type(error_t), allocatable, intent(out) :: err
     character(len=256), allocatable :: rk(:), sk(:)
     character(len=1024), allocatable :: rv(:), sv(:)
-    character(len=:), allocatable :: csv, status, wall, run, msg, line, nl, val, tmp
-    integer :: k, f, unit, ios, nok
+    character(len=:), allocatable :: csv, status, wall, run, msg, line, nl, val
+    integer :: k, f, nok
     nl = new_line('a')
     nfailed = 0
     nok = 0
@@ -411,16 +406,11 @@ contains
   contains
     subroutine write_text(path, text)
       character(len=*), intent(in) :: path, text
-      tmp = path//'.tmp.'//int_text(process_id())
-      open (newunit=unit, file=tmp, access='stream', form='unformatted', status='replace', &
-            action='write', iostat=ios)
-      if (ios == 0) write (unit, iostat=ios) text
-      if (ios == 0) close (unit, iostat=ios)
-      if (ios /= 0) then
-        call new_error(err, status_invalid, path, 'cannot write "'//path//'"')
-        return
-      end if
-      call rename_path(tmp, path, err)
+      type(out_file_t) :: out
+      call out%open(path, err)
+      if (allocated(err)) return
+      call out%put_bytes(text)
+      call out%close(err)
     end subroutine write_text
   end subroutine write_batch_summary
 

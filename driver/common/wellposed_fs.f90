@@ -1,16 +1,16 @@
 !> Small file-system helpers for the drivers, through libc (bind(C)) where
-!> libc has the call: rename(2), mkdir(2), remove(3), getpid(2). Removing a
-!> whole folder tree has no single libc call, so `remove_tree` shells out to
-!> `rm -rf` with the path single-quoted. Paths are plain Fortran strings.
+!> libc has the call: rename(2), mkdir(2), remove(3), truncate(2), getpid(2).
+!> Removing a whole folder tree has no single libc call, so `remove_tree`
+!> shells out to `rm -rf` with the path single-quoted. Paths are plain Fortran strings.
 module wellposed_fs
-  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char
+  use, intrinsic :: iso_c_binding, only: c_int, c_char, c_null_char, c_long
   use wellposed_error, only: error_t, new_error, status_invalid
   ! int_text stays public here for the drivers that took it from this module
   use wellposed_text, only: int_text
   implicit none
   private
   public :: rename_path, make_dir, make_dirs, remove_file, remove_tree, path_exists, &
-            process_id, shell_quote, int_text
+            process_id, shell_quote, int_text, truncate_file
 
   interface
     function c_rename(old, new) bind(C, name='rename') result(rc)
@@ -29,6 +29,12 @@ module wellposed_fs
       character(kind=c_char), intent(in) :: path(*)
       integer(c_int) :: rc
     end function c_remove
+    function c_truncate(path, length) bind(C, name='truncate') result(rc)
+      import :: c_int, c_char, c_long
+      character(kind=c_char), intent(in) :: path(*)
+      integer(c_long), value :: length
+      integer(c_int) :: rc
+    end function c_truncate
     function c_getpid() bind(C, name='getpid') result(pid)
       import :: c_int
       integer(c_int) :: pid
@@ -80,6 +86,13 @@ contains
     character(len=*), intent(in) :: path
     removed = c_remove(path//c_null_char) == 0
   end function remove_file
+
+  !> Cut a file to length 0, freeing its space on disk while it is still
+  !> open elsewhere (truncate(2)); .false. when that failed.
+  logical function truncate_file(path) result(done)
+    character(len=*), intent(in) :: path
+    done = c_truncate(path//c_null_char, 0_c_long) == 0
+  end function truncate_file
 
   !> Remove a folder tree (`rm -rf`); a missing path is not an error.
   subroutine remove_tree(path, err)

@@ -8,10 +8,11 @@ module wellposed_h5
   use hdf5
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_fs, only: rename_path, remove_file, process_id, int_text
+  use wellposed_fs, only: rename_path, remove_file, process_id, int_text, truncate_file
+  use wellposed_checked_io, only: write_fault
   implicit none
   private
-  public :: h5_file_t
+  public :: h5_file_t, h5_start
 
   !> An HDF5 file being written.
   type :: h5_file_t
@@ -32,6 +33,19 @@ module wellposed_h5
 
 contains
 
+  !> Open the HDF5 library (h5open_f), first telling it not to close files
+  !> in an exit handler: HDF5 1.10 keeps a file whose close failed (a full
+  !> disk) in its tables and its exit handler crashes on it (H5F__close_cb);
+  !> every file is closed by its writer, so the handler has nothing to do.
+  subroutine h5_start(hdferr)
+    integer, intent(out) :: hdferr
+    logical, save :: started = .false.
+    integer :: e2
+    if (.not. started) call h5dont_atexit_f(e2)
+    started = .true.
+    call h5open_f(hdferr)
+  end subroutine h5_start
+
   !> Start writing `path` (under its temporary name).
   subroutine h5_create(self, path, err)
     class(h5_file_t), intent(inout) :: self
@@ -41,7 +55,7 @@ contains
     self%path = path
     self%tmp = path//'.tmp.'//int_text(process_id())
     if (allocated(self%failure)) deallocate (self%failure)
-    call h5open_f(hdferr)
+    call h5_start(hdferr)
     ! Failures are reported in one sentence (here, or by close); HDF5's own
     ! error stack is not printed while the file is open.
     if (hdferr == 0) call h5eset_auto_f(0, hdferr)
@@ -210,15 +224,25 @@ contains
     class(h5_file_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
     integer :: hdferr, e2
-    logical :: removed
+    logical :: removed, cut
     if (.not. self%is_open) then
       call new_error(err, status_invalid, 'h5', 'close of an HDF5 file that is not open')
       return
     end if
+    ! Flush first: a full disk fails here, while the file is still whole.
+    ! Then a failed file gives its space back (it is removed anyway) so that
+    ! the close, which writes the metadata once more, cannot fail as well.
+    if (.not. allocated(self%failure)) then
+      call h5fflush_f(self%id, H5F_SCOPE_LOCAL_F, hdferr)
+      if (hdferr /= 0) call fail(self, 'cannot write '//self%tmp//' (disk full?)', hdferr)
+    end if
+    if (allocated(self%failure)) cut = truncate_file(self%tmp)
     call h5fclose_f(self%id, hdferr)
     call h5eset_auto_f(1, e2)
     self%is_open = .false.
     if (hdferr /= 0) call fail(self, 'cannot close '//self%tmp, hdferr)
+    if (.not. allocated(self%failure) .and. len(write_fault(self%path)) > 0) &
+      self%failure = write_fault(self%path)
     if (allocated(self%failure)) then
       removed = remove_file(self%tmp)
       call new_error(err, status_invalid, self%path, 'HDF5 output "'//self%path//'": '// &

@@ -8,8 +8,10 @@ module wellposed_h5_collective
   use hdf5
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_fs, only: rename_path, remove_file, path_exists, process_id, int_text
-  use wellposed_h5, only: h5_file_t
+  use wellposed_fs, only: rename_path, remove_file, path_exists, process_id, int_text, &
+                          truncate_file
+  use wellposed_checked_io, only: write_fault
+  use wellposed_h5, only: h5_file_t, h5_start
   use wellposed_h5_mpio, only: h5_fapl_mpio, h5_dxpl_collective, h5_dxpl_was_collective
   use wellposed_h5_row_order, only: h5_row_order_t, payload_t, h5_uses_mpio, permute_rows, &
                                     redistribute, place_rows, order_redistribute, &
@@ -72,7 +74,7 @@ contains
     if (comm%rank == 0) text = path//'.tmp.'//int_text(process_id())
     call broadcast(comm, text, 0)
     self%tmp = text
-    call h5open_f(hdferr)
+    call h5_start(hdferr)
     ! One sentence per rank instead of HDF5's error stack from every rank.
     if (hdferr == 0) call h5eset_auto_f(0, hdferr)
     call legacy_handles(comm, comm_f, info_f)
@@ -139,9 +141,20 @@ contains
       return
     end if
     call h5pclose_f(self%dxpl, e2)
+    ! As wellposed_h5's close: flush (collective) while the file is whole,
+    ! and a failed file gives its space back before the close writes again.
+    call sync(self)
+    if (.not. allocated(self%failure)) then
+      call h5fflush_f(self%id, H5F_SCOPE_LOCAL_F, hdferr)
+      call fail(self, 'cannot write '//self%tmp//' (disk full?)', hdferr)
+      call sync(self)
+    end if
+    if (allocated(self%failure) .and. self%comm%rank == 0) removed = truncate_file(self%tmp)
     call h5fclose_f(self%id, hdferr)
     call fail(self, 'cannot close '//self%tmp, hdferr)
     call sync(self)
+    if (.not. allocated(self%failure) .and. len(write_fault(self%path)) > 0) &
+      self%failure = write_fault(self%path)
     text = ''
     if (self%comm%rank == 0) then
       if (allocated(self%failure)) then

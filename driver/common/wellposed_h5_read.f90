@@ -9,6 +9,7 @@ module wellposed_h5_read
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
+  use wellposed_h5, only: h5_start
   implicit none
   private
   public :: h5_reader_t
@@ -44,7 +45,7 @@ contains
       call new_error(err, status_invalid, path, '"'//path//'" does not exist')
       return
     end if
-    call h5open_f(hdferr)
+    call h5_start(hdferr)
     call h5eset_auto_f(0, hdferr)
     call h5fis_hdf5_f(path, is_h5, hdferr)
     if (hdferr /= 0 .or. .not. is_h5) then

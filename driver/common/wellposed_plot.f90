@@ -7,6 +7,7 @@ module wellposed_plot
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_build_info, only: python_executable
   use wellposed_fs, only: shell_quote, path_exists, int_text
+  use wellposed_checked_io, only: write_fault
   implicit none
   private
   public :: run_plot
@@ -15,7 +16,8 @@ contains
 
   !> Run `script` with the arguments `args` (already shell-quoted where
   !> needed; see wellposed_fs: shell_quote). An error names the command and
-  !> its exit status when the script fails or cannot start.
+  !> its exit status when the script fails or cannot start (a PNG it could
+  !> not write), or an injected failure of the PNG writes (wellposed_checked_io).
   subroutine run_plot(script, args, err)
     character(len=*), intent(in) :: script, args
     type(error_t), allocatable, intent(out) :: err
@@ -36,6 +38,9 @@ contains
       call new_error(err, status_invalid, script, 'plot command failed with exit status '// &
         int_text(stat)//': '//command//' (needs python3-matplotlib and python3-h5py for '// &
         python_executable//')')
+    else if (len(write_fault('plot.png')) > 0) then
+      call new_error(err, status_invalid, script, 'cannot write the PNG plots: '// &
+        write_fault('plot.png'))
     end if
   end subroutine run_plot
 

@@ -8,6 +8,7 @@ module wellposed_run_dir
   use wellposed_fs, only: make_dirs, make_dir, remove_tree, rename_path, path_exists, &
                           process_id, int_text
   use wellposed_deck, only: read_text_file
+  use wellposed_checked_io, only: out_file_t
   implicit none
   private
   public :: run_dir_t
@@ -35,8 +36,8 @@ contains
     character(len=*), intent(in) :: root, name, deck_path
     type(error_t), allocatable, intent(out) :: err
     character(len=:), allocatable :: text
-    integer :: unit, ios, slash
-    character(len=512) :: msg
+    type(out_file_t) :: copy
+    integer :: slash
     if (len_trim(name) == 0 .or. index(name, '/') > 0) then
       call new_error(err, status_invalid, 'name', 'run name "'//name// &
         '" must be non-empty and contain no "/"')
@@ -57,14 +58,10 @@ contains
     call read_text_file(deck_path, text, err)
     if (allocated(err)) return
     slash = index(deck_path, '/', back=.true.)
-    open (newunit=unit, file=self%path(deck_path(slash + 1:)), access='stream', &
-          form='unformatted', status='replace', action='write', iostat=ios, iomsg=msg)
-    if (ios == 0) write (unit, iostat=ios, iomsg=msg) text
-    if (ios == 0) close (unit, iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call new_error(err, status_invalid, deck_path, 'cannot copy the deck into "'// &
-        self%partial//'": '//trim(msg))
-    end if
+    call copy%open(self%path(deck_path(slash + 1:)), err)
+    if (allocated(err)) return
+    call copy%put_bytes(text)
+    call copy%close(err)
   end subroutine run_dir_create
 
   !> Full path of `filename` inside the folder being written.

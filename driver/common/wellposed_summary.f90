@@ -10,7 +10,8 @@ module wellposed_summary
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_fs, only: rename_path, process_id, int_text
+  use wellposed_fs, only: int_text
+  use wellposed_checked_io, only: out_file_t
   implicit none
   private
   public :: summary_t
@@ -109,32 +110,27 @@ contains
     call push(self, key, 'not_applicable', why)
   end subroutine add_not_applicable
 
-  !> Write the lines to `path` (through a temporary name, then rename);
-  !> refused, writing nothing, when a figure is NaN or Inf without a reason.
+  !> Write the lines to `path` (wellposed_checked_io: a temporary name, every
+  !> write checked, then rename); refused, writing nothing, when a figure is
+  !> NaN or Inf without a reason.
   subroutine summary_write(self, path, err)
     class(summary_t), intent(in) :: self
     character(len=*), intent(in) :: path
     type(error_t), allocatable, intent(out) :: err
-    character(len=:), allocatable :: tmp
-    character(len=512) :: msg
-    integer :: unit, ios, i
+    type(out_file_t) :: out
+    integer :: i
     if (allocated(self%nonfinite)) then
       call new_error(err, status_invalid, self%nonfinite, 'summary figure '// &
         self%nonfinite//' is not a finite number, and no reason was given why it does not '// &
         'apply: the run is not written as finished')
       return
     end if
-    tmp = path//'.tmp.'//int_text(process_id())
-    open (newunit=unit, file=tmp, status='replace', action='write', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call new_error(err, status_invalid, path, 'cannot write "'//path//'": '//trim(msg))
-      return
-    end if
+    call out%open(path, err)
+    if (allocated(err)) return
     do i = 1, self%n
-      write (unit, '(a)') self%lines(i)%text
+      call out%put(self%lines(i)%text)
     end do
-    close (unit)
-    call rename_path(tmp, path, err)
+    call out%close(err)
   end subroutine summary_write
 
 end module wellposed_summary

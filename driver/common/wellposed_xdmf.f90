@@ -7,6 +7,7 @@ module wellposed_xdmf
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text, real_text
+  use wellposed_checked_io, only: out_file_t
   implicit none
   private
   public :: write_particle_xdmf
@@ -20,7 +21,7 @@ contains
   !> `ndim` = 2; n abscissae when `ndim` = 1, drawn on the x axis (the
   !> reader computes y = 0 * x, nothing more is stored). Every name in
   !> `fields` is a dataset of n values in each group, shown as a point
-  !> attribute. An unwritable path is an error naming it.
+  !> attribute. A failed write (wellposed_checked_io) is an error naming it.
   subroutine write_particle_xdmf(path, h5_name, grid_name, groups, times, n, ndim, geometry, &
                                  fields, err)
     character(len=*), intent(in) :: path, h5_name, grid_name, geometry
@@ -28,8 +29,8 @@ contains
     real(dp), intent(in) :: times(:)
     integer, intent(in) :: n, ndim
     type(error_t), allocatable, intent(out) :: err
-    integer :: u, j, f, ios
-    character(len=256) :: msg
+    type(out_file_t) :: out
+    integer :: j, f
     character(len=:), allocatable :: g, item, nn
 
     if (size(times) /= size(groups) .or. .not. (ndim == 1 .or. ndim == 2)) then
@@ -38,11 +39,8 @@ contains
         ' (1 or 2)')
       return
     end if
-    open (newunit=u, file=path, status='replace', action='write', iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      call new_error(err, status_invalid, 'xdmf', 'cannot write '//path//': '//trim(msg))
-      return
-    end if
+    call out%open(path, err)
+    if (allocated(err)) return
     nn = int_text(n)
     item = '<DataItem Dimensions="'//nn//'" Format="HDF" NumberType="Float" Precision="8">'
     call put('<?xml version="1.0" ?>')
@@ -76,18 +74,13 @@ contains
     call put('  </Grid>')
     call put(' </Domain>')
     call put('</Xdmf>')
-    close (u, iostat=ios)
-    if (ios /= 0 .and. .not. allocated(err)) call new_error(err, status_invalid, 'xdmf', &
-      'cannot write '//path)
+    call out%close(err)
 
   contains
 
     subroutine put(line)
       character(len=*), intent(in) :: line
-      if (allocated(err)) return
-      write (u, '(a)', iostat=ios, iomsg=msg) line
-      if (ios /= 0) call new_error(err, status_invalid, 'xdmf', 'cannot write '//path// &
-        ': '//trim(msg))
+      call out%put(line)
     end subroutine put
 
   end subroutine write_particle_xdmf

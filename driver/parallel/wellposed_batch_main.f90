@@ -3,14 +3,16 @@
 !>   [mpirun -np N] wellposed-batch [--out ROOT] [--figures K1,K2,...]
 !>                                  DRIVER BATCHFILE [DRIVER_OPTION ...]
 !> Writes ROOT/<batch name>/batch_summary.txt and .csv. Exit status 0 when
-!> every job succeeded, 1 when any failed, 2 when the batch could not run.
+!> every job succeeded, 1 when any failed or the batch's own files could not
+!> be written, 2 when the batch could not run.
 !> Details: docs/guide/parallel.md.
 program wellposed_batch_main
-  use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
+  use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop
   use wellposed_batch_run, only: run_batch, default_figures
   use wellposed_fs, only: shell_quote
+  use wellposed_checked_io, only: say_error
   implicit none
 
   type(comm_t) :: comm
@@ -21,7 +23,7 @@ program wellposed_batch_main
 
   call comm_start(comm, err)
   if (allocated(err)) then
-    write (error_unit, '(a)') 'wellposed-batch: error: '//err%message
+    call say_error('wellposed-batch: error: '//err%message)
     stop 2, quiet=.true.
   end if
   out_root = 'out'
@@ -73,20 +75,31 @@ program wellposed_batch_main
   end if
   command = shell_quote(driver)//command
   call run_batch(comm, batch_file, command, out_root, figures, nfailed, err)
-  if (allocated(err)) call die(err%message)
+  if (allocated(err)) call die(err%message, exit_code_of(err%message))
   call comm_stop(comm)
   if (nfailed > 0) stop 1, quiet=.true.
 
 contains
 
-  !> End every rank with exit status 2 (the batch could not run) and `text`,
-  !> said by rank 0: the program's own line, no STOP code or backtrace.
-  subroutine die(text)
+  !> End every rank with exit status `code` (default 2: the batch could not
+  !> run) and `text`, said by rank 0: the program's own line, no backtrace.
+  subroutine die(text, code)
     character(len=*), intent(in) :: text
-    if (comm%rank == 0) write (error_unit, '(a)') 'wellposed-batch: error: '//text
+    integer, intent(in), optional :: code
+    if (comm%rank == 0) call say_error('wellposed-batch: error: '//text)
     call comm_stop(comm)
+    if (present(code)) then
+      if (code == 1) stop 1, quiet=.true.
+    end if
     stop 2, quiet=.true.
   end subroutine die
+
+  !> 1 for a failed write of the batch's own files (wellposed_checked_io's
+  !> "cannot write"), else 2.
+  integer function exit_code_of(text) result(code)
+    character(len=*), intent(in) :: text
+    code = merge(1, 2, index(text, 'cannot write "') == 1)
+  end function exit_code_of
 
   function get_arg(k) result(a)
     integer, intent(in) :: k

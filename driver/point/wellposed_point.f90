@@ -1,4 +1,4 @@
-!> wellposed-point DECK [--no-plot] [--out ROOT]: the single-element driver.
+!> wellposed-point DECK [--no-plot] [--out ROOT] [--max-memory SIZE]: one element.
 !> Drives every &material of a namelist deck (keys in docs/guide/decks.md) through
 !> the UMAT along the deck's legs, probes the state and runs the chapter 3
 !> virtual experiment when asked, and writes <out_dir>/<name>/ (deck, CSV,
@@ -6,7 +6,7 @@
 !> status 1 and leave only <name>.partial/ behind. `--batch FILE` runs a
 !> batch file, one process per deck, over the ranks of an mpirun.
 program wellposed_point
-  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+  use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_fs, only: int_text, shell_quote
@@ -14,6 +14,8 @@ program wellposed_point
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
   use wellposed_h5, only: h5_file_t
+  use wellposed_checked_io, only: out_file_t, end_run, say_error
+  use wellposed_memory, only: check_memory, parse_memory
   use wellposed_plot, only: run_plot
   use wellposed_build_info, only: wellposed_version, wellposed_git_revision
   use wellposed_dense, only: solve_dense
@@ -35,7 +37,7 @@ program wellposed_point
   type(summary_t) :: summary
   type(h5_file_t) :: h5
   character(len=4096) :: arg
-  character(len=:), allocatable :: deck_path, out_root, batch_file
+  character(len=:), allocatable :: deck_path, out_root, batch_file, max_memory
   logical :: plot
   integer :: i, nargs, im
   integer(8) :: t0, t1, rate
@@ -45,6 +47,7 @@ program wellposed_point
   deck_path = ''
   out_root = ''
   batch_file = ''
+  max_memory = ''
   nargs = command_argument_count()
   i = 0
   do while (i < nargs)
@@ -53,10 +56,13 @@ program wellposed_point
     select case (trim(arg))
     case ('--no-plot')
       plot = .false.
-    case ('--out', '--batch')
+    case ('--out', '--batch', '--max-memory')
       if (i == nargs) call fail_usage(trim(arg)//' needs a value')
       i = i + 1
-      if (trim(arg) == '--out') then
+      if (trim(arg) == '--max-memory') then
+        call get_command_argument(i, arg)
+        max_memory = trim(arg)
+      else if (trim(arg) == '--out') then
         call get_command_argument(i, arg)
         out_root = trim(arg)
         if (len(out_root) == 0) call fail_usage('--out needs a non-empty value')
@@ -71,6 +77,7 @@ program wellposed_point
         '  DECK: namelist deck (groups and keys: docs/guide/decks.md)', &
         '  --no-plot: skip the PNG plots (same as plot = .false. in &run)', &
         '  --out ROOT: write ROOT/<name>/ instead of the deck''s out_dir', &
+        '  --max-memory SIZE: refuse a deck needing more (4G, 512M; default MemAvailable)', &
         '  --batch FILE: one deck per line (# comments); summary in ROOT/<FILE name>/'
       stop
     case default
@@ -88,6 +95,7 @@ program wellposed_point
 
   call read_point_deck(deck_path, deck, err)
   call check(err)
+  call memory_check()
   if (len(out_root) > 0) deck%out_dir = out_root
   plot = plot .and. deck%plot
   call run%create(deck%out_dir, deck%name, deck_path, err)
@@ -153,6 +161,22 @@ contains
     stop
   end subroutine run_point_batch
 
+  !> Refuse a deck whose path history would not fit (--max-memory or
+  !> MemAvailable): measured 360 bytes per increment with 12 STATEV, over
+  !> the rows of the longest material's history (docs/guide/outputs.md).
+  subroutine memory_check()
+    real(dp) :: limit, rows, bytes
+    limit = 0.0_dp
+    if (len(max_memory) > 0) then
+      call parse_memory(max_memory, limit, err)
+      call check(err)
+    end if
+    rows = 1.0_dp + sum(real(max(deck%legs%n_inc, 1), dp))
+    bytes = 20.0e6_dp + rows*360.0_dp*(13 + maxval(deck%materials%nstatv))/25.0_dp
+    call check_memory(deck_path, bytes, rows, 'increments', limit, err)
+    call check(err)
+  end subroutine memory_check
+
   subroutine run_material(mat)
     type(material_t), intent(in) :: mat
     type(point_state_t) :: s
@@ -189,21 +213,26 @@ contains
   subroutine write_path(mat, hist)
     type(material_t), intent(in) :: mat
     type(history_t), intent(in) :: hist
-    integer :: unit, i, n
-    character(len=:), allocatable :: lab, header
+    type(out_file_t) :: csv
+    integer :: i, n
+    character(len=:), allocatable :: lab, header, row
     lab = mat%label
     n = hist%n
     header = 'leg,increment,time,e11,e22,e33,g12,g13,g23,s11,s22,s33,s12,s13,s23'
     do i = 1, mat%nstatv
       header = header//',statev'//int_text(i)
     end do
-    open (newunit=unit, file=run%path(lab//'_path.csv'), status='replace', action='write')
-    write (unit, '(a)') header
+    call csv%open(run%path(lab//'_path.csv'), err)
+    call check(err)
+    call csv%put(header)
+    allocate (character(len=64 + 25*(1 + 2*ntens + mat%nstatv)) :: row)
     do i = 1, n
-      write (unit, '(i0,",",i0,*(:,",",es24.16e3))') hist%leg(i), hist%inc(i), hist%time(i), &
+      write (row, '(i0,",",i0,*(:,",",es24.16e3))') hist%leg(i), hist%inc(i), hist%time(i), &
         hist%strain(i, :), hist%stress(i, :), hist%statev(i, :)
+      call csv%put(trim(row))
     end do
-    close (unit)
+    call csv%close(err)
+    call check(err)
     call h5%write(lab//'/path/time', hist%time(1:n))
     call h5%write(lab//'/path/leg', hist%leg(1:n))
     call h5%write(lab//'/path/strain', hist%strain(1:n, :))
@@ -278,7 +307,9 @@ contains
     type(lode_frame_t) :: frame
     type(acoustic_t) :: ac
     type(point_state_t) :: s1
-    integer :: i, unit, imax, imin
+    type(out_file_t) :: csv
+    integer :: i, imax, imin
+    character(len=200) :: row
     lab = mat%label
     call elastic_stiffness(mat, deck%probe_strain, c, err)
     call check(err)
@@ -292,12 +323,15 @@ contains
       theta = [(2.0_dp*pi*(i - 1)/deck%probe%n_theta, i = 1, deck%probe%n_theta)]
       call rtheta_probe(mat, s, c, deck%probe_strain, frame, theta, r, err)
       call check(err)
-      open (newunit=unit, file=run%path(lab//'_rtheta.csv'), status='replace', action='write')
-      write (unit, '(a)') 'theta_deg,R'
+      call csv%open(run%path(lab//'_rtheta.csv'), err)
+      call check(err)
+      call csv%put('theta_deg,R')
       do i = 1, size(theta)
-        write (unit, '(es24.16e3,",",es24.16e3)') theta(i)*180.0_dp/pi, r(i)
+        write (row, '(es24.16e3,",",es24.16e3)') theta(i)*180.0_dp/pi, r(i)
+        call csv%put(trim(row))
       end do
-      close (unit)
+      call csv%close(err)
+      call check(err)
       call h5%write(lab//'/rtheta/theta_deg', theta*180.0_dp/pi)
       call h5%write(lab//'/rtheta/r', r)
       call h5%write(lab//'/rtheta/normal_lode', frame%n2)
@@ -357,12 +391,16 @@ contains
                          dsig2, deps2, depsp2, err)
       if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
       call check(err)
-      open (newunit=unit, file=run%path(lab//'_gudehus.csv'), status='replace', action='write')
-      write (unit, '(a)') 'phi_deg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r'
+      call csv%open(run%path(lab//'_gudehus.csv'), err)
+      call check(err)
+      call csv%put('phi_deg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r')
       do i = 1, size(phi)
-        write (unit, '(es24.16e3,6(",",es24.16e3))') phi(i), dsig2(i, :), deps2(i, :), depsp2(i, :)
+        write (row, '(es24.16e3,6(",",es24.16e3))') phi(i), dsig2(i, :), deps2(i, :), &
+          depsp2(i, :)
+        call csv%put(trim(row))
       end do
-      close (unit)
+      call csv%close(err)
+      call check(err)
       call h5%write(lab//'/gudehus/phi_deg', phi)
       call h5%write(lab//'/gudehus/dsig', dsig2)
       call h5%write(lab//'/gudehus/deps', deps2)
@@ -377,19 +415,24 @@ contains
     type(point_state_t), intent(inout) :: s
     type(ch3_result_t) :: res
     character(len=:), allocatable :: lab
-    integer :: unit, k
+    type(out_file_t) :: csv
+    integer :: k
+    character(len=200) :: row
     lab = mat%label
     write (output_unit, '(a)') '  ['//lab//'] chapter 3 virtual experiment: '// &
       int_text(deck%ch3%n_cycles)//' cycles of 8 legs'
     call run_chapter3(mat, s, deck%ch3, deck%solver, res, err)
     if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
     call check(err)
-    open (newunit=unit, file=run%path(lab//'_chapter3.csv'), status='replace', action='write')
-    write (unit, '(a)') 'leg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r'
+    call csv%open(run%path(lab//'_chapter3.csv'), err)
+    call check(err)
+    call csv%put('leg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r')
     do k = 1, 8
-      write (unit, '(i0,6(",",es24.16e3))') k, res%s(:, k), res%r(:, k), res%rp(:, k)
+      write (row, '(i0,6(",",es24.16e3))') k, res%s(:, k), res%r(:, k), res%rp(:, k)
+      call csv%put(trim(row))
     end do
-    close (unit)
+    call csv%close(err)
+    call check(err)
     call h5%write(lab//'/chapter3/s', res%s)
     call h5%write(lab//'/chapter3/r', res%r)
     call h5%write(lab//'/chapter3/rp', res%rp)
@@ -419,17 +462,18 @@ contains
   subroutine check(e)
     type(error_t), allocatable, intent(in) :: e
     if (.not. allocated(e)) return
-    write (error_unit, '(a)') 'wellposed-point: error: '//e%message
-    if (allocated(run%partial)) write (error_unit, '(a)') &
-      'wellposed-point: the run is incomplete: '//run%partial//' is left for inspection'
-    stop 1, quiet=.true.
+    if (allocated(run%partial)) then
+      call end_run('wellposed-point', e%message, run%partial)
+    else
+      call end_run('wellposed-point', e%message)
+    end if
   end subroutine check
 
   subroutine fail_usage(message)
     character(len=*), intent(in) :: message
-    write (error_unit, '(a)') 'wellposed-point: '//message, &
-      'usage: wellposed-point DECK [--no-plot] [--out ROOT] | --batch FILE [--out ROOT] '// &
-      '[--no-plot] (see --help)'
+    call say_error('wellposed-point: '//message)
+    call say_error('usage: wellposed-point DECK [--no-plot] [--out ROOT] | --batch FILE '// &
+                   '[--out ROOT] [--no-plot] (see --help)')
     stop 2, quiet=.true.
   end subroutine fail_usage
 

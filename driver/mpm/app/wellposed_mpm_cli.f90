@@ -1,7 +1,7 @@
 !> The command line of wellposed-mpm, read once for every scene kind:
 !>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot]
 !>       [--checkpoint-every STEPS] [--keep-checkpoints]
-!>       [--restart | --restart-from FILE]
+!>       [--restart | --restart-from FILE] [--max-memory SIZE]
 !>       [DECK] [group.key=value ...]
 !>   [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] [--no-plot]
 !> A word with '=' overrides the deck, one starting with '-' is an option
@@ -20,6 +20,7 @@ module wellposed_mpm_cli
     character(len=:), allocatable :: run_name     !< '' unless --name
     character(len=:), allocatable :: ck_file      !< --restart-from FILE, else ''
     character(len=:), allocatable :: batch_file   !< --batch FILE, else ''
+    character(len=:), allocatable :: max_memory   !< --max-memory SIZE, else ''
     character(len=512), allocatable :: overrides(:)
     !> --checkpoint-every STEPS; -1: the scene's default (a tenth of a run)
     integer :: ck_every = -1
@@ -43,6 +44,7 @@ contains
     cli%run_name = ''
     cli%ck_file = ''
     cli%batch_file = ''
+    cli%max_memory = ''
     allocate (cli%overrides(0))
     nargs = command_argument_count()
     i = 0
@@ -59,6 +61,8 @@ contains
         call value_of(cli%run_name); if (allocated(err)) return
       case ('--no-plot')
         cli%no_plot = .true.
+      case ('--max-memory')
+        call value_of(cli%max_memory); if (allocated(err)) return
       case ('--checkpoint-every')
         call value_of(arg); if (allocated(err)) return
         if (verify(arg, '0123456789') /= 0 .or. len(arg) == 0 .or. len(arg) > 9) then
@@ -150,6 +154,8 @@ contains
     write (output_unit, '(a)') '  --restart                 continue from the newest '// &
       '(same deck and overrides; any number of ranks)'
     write (output_unit, '(a)') '  --restart-from FILE       continue from checkpoint FILE'
+    write (output_unit, '(a)') '  --max-memory SIZE         refuse a deck whose estimated memory '// &
+      'exceeds SIZE (4G, 512M; default: MemAvailable)'
     write (output_unit, '(a)') '  --batch FILE              one deck per line, optionally '// &
       'with options; jobs shared over the ranks'
     write (output_unit, '(a)') '  wellposed-mpm2d is an alias of this program, kept for one release'

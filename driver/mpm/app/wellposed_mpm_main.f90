@@ -6,7 +6,6 @@
 !> errors to standard error, exit status 1. `wellposed-mpm2d` is an alias.
 !> Usage: docs/guide/mpm.md.
 program wellposed_mpm
-  use, intrinsic :: iso_fortran_env, only: error_unit
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop
   use wellposed_mpm_cli, only: mpm_cli_t, read_mpm_cli, write_mpm_usage
@@ -16,6 +15,10 @@ program wellposed_mpm
   use wellposed_mpm_plate_run, only: run_plate
   use wellposed_batch_run, only: run_batch, default_figures
   use wellposed_fs, only: shell_quote
+  use wellposed_checked_io, only: say_error
+  use wellposed_kinds, only: dp
+  use wellposed_mpm_memory, only: deck_memory, resident_start
+  use wellposed_memory, only: check_memory, parse_memory
   implicit none
 
   type(comm_t) :: comm
@@ -36,6 +39,8 @@ program wellposed_mpm
   if (len(cli%deck_path) == 0) cli%deck_path = find_data(default_deck_name)
   call deck_scene_kind(cli%deck_path, cli%overrides, kind, err)
   if (allocated(err)) call die(err%message)
+  call memory_check()
+  call resident_start()
   if (kind == scene_kind_plate) then
     call run_plate(cli, comm)
   else
@@ -59,18 +64,35 @@ contains
                    default_figures('wellposed-mpm'), nfailed, err)
     call comm_stop(comm)
     if (allocated(err)) then
-      if (comm%rank == 0) write (error_unit, '(a)') 'wellposed-mpm: error: '//err%message
+      if (comm%rank == 0) call say_error('wellposed-mpm: error: '//err%message)
       stop 1, quiet=.true.
     end if
     if (nfailed > 0) stop 1, quiet=.true.
     stop
   end subroutine batch
 
+  !> Refuse, before anything is allocated, a deck whose estimated memory
+  !> exceeds --max-memory or the machine's available memory (every rank
+  !> reads the same deck and meets the same verdict).
+  subroutine memory_check()
+    real(dp) :: bytes, nparticles, limit
+    limit = 0.0_dp
+    if (len(cli%max_memory) > 0) then
+      call parse_memory(cli%max_memory, limit, err)
+      if (allocated(err)) call die(err%message)
+    end if
+    call deck_memory(cli%deck_path, cli%overrides, kind, cli%ck_every /= 0, bytes, nparticles, &
+                     err)
+    if (allocated(err)) call die(err%message)
+    call check_memory(cli%deck_path, bytes, nparticles, 'particles', limit, err)
+    if (allocated(err)) call die(err%message)
+  end subroutine memory_check
+
   !> Stop every rank with `text`, said by rank 0 (every rank meets the same
   !> error before the run starts).
   subroutine die(text)
     character(len=*), intent(in) :: text
-    if (comm%rank == 0) write (error_unit, '(a)') 'wellposed-mpm: error: '//text
+    if (comm%rank == 0) call say_error('wellposed-mpm: error: '//text)
     call comm_stop(comm)
     stop 1, quiet=.true.
   end subroutine die

@@ -5,10 +5,10 @@
 !> it and aborts the other ranks, which would otherwise wait for this one.
 !> Each takes the message as text or as an error_t.
 module wellposed_mpm_stop
-  use, intrinsic :: iso_fortran_env, only: error_unit
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_abort, comm_stop
   use wellposed_run_dir, only: run_dir_t
+  use wellposed_checked_io, only: say_error
   implicit none
   private
   public :: stop_alone, stop_all
@@ -60,9 +60,9 @@ contains
   subroutine say(rd, message)
     type(run_dir_t), intent(in) :: rd
     character(len=*), intent(in) :: message
-    write (error_unit, '(a)') 'wellposed-mpm: error: '//message
-    if (allocated(rd%partial)) write (error_unit, '(a)') 'wellposed-mpm: the run did not '// &
-      'finish; its partial output is in '//rd%partial
+    call say_error('wellposed-mpm: error: '//message)
+    if (allocated(rd%partial)) call say_error('wellposed-mpm: the run did not '// &
+      'finish; its partial output is in '//rd%partial)
   end subroutine say
 
 end module wellposed_mpm_stop

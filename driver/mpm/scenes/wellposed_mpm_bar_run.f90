@@ -20,7 +20,7 @@ module wellposed_mpm_bar_run
   use wellposed_mpm_bar_kind, only: bar_modulus_plastic
   use wellposed_mpm_paths, only: find_data, stations_plot_name
   use wellposed_mpm_reference, only: reference_plot_args
-  use wellposed_mpm_particles, only: particle_bytes
+  use wellposed_mpm_memory, only: resident_bytes_per_particle
   use wellposed_mpm_nonlocal, only: nl_scheme_names
   use wellposed_mpi, only: comm_t, allreduce_sum, allreduce_max, broadcast
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
@@ -288,7 +288,8 @@ contains
       call sm%add('wall_time', wall, 's, time loop only')
       ! a scene of zero steps (t_end = 0: a probe of the initial state) has no rate
       call sm%add('ns_per_particle_step', 1.0e9_dp*wall/max(1.0_dp, real(scene%nstep, dp)*r%ntotal))
-      call sm%add('bytes_per_particle', particle_bytes(1, scene%parts%nsup, cfg%nstatv))
+      call sm%add('bytes_per_particle', resident_bytes_per_particle(real(r%ntotal, dp)/comm%size), &
+                  'peak resident growth over the run, every buffer counted')
       call sm%add('share_umat', share(scene, timer_umat))
       call sm%add('share_transfers', share(scene, timer_transfer))
       call sm%add('share_grid', share(scene, timer_grid))

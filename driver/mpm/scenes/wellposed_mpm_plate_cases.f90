@@ -7,6 +7,7 @@ module wellposed_mpm_plate_cases
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_checkpoint, only: checkpoint_t
+  use wellposed_checked_io, only: out_file_t
   use wellposed_mpm_plane_strain, only: ps_config_t
   use wellposed_mpm_ps_deck, only: ps_study_t
   use wellposed_mpm_materials, only: scale_regions
@@ -177,33 +178,44 @@ contains
     end do
   end function curve_difference
 
-  subroutine write_csv_curve(path, c)
+  subroutine write_csv_curve(path, c, err)
     character(len=*), intent(in) :: path
     real(dp), intent(in) :: c(:, :)
-    integer :: j, u
-    open (newunit=u, file=path, status='replace', action='write')
-    write (u, '(a)') 'time_s,apparent_strain,applied_stress_Pa'
+    type(error_t), allocatable, intent(out) :: err
+    type(out_file_t) :: out
+    integer :: j
+    character(len=80) :: row
+    call out%open(path, err)
+    if (allocated(err)) return
+    call out%put('time_s,apparent_strain,applied_stress_Pa')
     do j = 1, size(c, 2)
-      write (u, '(es16.8,2(",",es16.8))') c(:, j)
+      write (row, '(es16.8,2(",",es16.8))') c(:, j)
+      call out%put(trim(row))
     end do
-    close (u)
+    call out%close(err)
   end subroutine write_csv_curve
 
   !> One line per step with plastic particles: iterations, and the bounds
   !> of eq. 4.43 (the dissertation's with N_alpha, and the sharp one) of that step.
-  subroutine write_csv_iterations(path, it, np, dt, b, sharp)
+  subroutine write_csv_iterations(path, it, np, dt, b, sharp, err)
     character(len=*), intent(in) :: path
     integer, intent(in) :: it(:), np(:)
     real(dp), intent(in) :: dt, b(:, :), sharp
-    integer :: j, u
-    open (newunit=u, file=path, status='replace', action='write')
-    write (u, '(a)') 'step,time_s,plastic_particles,iterations,n_alpha,'// &
-      'lipschitz_eq4_43_printed,lipschitz_eq4_43_sharp,final_error'
+    type(error_t), allocatable, intent(out) :: err
+    type(out_file_t) :: out
+    integer :: j
+    character(len=160) :: row
+    call out%open(path, err)
+    if (allocated(err)) return
+    call out%put('step,time_s,plastic_particles,iterations,n_alpha,'// &
+                 'lipschitz_eq4_43_printed,lipschitz_eq4_43_sharp,final_error')
     do j = 1, size(it)
-      if (np(j) > 0) write (u, '(i0,",",es14.6,",",i0,",",i0,4(",",es12.4))') j, j*dt, &
-        np(j), it(j), b(1, j), b(2, j), sharp, b(3, j)
+      if (np(j) == 0) cycle
+      write (row, '(i0,",",es14.6,",",i0,",",i0,4(",",es12.4))') j, j*dt, np(j), it(j), &
+        b(1, j), b(2, j), sharp, b(3, j)
+      call out%put(trim(row))
     end do
-    close (u)
+    call out%close(err)
   end subroutine write_csv_iterations
 
   !> x in at most 6 decimals without trailing zeros (0.03125, 2, 0.5).

@@ -441,9 +441,11 @@ contains
       if (allocated(err)) call stop_alone(comm, r%rd, err)
       do ic = 1, r%study%ncases
         associate (o => outs(ic))
-          call write_csv_curve(r%rd%path(o%tag//'_curve.csv'), o%curve)
+          call write_csv_curve(r%rd%path(o%tag//'_curve.csv'), o%curve, err)
+          if (allocated(err)) call stop_alone(comm, r%rd, err)
           call write_csv_iterations(r%rd%path(o%tag//'_iterations.csv'), o%its, o%nplast, &
-                                    o%scal(1), o%bounds, o%scal(3))
+                                    o%scal(1), o%bounds, o%scal(3), err)
+          if (allocated(err)) call stop_alone(comm, r%rd, err)
           call r%snaps%store%write_xdmf(r%rd%path(o%tag//'.xdmf'), 'run.h5', o%tag, &
                                         o%nparticles, 2, 'xy', err, prefix='cases/'//o%tag//'/')
           if (allocated(err)) call stop_alone(comm, r%rd, err)

@@ -41,6 +41,7 @@ NOT_RESULTS = {
     'date': 'wall clock', 'started': 'wall clock', 'finished': 'wall clock',
     'deck': 'the path of the deck', 'out': 'the run folder', 'command': 'the command line',
     'program': 'the program name', 'host': 'machine', 'ranks_hostname': 'machine',
+    'bytes_per_particle': 'measured memory (peak resident size)',
 }
 # Substrings of summary keys and run.h5 names that are timings (wall clock
 # and the shares of it) or build stamps.
