@@ -175,7 +175,7 @@ contains
     call hist%push(s, 0, 0)
     do il = 1, size(deck%legs)
       call run_leg(mat, s, deck%legs(il), il, deck%solver, err, hist, d_last(:, il), lab)
-      if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
+      if (allocated(err)) err%message = deck_path//': material "'//lab//'": '//err%message
       call check(err)
       saved(il) = s
     end do
@@ -355,7 +355,7 @@ contains
       phi = [(360.0_dp*(i - 1)/size(phi), i = 1, size(phi))]
       call gudehus_probe(mat, s, deck%solver, deck%probe%gudehus_size, deck%probe%n_sub, phi, &
                          dsig2, deps2, depsp2, err)
-      if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
+      if (allocated(err)) err%message = deck_path//': material "'//lab//'": '//err%message
       call check(err)
       open (newunit=unit, file=run%path(lab//'_gudehus.csv'), status='replace', action='write')
       write (unit, '(a)') 'phi_deg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r'
@@ -382,7 +382,7 @@ contains
     write (output_unit, '(a)') '  ['//lab//'] chapter 3 virtual experiment: '// &
       int_text(deck%ch3%n_cycles)//' cycles of 8 legs'
     call run_chapter3(mat, s, deck%ch3, deck%solver, res, err)
-    if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
+    if (allocated(err)) err%message = deck_path//': material "'//lab//'": '//err%message
     call check(err)
     open (newunit=unit, file=run%path(lab//'_chapter3.csv'), status='replace', action='write')
     write (unit, '(a)') 'leg,dsig_z,dsig_r,deps_z,deps_r,depsp_z,depsp_r'

@@ -13,6 +13,7 @@ module wellposed_point_deck
   use wellposed_point_material, only: material_t, ntens
   use wellposed_point_path, only: leg_t, solver_t
   use wellposed_point_chapter3, only: ch3_config_t
+  use wellposed_point_checks, only: check_point_materials
   use wellposed_fs, only: int_text
   implicit none
   private
@@ -80,6 +81,8 @@ contains
     if (.not. allocated(err)) call read_probe(deck, unit, err)
     if (.not. allocated(err)) call read_chapter3(deck, unit, err)
     close (unit)
+    if (.not. allocated(err)) call check_point_materials(path, deck%materials, deck%stress0, &
+                                                         deck%statev0, deck%legs, err)
   end subroutine read_point_deck
 
   !> Every "key =" inside a group (outside comments and strings) must be one
