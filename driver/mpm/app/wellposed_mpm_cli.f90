@@ -1,5 +1,5 @@
 !> The command line of wellposed-mpm, read once for every scene kind:
-!>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot]
+!>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot] [--force]
 !>       [--checkpoint-every STEPS] [--restart | --restart-from FILE]
 !>       [DECK] [group.key=value ...]
 !>   [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] [--no-plot]
@@ -25,6 +25,7 @@ module wellposed_mpm_cli
     logical :: restart = .false.
     logical :: no_plot = .false.
     logical :: help = .false.
+    logical :: force = .false.       !< --force: run past the deck's step limit
   end type mpm_cli_t
 
 contains
@@ -56,6 +57,8 @@ contains
         call value_of(cli%run_name); if (allocated(err)) return
       case ('--no-plot')
         cli%no_plot = .true.
+      case ('--force')
+        cli%force = .true.
       case ('--checkpoint-every')
         call value_of(arg); if (allocated(err)) return
         if (verify(arg, '0123456789') /= 0 .or. len(arg) == 0 .or. len(arg) > 9) then
@@ -126,7 +129,7 @@ contains
   subroutine write_mpm_usage(default_deck)
     character(len=*), intent(in) :: default_deck
     write (output_unit, '(a)') 'usage: [mpirun -np N] wellposed-mpm [--out ROOT] '// &
-      '[--name NAME] [--no-plot] [--checkpoint-every STEPS]'
+      '[--name NAME] [--no-plot] [--force] [--checkpoint-every STEPS]'
     write (output_unit, '(a)') '         [--restart | --restart-from FILE] [DECK] '// &
       '[group.key=value ...]'
     write (output_unit, '(a)') '       [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] '// &
@@ -142,6 +145,8 @@ contains
     write (output_unit, '(a)') '  --restart                 continue from the newest '// &
       '(same deck and overrides; any number of ranks)'
     write (output_unit, '(a)') '  --restart-from FILE       continue from checkpoint FILE'
+    write (output_unit, '(a)') '  --force                   run a deck of more time steps than the '// &
+      'limit (docs/guide/decks.md)'
     write (output_unit, '(a)') '  --batch FILE              one deck per line, optionally '// &
       'with options; jobs shared over the ranks'
     write (output_unit, '(a)') '  wellposed-mpm2d is an alias of this program, kept for one release'

@@ -95,7 +95,7 @@ contains
 
     ! ---- deck and scene
     call read_mpm_deck(cli%deck_path, cli%overrides, cfg, opts, deck_text, err)
-    if (.not. allocated(err)) call check_bar_deck(cli%deck_path, cfg, err)
+    if (.not. allocated(err)) call check_bar_deck(cli%deck_path, cfg, err, cli%force)
     if (allocated(err)) call stop_all(comm, rd, err)
     if (len(cli%run_name) > 0) cfg%name = cli%run_name
     ! every rank builds the scene and keeps its strip (errors: the same on all)

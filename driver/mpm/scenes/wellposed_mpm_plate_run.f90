@@ -95,7 +95,7 @@ contains
     ck_file = cli%ck_file
 
     call read_ps_deck(cli%deck_path, cli%overrides, cfg0, study, deck_text, err)
-    if (.not. allocated(err)) call check_plate_deck(cli%deck_path, cfg0, study, err)
+    if (.not. allocated(err)) call check_plate_deck(cli%deck_path, cfg0, study, err, cli%force)
     if (allocated(err)) call die(err%message)
     if (len(cli%run_name) > 0) cfg0%name = cli%run_name
     ! check every case before writing anything
