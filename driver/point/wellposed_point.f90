@@ -36,12 +36,13 @@ program wellposed_point
   type(h5_file_t) :: h5
   character(len=4096) :: arg
   character(len=:), allocatable :: deck_path, out_root, batch_file
-  logical :: plot
+  logical :: plot, check_only
   integer :: i, nargs, im
   integer(8) :: t0, t1, rate
 
   call system_clock(t0, rate)
   plot = .true.
+  check_only = .false.
   deck_path = ''
   out_root = ''
   batch_file = ''
@@ -53,6 +54,8 @@ program wellposed_point
     select case (trim(arg))
     case ('--no-plot')
       plot = .false.
+    case ('--check')
+      check_only = .true.
     case ('--out', '--batch')
       if (i == nargs) call fail_usage(trim(arg)//' needs a value')
       i = i + 1
@@ -66,11 +69,12 @@ program wellposed_point
         if (len(batch_file) == 0) call fail_usage('--batch needs a non-empty value')
       end if
     case ('-h', '--help')
-      write (output_unit, '(a)') 'usage: wellposed-point DECK [--no-plot] [--out ROOT]', &
+      write (output_unit, '(a)') 'usage: wellposed-point DECK [--no-plot] [--out ROOT] [--check]', &
         '       [mpirun -np N] wellposed-point --batch FILE [--out ROOT] [--no-plot]', &
         '  DECK: namelist deck (groups and keys: docs/guide/decks.md)', &
         '  --no-plot: skip the PNG plots (same as plot = .false. in &run)', &
         '  --out ROOT: write ROOT/<name>/ instead of the deck''s out_dir', &
+        '  --check: read and check the deck (and its materials), run and write nothing', &
         '  --batch FILE: one deck per line (# comments); summary in ROOT/<FILE name>/'
       stop
     case default
@@ -88,6 +92,10 @@ program wellposed_point
 
   call read_point_deck(deck_path, deck, err)
   call check(err)
+  if (check_only) then
+    write (output_unit, '(a)') deck_path//': read and checked (--check: nothing run)'
+    stop
+  end if
   if (len(out_root) > 0) deck%out_dir = out_root
   plot = plot .and. deck%plot
   call run%create(deck%out_dir, deck%name, deck_path, err)

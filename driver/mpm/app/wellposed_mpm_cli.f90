@@ -1,5 +1,5 @@
 !> The command line of wellposed-mpm, read once for every scene kind:
-!>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot] [--force]
+!>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot] [--force] [--check]
 !>       [--checkpoint-every STEPS] [--restart | --restart-from FILE]
 !>       [DECK] [group.key=value ...]
 !>   [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] [--no-plot]
@@ -26,6 +26,7 @@ module wellposed_mpm_cli
     logical :: no_plot = .false.
     logical :: help = .false.
     logical :: force = .false.       !< --force: run past the deck's step limit
+    logical :: check = .false.       !< --check: read and check the deck, run nothing
   end type mpm_cli_t
 
 contains
@@ -59,6 +60,8 @@ contains
         cli%no_plot = .true.
       case ('--force')
         cli%force = .true.
+      case ('--check')
+        cli%check = .true.
       case ('--checkpoint-every')
         call value_of(arg); if (allocated(err)) return
         if (verify(arg, '0123456789') /= 0 .or. len(arg) == 0 .or. len(arg) > 9) then
@@ -129,9 +132,9 @@ contains
   subroutine write_mpm_usage(default_deck)
     character(len=*), intent(in) :: default_deck
     write (output_unit, '(a)') 'usage: [mpirun -np N] wellposed-mpm [--out ROOT] '// &
-      '[--name NAME] [--no-plot] [--force] [--checkpoint-every STEPS]'
-    write (output_unit, '(a)') '         [--restart | --restart-from FILE] [DECK] '// &
-      '[group.key=value ...]'
+      '[--name NAME] [--no-plot] [--force] [--check]'
+    write (output_unit, '(a)') '         [--checkpoint-every STEPS] [--restart | '// &
+      '--restart-from FILE] [DECK] [group.key=value ...]'
     write (output_unit, '(a)') '       [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] '// &
       '[--no-plot]'
     write (output_unit, '(a)') '  DECK: a 1D bar (inputs/fig2_*.nml) or a plane-strain plate '// &
@@ -145,8 +148,10 @@ contains
     write (output_unit, '(a)') '  --restart                 continue from the newest '// &
       '(same deck and overrides; any number of ranks)'
     write (output_unit, '(a)') '  --restart-from FILE       continue from checkpoint FILE'
-    write (output_unit, '(a)') '  --force                   run a deck of more time steps than the '// &
-      'limit (docs/guide/decks.md)'
+    write (output_unit, '(a)') '  --force                   run a deck of more time steps '// &
+      'than the limit (docs/guide/decks.md)'
+    write (output_unit, '(a)') '  --check                   read and check the deck and '// &
+      'overrides, run and write nothing'
     write (output_unit, '(a)') '  --batch FILE              one deck per line, optionally '// &
       'with options; jobs shared over the ranks'
     write (output_unit, '(a)') '  wellposed-mpm2d is an alias of this program, kept for one release'
