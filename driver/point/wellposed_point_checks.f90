@@ -40,7 +40,7 @@ contains
     zero = 0.0_dp
     do m = 1, size(materials)
       who = path//': &material "'//materials(m)%label//'": '
-      call new_umat_host(h, ntens, materials(m)%nstatv, err)
+      call new_umat_host(h, ntens, materials(m)%nstatv, err, what='element')
       if (allocated(err)) return
       h%dtime = 0.0_dp
       s = stress0
@@ -54,7 +54,7 @@ contains
         return
       else if (verdict /= verdict_ok) then
         call host_error(h, verdict, err, 'a zero increment from the initial state')
-        err%message = who//err%message
+        err%message = who//'the UMAT rejected its input: '//err%message
         return
       end if
       if (umat_is_ours()) call check_targets(materials(m), who)
