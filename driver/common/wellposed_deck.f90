@@ -14,7 +14,7 @@ module wellposed_deck
   private
   public :: read_text_file, read_deck_text, check_deck_text, namelist_error, check_required, &
             check_finite, check_range, unset, is_set, real_str, has_group, lower, check_word, &
-            deck_essence, check_group_names
+            deck_essence, check_group_names, unheld_stress_note
 
   !> Sentinel for "not given in the deck": a required real key is set to
   !> `unset` before the READ and tested with `is_set` after it.
@@ -544,5 +544,15 @@ contains
       if (c >= iachar('A') .and. c <= iachar('Z')) low(i:i) = achar(c + 32)
     end do
   end function lower
+
+  !> Why a UMAT asks for a smaller step on a zero increment from `stress`:
+  !> the largest component and our UMAT's stress limit (docs/guide/umat.md).
+  pure function unheld_stress_note(stress) result(text)
+    real(dp), intent(in) :: stress(:)
+    character(len=:), allocatable :: text
+    text = ': it cannot hold that stress (largest |component| = '// &
+      real_text(maxval(abs(stress)))//' Pa; our UMAT takes stresses below 2^448 min(1, K, '// &
+      'G), docs/guide/umat.md)'
+  end function unheld_stress_note
 
 end module wellposed_deck

@@ -8,6 +8,7 @@ module wellposed_point_checks
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text, real_text
+  use wellposed_deck, only: unheld_stress_note
   use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_error, &
                                  verdict_ok, verdict_cutback, umat_is_ours
   use wellposed_umat_layout, only: prop_h, prop_tau
@@ -48,9 +49,7 @@ contains
       call host_call(h, materials(m)%props, s, sv, zero, zero, verdict)
       if (verdict == verdict_cutback) then
         call new_error(err, status_invalid, 'stress', who//'the UMAT asks for a smaller step '// &
-          'on a zero increment from the initial state (&initial): it cannot hold that state '// &
-          '(largest |stress| = '//real_text(maxval(abs(stress0)))//' Pa; our UMAT takes '// &
-          'stresses below 2^448 min(1, K, G), docs/umat.md)')
+          'on a zero increment from the initial state (&initial)'//unheld_stress_note(stress0))
         return
       else if (verdict /= verdict_ok) then
         call host_error(h, verdict, err, 'a zero increment from the initial state')

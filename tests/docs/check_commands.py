@@ -103,6 +103,19 @@ def commands_of(block):
     return out
 
 
+def launched(tokens):
+    """The command of `tokens` without VAR=value prefixes and a launcher
+    with its options (mpirun -np 2 PROGRAM ...: PROGRAM ...)."""
+    while tokens and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*=\S*", tokens[0]):
+        tokens = tokens[1:]
+    if tokens and tokens[0] in LAUNCHERS:
+        i = 1
+        while i < len(tokens) and tokens[i].startswith("-"):
+            i += 2 if tokens[i] in LAUNCHER_VALUED else 1
+        tokens = tokens[i:]
+    return tokens
+
+
 def heading_anchor(heading):
     """GitHub's anchor of a Markdown heading."""
     text = heading.strip().lower()
@@ -210,14 +223,7 @@ class Checker:
         return any(q in self.source_text() for q in quoted)
 
     def check_command(self, tokens, where):
-        # skip VAR=value prefixes and launchers with their options
-        while tokens and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*=\S*", tokens[0]):
-            tokens = tokens[1:]
-        if tokens and tokens[0] in LAUNCHERS:
-            i = 1
-            while i < len(tokens) and tokens[i].startswith("-"):
-                i += 2 if tokens[i] in LAUNCHER_VALUED else 1
-            tokens = tokens[i:]
+        tokens = launched(tokens)
         if tokens and tokens[0] in ("nice", "time"):
             tokens = tokens[1:]
         if not tokens:
@@ -409,14 +415,8 @@ class Runner:
             tokens = shlex.split(command)
         except ValueError:
             return "full", ""
-        while tokens and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*=\S*", tokens[0]):
-            tokens = tokens[1:]
-        if tokens and tokens[0] in LAUNCHERS:
-            i = 1
-            while i < len(tokens) and tokens[i].startswith("-"):
-                i += 2 if tokens[i] in LAUNCHER_VALUED else 1
-            if i >= len(tokens):
-                return "template", "a launcher alone (prose)"
+        if not launched(tokens):
+            return "template", "a launcher alone (prose)"
         if any(is_placeholder(t) or t.startswith("[") for t in tokens):
             return "template", "a placeholder"
         for how, regex, why in self.rules:

@@ -13,6 +13,7 @@ module wellposed_mpm_deck_checks
   use wellposed_finite, only: all_finite
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text, real_text
+  use wellposed_deck, only: unheld_stress_note
   use wellposed_mpm_config, only: mpm_config_t, bc_free, pulse_ramp_sine
   use wellposed_mpm_loads, only: surface_stress
   use wellposed_mpm_bar, only: probe_moduli
@@ -212,9 +213,7 @@ contains
     if (verdict == verdict_cutback) then
       call new_error(err, status_invalid, 'stress', path//': &initial: '//trim(which)// &
         ' asks for a smaller step on a zero increment from the initial stress (through the '// &
-        'UMAT): it cannot hold that stress (largest |component| = '// &
-        real_text(maxval(abs(cfg%stress0)))//' Pa; our UMAT takes stresses below 2^448 '// &
-        'min(1, K, G), docs/umat.md)')
+        'UMAT)'//unheld_stress_note(cfg%stress0))
       return
     else if (verdict /= verdict_ok) then
       call host_error(h, verdict, err, 'a zero increment from the initial stress')
