@@ -14,11 +14,13 @@ module wellposed_deck
   private
   public :: read_text_file, read_deck_text, check_deck_text, namelist_error, check_required, &
             check_finite, check_range, unset, is_set, real_str, has_group, lower, check_word, &
-            deck_essence
+            deck_essence, check_group_names, unheld_stress_note
 
   !> Sentinel for "not given in the deck": a required real key is set to
   !> `unset` before the READ and tested with `is_set` after it.
   real(dp), parameter :: unset = -huge(1.0_dp)
+  character(len=*), parameter :: deck_need = ': a deck is plain text of Fortran namelist '// &
+    'groups "&group key = value, ... /" (see docs/guide/decks.md)'
 
   !> Validate that a real value is finite (scalar or array).
   interface check_finite
@@ -84,28 +86,56 @@ contains
   pure subroutine check_deck_text(path, text, err)
     character(len=*), intent(in) :: path, text
     type(error_t), allocatable, intent(out) :: err
-    character(len=*), parameter :: need = ': a deck is plain text of Fortran namelist '// &
-      'groups "&group key = value, ... /" (see docs/guide/decks.md)'
-    character(len=*), parameter :: letters = 'abcdefghijklmnopqrstuvwxyz'
-    integer :: i, c, line, open_line, j, ngroups
-    character(len=1) :: quote
-    logical :: comment
-    character(len=:), allocatable :: low, open_name
+    integer :: i, c, open_line
+    character(len=:), allocatable :: open_name
+    character(len=32), allocatable :: names(:)
+    integer, allocatable :: lines(:)
+    logical :: at_end
     do i = 1, len(text)
       c = iachar(text(i:i))
       if ((c < 32 .and. c /= 9 .and. c /= 10 .and. c /= 12 .and. c /= 13) .or. c == 127) then
         call new_error(err, status_invalid, path, path//': not a text file (byte '// &
-          int_text(i)//' is '//int_text(c)//')'//need)
+          int_text(i)//' is '//int_text(c)//')'//deck_need)
         return
       end if
     end do
+    call scan_groups(text, names, lines, open_name, open_line, at_end)
+    if (len(open_name) > 0) then
+      call new_error(err, status_invalid, open_name, path//': namelist group &'//open_name// &
+        ' (line '//int_text(open_line)//') is not closed by "/" before '// &
+        trim(merge('the end of file', 'the next group ', at_end))// &
+        ': is the file cut short?'//deck_need)
+    else if (size(names) == 0) then
+      call new_error(err, status_invalid, path, path//': holds no namelist group (empty, '// &
+        'or comments only)'//deck_need)
+    end if
+  end subroutine check_deck_text
+
+  !> The namelist groups of a deck's text in order (lower-case names, the
+  !> line of each "&name"), outside comments and quoted values; a group is
+  !> closed by "/" or "&end". A group still open when the text ends, or
+  !> when another "&name" starts, is `open_name` (line `open_line`; '' when
+  !> none), and `at_end` is false in the second case (the scan stops there).
+  pure subroutine scan_groups(text, names, lines, open_name, open_line, at_end)
+    character(len=*), intent(in) :: text
+    character(len=32), allocatable, intent(out) :: names(:)
+    integer, allocatable, intent(out) :: lines(:)
+    character(len=:), allocatable, intent(out) :: open_name
+    integer, intent(out) :: open_line
+    logical, intent(out) :: at_end
+    character(len=*), parameter :: letters = 'abcdefghijklmnopqrstuvwxyz'
+    integer :: i, j, line
+    character(len=1) :: quote
+    logical :: comment
+    character(len=:), allocatable :: low
     low = lower(text)
-    ngroups = 0
+    allocate (names(0), lines(0))
     open_name = ''
     open_line = 0
     line = 1
     quote = ' '
     comment = .false.
+    at_end = .true.
     i = 0
     do while (i < len(low))
       i = i + 1
@@ -136,25 +166,54 @@ contains
         if (low(i + 1:j - 1) == 'end') then
           open_name = ''
         else if (len(open_name) > 0) then
-          exit
+          at_end = .false.
+          return
         else if (index(letters, low(i + 1:i + 1)) > 0) then
           open_name = low(i + 1:j - 1)
           open_line = line
-          ngroups = ngroups + 1
+          names = [character(len=32) :: names, open_name]
+          lines = [lines, line]
         end if
         i = j - 1
       end select
     end do
-    if (len(open_name) > 0) then
-      call new_error(err, status_invalid, open_name, path//': namelist group &'//open_name// &
-        ' (line '//int_text(open_line)//') is not closed by "/" before '// &
-        trim(merge('the next group ', 'the end of file', i < len(low)))// &
-        ': is the file cut short?'//need)
-    else if (ngroups == 0) then
-      call new_error(err, status_invalid, path, path//': holds no namelist group (empty, '// &
-        'or comments only)'//need)
-    end if
-  end subroutine check_deck_text
+  end subroutine scan_groups
+
+  !> Error unless every namelist group of deck `path` (its `text`) is one of
+  !> `known` (lower case) and each but those of `repeatable` is given once:
+  !> a namelist READ skips a group it is not asked for and reads only the
+  !> first of two, so either would be silently ignored.
+  pure subroutine check_group_names(path, text, known, repeatable, err)
+    character(len=*), intent(in) :: path, text, known(:), repeatable(:)
+    type(error_t), allocatable, intent(out) :: err
+    character(len=32), allocatable :: names(:)
+    integer, allocatable :: lines(:)
+    character(len=:), allocatable :: open_name, valid
+    integer :: k, j, open_line
+    logical :: at_end
+    call scan_groups(text, names, lines, open_name, open_line, at_end)
+    do k = 1, size(names)
+      if (all(known /= names(k))) then
+        valid = ''
+        do j = 1, size(known)
+          valid = valid//merge(', &', '  &', j > 1)//trim(known(j))
+        end do
+        call new_error(err, status_invalid, trim(names(k)), path//': line '// &
+          int_text(lines(k))//': unknown namelist group &'//trim(names(k))// &
+          ' (the groups of this deck are'//valid(2:)//'; docs/guide/decks.md)')
+        return
+      end if
+      if (any(repeatable == names(k))) cycle
+      j = findloc(names(1:k - 1), names(k), 1)
+      if (j > 0) then
+        call new_error(err, status_invalid, trim(names(k)), path//': line '// &
+          int_text(lines(k))//': a second namelist group &'//trim(names(k))// &
+          ' (the first is on line '//int_text(lines(j))//'): a deck gives each group '// &
+          'once (only the first would be read); merge them')
+        return
+      end if
+    end do
+  end subroutine check_group_names
 
   !> What a namelist READ sees of a deck's text: comments ("!" to the end of
   !> a line outside quotes) dropped, every run of blanks, tabs and line ends
@@ -485,5 +544,15 @@ contains
       if (c >= iachar('A') .and. c <= iachar('Z')) low(i:i) = achar(c + 32)
     end do
   end function lower
+
+  !> Why a UMAT asks for a smaller step on a zero increment from `stress`:
+  !> the largest component and our UMAT's stress limit (docs/guide/umat.md).
+  pure function unheld_stress_note(stress) result(text)
+    real(dp), intent(in) :: stress(:)
+    character(len=:), allocatable :: text
+    text = ': it cannot hold that stress (largest |component| = '// &
+      real_text(maxval(abs(stress)))//' Pa; our UMAT takes stresses below 2^448 min(1, K, '// &
+      'G), docs/guide/umat.md)'
+  end function unheld_stress_note
 
 end module wellposed_deck

@@ -38,12 +38,13 @@ program wellposed_point
   type(h5_file_t) :: h5
   character(len=4096) :: arg
   character(len=:), allocatable :: deck_path, out_root, batch_file, max_memory
-  logical :: plot
+  logical :: plot, check_only
   integer :: i, nargs, im
   integer(8) :: t0, t1, rate
 
   call system_clock(t0, rate)
   plot = .true.
+  check_only = .false.
   deck_path = ''
   out_root = ''
   batch_file = ''
@@ -56,6 +57,8 @@ program wellposed_point
     select case (trim(arg))
     case ('--no-plot')
       plot = .false.
+    case ('--check')
+      check_only = .true.
     case ('--out', '--batch', '--max-memory')
       if (i == nargs) call fail_usage(trim(arg)//' needs a value')
       i = i + 1
@@ -72,12 +75,13 @@ program wellposed_point
         if (len(batch_file) == 0) call fail_usage('--batch needs a non-empty value')
       end if
     case ('-h', '--help')
-      write (output_unit, '(a)') 'usage: wellposed-point DECK [--no-plot] [--out ROOT]', &
+      write (output_unit, '(a)') 'usage: wellposed-point DECK [--no-plot] [--out ROOT] [--check]', &
         '       [mpirun -np N] wellposed-point --batch FILE [--out ROOT] [--no-plot]', &
         '  DECK: namelist deck (groups and keys: docs/guide/decks.md)', &
         '  --no-plot: skip the PNG plots (same as plot = .false. in &run)', &
         '  --out ROOT: write ROOT/<name>/ instead of the deck''s out_dir', &
         '  --max-memory SIZE: refuse a deck needing more (4G, 512M; default MemAvailable)', &
+        '  --check: read and check the deck (and its materials), run and write nothing', &
         '  --batch FILE: one deck per line (# comments); summary in ROOT/<FILE name>/'
       stop
     case default
@@ -96,6 +100,10 @@ program wellposed_point
   call read_point_deck(deck_path, deck, err)
   call check(err)
   call memory_check()
+  if (check_only) then
+    write (output_unit, '(a)') deck_path//': read and checked (--check: nothing run)'
+    stop
+  end if
   if (len(out_root) > 0) deck%out_dir = out_root
   plot = plot .and. deck%plot
   call run%create(deck%out_dir, deck%name, deck_path, err)
@@ -199,7 +207,7 @@ contains
     call hist%push(s, 0, 0)
     do il = 1, size(deck%legs)
       call run_leg(mat, s, deck%legs(il), il, deck%solver, err, hist, d_last(:, il), lab)
-      if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
+      if (allocated(err)) err%message = deck_path//': material "'//lab//'": '//err%message
       call check(err)
       saved(il) = s
     end do
@@ -389,7 +397,7 @@ contains
       phi = [(360.0_dp*(i - 1)/size(phi), i = 1, size(phi))]
       call gudehus_probe(mat, s, deck%solver, deck%probe%gudehus_size, deck%probe%n_sub, phi, &
                          dsig2, deps2, depsp2, err)
-      if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
+      if (allocated(err)) err%message = deck_path//': material "'//lab//'": '//err%message
       call check(err)
       call csv%open(run%path(lab//'_gudehus.csv'), err)
       call check(err)
@@ -422,7 +430,7 @@ contains
     write (output_unit, '(a)') '  ['//lab//'] chapter 3 virtual experiment: '// &
       int_text(deck%ch3%n_cycles)//' cycles of 8 legs'
     call run_chapter3(mat, s, deck%ch3, deck%solver, res, err)
-    if (allocated(err)) err%message = 'material "'//lab//'": '//err%message
+    if (allocated(err)) err%message = deck_path//': material "'//lab//'": '//err%message
     call check(err)
     call csv%open(run%path(lab//'_chapter3.csv'), err)
     call check(err)

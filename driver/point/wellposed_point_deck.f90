@@ -8,10 +8,12 @@ module wellposed_point_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: read_deck_text, namelist_error, check_required, check_finite, &
-                            check_range, unset, is_set, has_group, real_str, lower
+                            check_range, unset, is_set, has_group, real_str, lower, &
+                            check_group_names
   use wellposed_point_material, only: material_t, ntens
   use wellposed_point_path, only: leg_t, solver_t
   use wellposed_point_chapter3, only: ch3_config_t
+  use wellposed_point_checks, only: check_point_materials
   use wellposed_fs, only: int_text
   implicit none
   private
@@ -62,6 +64,9 @@ contains
     deck%path = path
     call read_deck_text(path, deck%text, err)
     if (allocated(err)) return
+    call check_group_names(path, deck%text, [character(len=32) :: 'run', 'material', &
+      'initial', 'leg', 'probe', 'chapter3'], [character(len=32) :: 'material', 'leg'], err)
+    if (allocated(err)) return
     call check_groups(deck, err)
     if (allocated(err)) return
     open (newunit=unit, file=path, status='old', action='read', iostat=ios, iomsg=msg)
@@ -76,15 +81,16 @@ contains
     if (.not. allocated(err)) call read_probe(deck, unit, err)
     if (.not. allocated(err)) call read_chapter3(deck, unit, err)
     close (unit)
+    if (.not. allocated(err)) call check_point_materials(path, deck%materials, deck%stress0, &
+                                                         deck%statev0, deck%legs, err)
   end subroutine read_point_deck
 
-  !> Every "&name" in the deck (outside comments and strings) must be a
-  !> known group, and every "key =" inside a group one of its keys (gfortran
-  !> reports an unknown key after an array as bad data for the array).
+  !> Every "key =" inside a group (outside comments and strings) must be one
+  !> of its keys (gfortran reports an unknown key after an array as bad data
+  !> for the array); the groups themselves are check_group_names'.
   subroutine check_groups(deck, err)
     type(point_deck_t), intent(in) :: deck
     type(error_t), allocatable, intent(out) :: err
-    character(len=*), parameter :: known = ' run material initial leg probe chapter3 end '
     character(len=*), parameter :: letters = &
       'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_'
     integer :: i, j, k
@@ -115,12 +121,6 @@ contains
             j = j + 1
           end do
           word = lower(t(i + 1:j - 1))
-          if (len(word) > 0 .and. index(known, ' '//word//' ') == 0) then
-            call new_error(err, status_invalid, word, deck%path//': unknown namelist group &'// &
-              t(i + 1:j - 1)//' (valid groups: &run, &material, &initial, &leg, &probe, '// &
-              '&chapter3)')
-            return
-          end if
           group = word
           if (word == 'end') group = ''
           i = j - 1

@@ -11,8 +11,15 @@ an earlier `cmake -D...` of the same block configures it and the build
 system names it. Relative links must reach a file and, with #anchor, one of
 its headings.
 
-usage: check_commands.py --root REPO --bin BINDIR [--build BUILDDIR]
-                         [--doc FILE ...] [--expect-failure-naming TEXT]
+With --run, every command is also pasted into bash, as a reader would, in
+a scratch folder that holds the repository's files and build/bin: a command
+that exits non-zero is a problem. Commands too long to run are shortened or
+left out by the rules of tests/docs/commands.rules (docs/guide/testing.md,
+"Documented commands"); a command with a placeholder (DECK, [--out ROOT])
+is a template and is not run. Each distinct command runs once.
+
+usage: check_commands.py --root REPO --bin BINDIR [--build BUILDDIR] [--run]
+                         [--rules FILE] [--doc FILE ...] [--expect-failure-naming TEXT]
 
 --doc       the Markdown files to read (default: REPO/README.md and every REPO/docs/**/*.md)
 --expect-failure-naming TEXT
@@ -25,8 +32,10 @@ import glob
 import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
+import tempfile
 
 # Top-level folders of the repository a path in a command may start with.
 REPO_DIRS = ("bench", "cmake", "docs", "driver", "inputs", "scripts", "src",
@@ -92,6 +101,19 @@ def commands_of(block):
         if command:
             out.append(command)
     return out
+
+
+def launched(tokens):
+    """The command of `tokens` without VAR=value prefixes and a launcher
+    with its options (mpirun -np 2 PROGRAM ...: PROGRAM ...)."""
+    while tokens and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*=\S*", tokens[0]):
+        tokens = tokens[1:]
+    if tokens and tokens[0] in LAUNCHERS:
+        i = 1
+        while i < len(tokens) and tokens[i].startswith("-"):
+            i += 2 if tokens[i] in LAUNCHER_VALUED else 1
+        tokens = tokens[i:]
+    return tokens
 
 
 def heading_anchor(heading):
@@ -201,14 +223,7 @@ class Checker:
         return any(q in self.source_text() for q in quoted)
 
     def check_command(self, tokens, where):
-        # skip VAR=value prefixes and launchers with their options
-        while tokens and re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*=\S*", tokens[0]):
-            tokens = tokens[1:]
-        if tokens and tokens[0] in LAUNCHERS:
-            i = 1
-            while i < len(tokens) and tokens[i].startswith("-"):
-                i += 2 if tokens[i] in LAUNCHER_VALUED else 1
-            tokens = tokens[i:]
+        tokens = launched(tokens)
         if tokens and tokens[0] in ("nice", "time"):
             tokens = tokens[1:]
         if not tokens:
@@ -318,6 +333,120 @@ class Checker:
                 self.check_command(command, name + ":" + str(number))
 
 
+def command_lines(text):
+    """(line number, command line as printed) of every ```bash block (its
+    continuation lines joined) and every inline whole-command span."""
+    out = []
+    for start, block in fenced_bash_blocks(text):
+        number, pending = start, ""
+        for offset, line in enumerate(block.split("\n")):
+            if not pending:
+                number = start + offset
+            if line.rstrip().endswith("\\"):
+                pending += line.rstrip()[:-1] + " "
+                continue
+            line, pending = pending + line, ""
+            if line.strip() and not line.strip().startswith("#"):
+                out.append((number, line.strip()))
+    for number, span in inline_commands(text):
+        out.append((number, span.replace("\\|", "|")))
+    return out
+
+
+def strip_comment(line):
+    """`line` without its trailing comment (a # after a blank, outside quotes)."""
+    quote = None
+    for i, ch in enumerate(line):
+        if quote:
+            quote = None if ch == quote else quote
+        elif ch in "'\"":
+            quote = ch
+        elif ch == "#" and (i == 0 or line[i - 1] in " \t"):
+            return line[:i].rstrip()
+    return line.rstrip()
+
+
+def load_rules(path):
+    """[(how, compiled regex, why)] of a rules file (HOW | REGEX | WHY)."""
+    rules = []
+    with open(path, encoding="utf-8") as handle:
+        for line in handle:
+            if not line.strip() or line.lstrip().startswith("#"):
+                continue
+            how, regex, why = (part.strip() for part in line.split(" | ", 2))
+            if how not in ("check", "skip"):
+                raise SystemExit(path + ": unknown rule " + how)
+            rules.append((how, re.compile(regex), why))
+    return rules
+
+
+class Runner:
+    """Runs documented commands in bash in a scratch folder that links the
+    repository's top-level entries and build/bin."""
+
+    # an MPI program started without mpirun: a quick isolated singleton;
+    # mpirun -np 4 on a smaller machine: oversubscribed
+    ENV = {"OMPI_MCA_ess_singleton_isolated": "1", "OMPI_MCA_pml": "ob1",
+           "OMPI_MCA_btl": "self,vader", "OMPI_MCA_rmaps_base_oversubscribe": "1"}
+
+    def __init__(self, root, bindir, rules):
+        self.rules = rules
+        self.done = {}
+        self.counts = {"full": 0, "check": 0, "skip": 0, "template": 0}
+        self.folder = tempfile.mkdtemp(prefix="docs_commands.")
+        for entry in os.listdir(root):
+            if entry.startswith((".", "build", "out")):
+                continue
+            os.symlink(os.path.join(root, entry), os.path.join(self.folder, entry))
+        os.makedirs(os.path.join(self.folder, "build"))
+        os.symlink(bindir, os.path.join(self.folder, "build", "bin"))
+        self.env = dict(os.environ)
+        for key, value in self.ENV.items():
+            self.env.setdefault(key, value)
+        # `python3` is the interpreter the build found (the one running this)
+        self.env["PATH"] = os.path.dirname(sys.executable) + os.pathsep + self.env["PATH"]
+
+    def close(self):
+        shutil.rmtree(self.folder, ignore_errors=True)
+
+    def how(self, command):
+        """'full', 'check', 'skip' or 'template', and why."""
+        try:
+            tokens = shlex.split(command)
+        except ValueError:
+            return "full", ""
+        if not launched(tokens):
+            return "template", "a launcher alone (prose)"
+        if any(is_placeholder(t) or t.startswith("[") for t in tokens):
+            return "template", "a placeholder"
+        for how, regex, why in self.rules:
+            if regex.search(command):
+                return how, why
+        return "full", ""
+
+    def run(self, checker, where, line):
+        command = strip_comment(line)
+        how, _ = self.how(command)
+        if command in self.done:
+            return
+        self.done[command] = how
+        self.counts[how] += 1
+        if how in ("skip", "template"):
+            return
+        text = command + (" --check" if how == "check" else "")
+        try:
+            run = subprocess.run(["bash", "-c", text], cwd=self.folder, env=self.env,
+                                 capture_output=True, text=True, errors="replace",
+                                 timeout=600, stdin=subprocess.DEVNULL)
+        except subprocess.TimeoutExpired:
+            checker.problem(where, "'" + text + "' run in bash did not end in 600 s")
+            return
+        if run.returncode != 0:
+            said = (run.stderr.strip() or run.stdout.strip()).splitlines()
+            checker.problem(where, "'" + text + "' run in bash exits " + str(run.returncode)
+                            + (": " + said[-1] if said else ""))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--root", required=True)
@@ -325,6 +454,9 @@ def main():
     parser.add_argument("--build")
     parser.add_argument("--doc", action="append")
     parser.add_argument("--expect-failure-naming")
+    parser.add_argument("--run", action="store_true")
+    parser.add_argument("--rules", default=os.path.join(os.path.dirname(
+        os.path.abspath(__file__)), "commands.rules"))
     opts = parser.parse_args()
     root = os.path.abspath(opts.root)
     docs = opts.doc or ([os.path.join(root, "README.md")]
@@ -332,12 +464,18 @@ def main():
                                            recursive=True)))
     checker = Checker(root, os.path.abspath(opts.bin),
                       os.path.abspath(opts.build) if opts.build else None)
+    runner = Runner(root, os.path.abspath(opts.bin), load_rules(opts.rules)) \
+        if opts.run else None
     ncommands = 0
     for doc in docs:
         if not os.path.isfile(doc):
             checker.problem(doc, "no such document")
             continue
         checker.check_file(doc)
+        if runner is not None:
+            with open(doc, encoding="utf-8") as handle:
+                for number, line in command_lines(handle.read()):
+                    runner.run(checker, os.path.relpath(doc, root) + ":" + str(number), line)
         with open(doc, encoding="utf-8") as handle:
             text = handle.read()
             ncommands += sum(len(commands_of(b)) for _, b in fenced_bash_blocks(text))
@@ -346,6 +484,12 @@ def main():
         print(line)
     print("check_commands: %d document(s), %d command(s), %d problem(s), %d program(s) run"
           " with --help" % (len(docs), ncommands, len(checker.problems), len(checker.help_cache)))
+    if runner is not None:
+        runner.close()
+        print("check_commands --run: of %d distinct commands, %d run in full, %d with --check, "
+              "%d not run by a rule, %d templates" % (
+                  len(runner.done), runner.counts["full"], runner.counts["check"],
+                  runner.counts["skip"], runner.counts["template"]))
     if opts.expect_failure_naming is not None:
         named = any(opts.expect_failure_naming in line for line in checker.problems)
         if checker.problems and named:

@@ -1,5 +1,5 @@
 !> The command line of wellposed-mpm, read once for every scene kind:
-!>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot]
+!>   [mpirun -np N] wellposed-mpm [--out ROOT] [--name NAME] [--no-plot] [--force] [--check]
 !>       [--checkpoint-every STEPS] [--keep-checkpoints]
 !>       [--restart | --restart-from FILE] [--max-memory SIZE]
 !>       [DECK] [group.key=value ...]
@@ -29,6 +29,8 @@ module wellposed_mpm_cli
     logical :: keep_checkpoints = .false.
     logical :: no_plot = .false.
     logical :: help = .false.
+    logical :: force = .false.       !< --force: run past the deck's step limit
+    logical :: check = .false.       !< --check: read and check the deck, run nothing
   end type mpm_cli_t
 
 contains
@@ -63,6 +65,10 @@ contains
         cli%no_plot = .true.
       case ('--max-memory')
         call value_of(cli%max_memory); if (allocated(err)) return
+      case ('--force')
+        cli%force = .true.
+      case ('--check')
+        cli%check = .true.
       case ('--checkpoint-every')
         call value_of(arg); if (allocated(err)) return
         if (verify(arg, '0123456789') /= 0 .or. len(arg) == 0 .or. len(arg) > 9) then
@@ -136,9 +142,9 @@ contains
   subroutine write_mpm_usage(default_deck)
     character(len=*), intent(in) :: default_deck
     write (output_unit, '(a)') 'usage: [mpirun -np N] wellposed-mpm [--out ROOT] '// &
-      '[--name NAME] [--no-plot] [--checkpoint-every STEPS]'
+      '[--name NAME] [--no-plot] [--force] [--check] [--checkpoint-every STEPS]'
     write (output_unit, '(a)') '         [--keep-checkpoints] [--restart | --restart-from FILE] '// &
-      '[DECK] [group.key=value ...]'
+      '[--max-memory SIZE] [DECK] [group.key=value ...]'
     write (output_unit, '(a)') '       [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] '// &
       '[--no-plot]'
     write (output_unit, '(a)') '  DECK: a 1D bar (inputs/fig2_*.nml) or a plane-strain plate '// &
@@ -156,6 +162,10 @@ contains
     write (output_unit, '(a)') '  --restart-from FILE       continue from checkpoint FILE'
     write (output_unit, '(a)') '  --max-memory SIZE         refuse a deck whose estimated memory '// &
       'exceeds SIZE (4G, 512M; default: MemAvailable)'
+    write (output_unit, '(a)') '  --force                   run a deck of more time steps '// &
+      'than the limit (docs/guide/decks.md)'
+    write (output_unit, '(a)') '  --check                   read and check the deck and '// &
+      'overrides, run and write nothing'
     write (output_unit, '(a)') '  --batch FILE              one deck per line, optionally '// &
       'with options; jobs shared over the ranks'
     write (output_unit, '(a)') '  wellposed-mpm2d is an alias of this program, kept for one release'

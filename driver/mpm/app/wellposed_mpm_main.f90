@@ -6,12 +6,14 @@
 !> errors to standard error, exit status 1. `wellposed-mpm2d` is an alias.
 !> Usage: docs/guide/mpm.md.
 program wellposed_mpm
+  use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop
   use wellposed_mpm_cli, only: mpm_cli_t, read_mpm_cli, write_mpm_usage
   use wellposed_mpm_scene_kind, only: deck_scene_kind, scene_kind_plate
   use wellposed_mpm_paths, only: find_data, default_deck_name
   use wellposed_mpm_bar_run, only: run_bar
+  use wellposed_mpm_deck_verify, only: verify_mpm_deck
   use wellposed_mpm_plate_run, only: run_plate
   use wellposed_batch_run, only: run_batch, default_figures
   use wellposed_fs, only: shell_quote
@@ -40,6 +42,14 @@ program wellposed_mpm
   call deck_scene_kind(cli%deck_path, cli%overrides, kind, err)
   if (allocated(err)) call die(err%message)
   call memory_check()
+  if (cli%check) then
+    call verify_mpm_deck(cli%deck_path, cli%overrides, kind, cli%force, err)
+    if (allocated(err)) call die(err%message)
+    if (comm%rank == 0) write (output_unit, '(a)') cli%deck_path//': read and checked '// &
+      '(--check: nothing run)'
+    call comm_stop(comm)
+    stop
+  end if
   call resident_start()
   if (kind == scene_kind_plate) then
     call run_plate(cli, comm)

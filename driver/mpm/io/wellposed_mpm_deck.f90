@@ -6,6 +6,7 @@
 !> mpm_config_t. Overrides `group.key=value` are read after the deck as
 !> one-line namelists, under the same rules. Keys: docs/guide/decks.md.
 module wellposed_mpm_deck
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: check_range, check_finite, unset, is_set, real_str, check_word
@@ -13,6 +14,7 @@ module wellposed_mpm_deck
   use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck
   use wellposed_mpm_scene_kind, only: scene_kind_bar
   use wellposed_mpm_materials, only: first_material
+  use wellposed_mpm_material_deck, only: check_boxes
   use wellposed_mpm_config
   use wellposed_mpm_reference, only: check_reference
   use wellposed_text, only: int_text, real_text
@@ -69,6 +71,11 @@ contains
                           sh, text, err)
     if (allocated(err)) return
     call shared_into_config()
+    if (ieee_is_finite(cfg%length)) then    ! else the scene's check names the length
+      call check_boxes(cfg%materials, [cfg%length], 'the bar [0, '//real_text(cfg%length)// &
+                       '] m (&grid length)', err)
+      if (allocated(err)) return
+    end if
 
     stress = cfg%stress0; velocity = cfg%velocity0; out_of_equilibrium = .false.
     base = cfg%load_base; peak = cfg%load_peak; duration = cfg%load_duration

@@ -4,22 +4,28 @@
 !> (unless out_of_equilibrium) and lies inside the yield surface, asked
 !> through the UMAT contract alone (a zero increment: eq. 2.3, 2.10);
 !> stations inside the bar; samples, snapshots and the load pulse inside
-!> the run.
+!> the run; a step count, t_end/dt with dt = cfl dx/c as the run sets it,
+!> of 1 to max_steps (beyond only with --force); a plate's top slower
+!> than the elastic wave speed.
 module wellposed_mpm_deck_checks
+  use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_finite, only: all_finite
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text, real_text
+  use wellposed_deck, only: unheld_stress_note
   use wellposed_mpm_config, only: mpm_config_t, bc_free, pulse_ramp_sine
   use wellposed_mpm_loads, only: surface_stress
+  use wellposed_mpm_bar, only: probe_moduli
+  use wellposed_mpm_materials, only: mpm_materials_t
   use wellposed_mpm_plane_strain, only: ps_config_t
   use wellposed_mpm_ps_deck, only: ps_study_t
   use wellposed_mpm_vumat_call, only: material_update
   use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_error, vumat_is_ours, &
-                                 verdict_ok, umat_is_ours
+                                 verdict_ok, verdict_cutback, umat_is_ours
   implicit none
   private
-  public :: check_bar_deck, check_plate_deck, equilibrium_tol, yield_tol
+  public :: check_bar_deck, check_plate_deck, equilibrium_tol, yield_tol, max_steps
 
   !> Relative mismatch of traction and initial stress taken as equilibrium
   !> (decks write both as the same decimal number: round-off only).
@@ -32,14 +38,18 @@ module wellposed_mpm_deck_checks
   !> the increment; PROPS(11): the Duvaut-Lions relaxation time tau.
   integer, parameter :: slot_f = 11, slot_tau = 11
 
+  !> Most time steps a run takes without --force (docs/guide/decks.md).
+  real(dp), parameter :: max_steps = 1.0e7_dp
+
 contains
 
   !> The bar deck `path` read into cfg: err when it is not physically
   !> consistent (see the module comment).
-  subroutine check_bar_deck(path, cfg, err)
+  subroutine check_bar_deck(path, cfg, err, force)
     character(len=*), intent(in) :: path
     type(mpm_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
+    logical, intent(in), optional :: force
     real(dp) :: last
     if (cfg%nstations > 0) then
       last = cfg%station_first + (cfg%nstations - 1)*cfg%station_spacing
@@ -71,6 +81,8 @@ contains
       if (allocated(err)) return
     end if
     call check_yield(path, cfg, err)
+    if (allocated(err)) return
+    call bar_steps(path, cfg, present_true(force), err)
   contains
     subroutine fail(group, what)
       character(len=*), intent(in) :: group, what
@@ -80,13 +92,16 @@ contains
 
   !> The plate deck `path` (cfg, study): samples and snapshots inside the
   !> run; stations inside the plate, sampled at a fixed interval.
-  subroutine check_plate_deck(path, cfg, study, err)
+  subroutine check_plate_deck(path, cfg, study, err, force)
     character(len=*), intent(in) :: path
     type(ps_config_t), intent(in) :: cfg
     type(ps_study_t), intent(in) :: study
     type(error_t), allocatable, intent(out) :: err
+    logical, intent(in), optional :: force
     integer :: s
     call check_times(path, cfg%t_end, study%sample_dt, study%snapshot_dt, err)
+    if (allocated(err)) return
+    call plate_steps(path, cfg, minval(study%dx(1:study%ncases)), present_true(force), err)
     if (allocated(err) .or. study%nstations == 0) return
     if (.not. study%sample_dt > 0.0_dp) then
       call new_error(err, status_invalid, 'sample_dt', path//': &stations: the station '// &
@@ -210,7 +225,12 @@ contains
     else
       call host_call(h, props(1:np), s, sv, zero, zero, verdict)
     end if
-    if (verdict /= verdict_ok) then
+    if (verdict == verdict_cutback) then
+      call new_error(err, status_invalid, 'stress', path//': &initial: '//trim(which)// &
+        ' asks for a smaller step on a zero increment from the initial stress (through the '// &
+        'UMAT)'//unheld_stress_note(cfg%stress0))
+      return
+    else if (verdict /= verdict_ok) then
       call host_error(h, verdict, err, 'a zero increment from the initial stress')
       err%message = path//': '//err%message
       return
@@ -271,4 +291,142 @@ contains
     text = text//')'
   end function stress_text
 
+  !> The bar's time step as the scene sets it, dt = cfl dx / sqrt(M/rho)
+  !> with M the largest elastic or loading uniaxial-strain modulus of its
+  !> materials at the initial stress (probe_moduli), checked by check_steps.
+  subroutine bar_steps(path, cfg, force, err)
+    character(len=*), intent(in) :: path
+    type(mpm_config_t), intent(in) :: cfg
+    logical, intent(in) :: force
+    type(error_t), allocatable, intent(out) :: err
+    real(dp) :: m, m_el, m_pl
+    integer :: k
+    character(len=:), allocatable :: which
+    if (.not. step_inputs(cfg%t_end, cfg%cfl, cfg%dx, cfg%density)) return
+    m = 0.0_dp
+    do k = 1, max(cfg%materials%n, 1)
+      if (cfg%materials%n == 0) then
+        call probe_moduli(cfg, cfg%props(1:cfg%nprops), m_el, m_pl, err)
+      else
+        call probe_moduli(cfg, cfg%materials%props(1:cfg%materials%nprops(k), k), m_el, &
+                          m_pl, err)
+      end if
+      if (allocated(err)) then
+        if (err%key == 'material') then      ! a modulus <= 0: say which, with its value
+          which = '&material'
+          if (cfg%materials%n > 1) which = '&material group '//int_text(k)
+          err%message = path//': '//which//': '//modulus_reason(m_el, m_pl)
+        else
+          err%message = path//': '//err%message//' (probing the moduli for the time step)'
+        end if
+        return
+      end if
+      m = max(m, m_el, m_pl)
+    end do
+    call check_steps(path, cfg%t_end, cfg%cfl, cfg%dx, cfg%density, m, force, err)
+  end subroutine bar_steps
+
+  !> Why a bar's probed moduli give no time step: the elastic one or the
+  !> loading one (eq. 2.19: a wave needs M > 0) is not > 0.
+  pure function modulus_reason(m_el, m_pl) result(text)
+    real(dp), intent(in) :: m_el, m_pl
+    character(len=:), allocatable :: text
+    if (.not. m_el > 0.0_dp) then
+      text = 'the elastic uniaxial-strain modulus at the initial stress is M = '// &
+        real_text(m_el)//' Pa (probed through the UMAT): it must be > 0 for a wave to travel'
+    else
+      text = 'the loading (plastic) uniaxial-strain modulus at the initial stress is '// &
+        real_text(m_pl)//' Pa (elastic M = '//real_text(m_el)//' Pa; probed through the '// &
+        'UMAT by slow increments): a loading wave needs it > 0 (else its speed is imaginary: '// &
+        'loss of hyperbolicity, chapter 2), so this '// &
+        'material cannot be loaded in the bar'
+    end if
+  end function modulus_reason
+
+  !> The plate's time step as the scene sets it, dt = cfl dx / sqrt(M/rho)
+  !> with M the largest plane-strain uniaxial modulus of its materials from
+  !> the natural state (a -1e-7 strain increment through the UMAT), at the
+  !> finest case `dx`; and the top's speed below the elastic wave speed
+  !> sqrt(M/rho) (faster, the impact strain |v|/c would pass 1).
+  subroutine plate_steps(path, cfg, dx, force, err)
+    character(len=*), intent(in) :: path
+    type(ps_config_t), intent(in) :: cfg
+    real(dp), intent(in) :: dx
+    logical, intent(in) :: force
+    type(error_t), allocatable, intent(out) :: err
+    type(umat_host_t) :: h
+    real(dp) :: m, s(4), sv(cfg%nstatv), e(4), d(4), c
+    integer :: k, verdict
+    if (.not. step_inputs(cfg%t_end, cfg%cfl, dx, cfg%density) .or. cfg%materials%n == 0) return
+    call new_umat_host(h, 4, cfg%nstatv, err, what='particle')
+    if (allocated(err)) return
+    h%dtime = 1.0e-6_dp
+    d = [-1.0e-7_dp, 0.0_dp, 0.0_dp, 0.0_dp]
+    m = 0.0_dp
+    do k = 1, cfg%materials%n
+      s = 0.0_dp; sv = 0.0_dp; e = 0.0_dp
+      call host_call(h, cfg%materials%props(1:cfg%materials%nprops(k), k), s, sv, e, d, verdict)
+      if (verdict /= verdict_ok .and. verdict /= verdict_cutback) then
+        call host_error(h, verdict, err, 'probing the moduli for the time step')
+        err%message = path//': '//err%message
+        return
+      end if
+      if (verdict == verdict_ok) m = max(m, -s(1)/1.0e-7_dp)
+    end do
+    if (.not. (m > 0.0_dp .and. ieee_is_finite(m))) return   ! the scene's check says why
+    call check_steps(path, cfg%t_end, cfg%cfl, dx, cfg%density, m, force, err)
+    if (allocated(err)) return
+    c = sqrt(m/cfg%density)
+    if (.not. abs(cfg%top_velocity) < c) then
+      call new_error(err, status_invalid, 'top_velocity', path//': &boundary: top_velocity = '// &
+        real_text(cfg%top_velocity)//' m/s is not below the elastic wave speed c = '// &
+        real_text(c)//' m/s of the plate (sqrt(M/density), M probed through the UMAT): the '// &
+        'impact strain |v|/c would reach 1')
+    end if
+  end subroutine plate_steps
+
+  !> True when t_end, cfl, dx and density are finite and > 0 (else the
+  !> scene's own checks name the key).
+  pure logical function step_inputs(t_end, cfl, dx, density) result(ok)
+    real(dp), intent(in) :: t_end, cfl, dx, density
+    ok = all_finite([t_end, cfl, dx, density])
+    if (ok) ok = t_end > 0.0_dp .and. cfl > 0.0_dp .and. dx > 0.0_dp .and. density > 0.0_dp
+  end function step_inputs
+
+  !> Error unless the run takes 1 to max_steps steps of dt = cfl dx /
+  !> sqrt(modulus/density) to t_end (more only with `force`): a run of no
+  !> step would write a finished-looking result, one of too many would not end.
+  subroutine check_steps(path, t_end, cfl, dx, density, modulus, force, err)
+    character(len=*), intent(in) :: path
+    real(dp), intent(in) :: t_end, cfl, dx, density, modulus
+    logical, intent(in) :: force
+    type(error_t), allocatable, intent(out) :: err
+    real(dp) :: dt, nsteps
+    character(len=:), allocatable :: how
+    dt = cfl*dx/sqrt(modulus/density)
+    nsteps = t_end/dt
+    how = ' (dt = cfl dx / c = '//real_text(dt)//' s with c = sqrt(M/density) = '// &
+      real_text(sqrt(modulus/density))//' m/s, M probed through the UMAT)'
+    if (.not. nsteps >= 1.0_dp) then
+      call new_error(err, status_invalid, 't_end', path//': &time: t_end = '// &
+        real_text(t_end)//' s is shorter than one time step'//how//': the run would take '// &
+        'no step (check &time t_end, &grid dx and the &material density)')
+    else if (nsteps > real(huge(1), dp)) then
+      call new_error(err, status_invalid, 't_end', path//': &time: t_end = '// &
+        real_text(t_end)//' s needs about '//real_text(nsteps)//' time steps'//how// &
+        ', more than a run can count ('//int_text(huge(1))//'), even with --force')
+    else if (nsteps > max_steps .and. .not. force) then
+      call new_error(err, status_invalid, 't_end', path//': &time: t_end = '// &
+        real_text(t_end)//' s needs about '//real_text(nsteps)//' time steps'//how// &
+        ', more than the limit of '//real_text(max_steps)//' (docs/guide/decks.md): check '// &
+        '&time t_end, &grid dx and the &material density, or pass --force to run it')
+    end if
+  end subroutine check_steps
+
+  !> `flag` when present, else false.
+  pure logical function present_true(flag)
+    logical, intent(in), optional :: flag
+    present_true = .false.
+    if (present(flag)) present_true = flag
+  end function present_true
 end module wellposed_mpm_deck_checks

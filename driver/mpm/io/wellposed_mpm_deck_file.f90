@@ -61,8 +61,9 @@ contains
 
   !> The group of `override` (group.key=value) and the one-line namelist
   !> `&group key=value /` to read; err when it is not of that form. A bare
-  !> word (time.mass=blended, what a shell leaves of time.mass='blended')
-  !> is quoted, unless it spells a logical (t, f, true, false).
+  !> word or text (time.mass=blended, what a shell leaves of
+  !> time.mass='blended'; "scene.title=a title"; a path) is quoted, unless
+  !> it spells a logical (t, f, true, false) or nan/inf.
   subroutine override_line(override, group, line, err)
     character(len=*), intent(in) :: override
     character(len=:), allocatable, intent(out) :: group, line
@@ -84,12 +85,13 @@ contains
     line = '&'//group//' '//override(dot + 1:eq)//value//' /'
   end subroutine override_line
 
-  !> A word of letters, digits, _ and - that starts with a letter and is
-  !> neither a logical nor nan/inf: a namelist reads it only between quotes.
+  !> Text of letters, digits, blanks and _ - . / : + that starts with a
+  !> letter and is neither a logical nor nan/inf: a namelist reads it only
+  !> between quotes (no comma: a list of words stays as given).
   pure logical function bare_word(value)
     character(len=*), intent(in) :: value
     character(len=*), parameter :: letters = 'abcdefghijklmnopqrstuvwxyz'
-    character(len=*), parameter :: word_chars = letters//'0123456789_-'
+    character(len=*), parameter :: word_chars = letters//'0123456789_-./:+ '
     character(len=len(value)) :: low
     low = lower(value)
     bare_word = .false.

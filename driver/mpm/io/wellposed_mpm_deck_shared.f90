@@ -8,7 +8,8 @@
 module wellposed_mpm_deck_shared
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: check_finite, check_word, unset, is_set, lower, real_str
+  use wellposed_deck, only: check_finite, check_word, unset, is_set, lower, real_str, &
+                            check_group_names
   use wellposed_mpm_deck_file, only: open_deck, deck_sources_t, start_sources, next_source, &
                                      read_failed
   use wellposed_mpm_scene_kind, only: check_scene_name, scene_kind_bar, scene_kind_names
@@ -92,6 +93,9 @@ contains
     call open_deck(path, text, unit, err)
     if (allocated(err)) return
     close (unit)
+    call check_group_names(path, text, [character(len=32) :: shared_groups, own, 'material'], &
+                           [character(len=32) :: 'material'], err)
+    if (allocated(err)) return
     call start_sources(src, path, text, overrides, shared_groups, err, own, is_material_group)
     do while (next_source(src, grp, err))
       call read_group(grp, rd_ios, rd_msg, src%unit, src%line)

@@ -18,10 +18,10 @@ module wellposed_mpm_material_deck
   use wellposed_umat_host, only: umat_is_ours, vumat_is_ours
   use wellposed_mpm_materials, only: mpm_materials_t, max_materials, max_material_props, &
                                      add_material, check_regions, least_nstatv, &
-                                     nstatv_why
+                                     nstatv_why, occurrence
   implicit none
   private
-  public :: read_materials, material_defaults_t, is_material_group
+  public :: read_materials, material_defaults_t, is_material_group, check_boxes
 
   !> A scene's defaults for a &material group.
   type :: material_defaults_t
@@ -289,5 +289,35 @@ contains
     end function label
 
   end subroutine read_materials
+
+  !> Error unless every box region of `mats` has extent (upper > lower) and
+  !> reaches into the body [0, body(d)] of each axis d (named `body_name`,
+  !> e.g. "the plate [0, 5] x [0, 5] m (&plate)"): a box outside it holds
+  !> no particle, and the run would have no such material.
+  subroutine check_boxes(mats, body, body_name, err)
+    type(mpm_materials_t), intent(in) :: mats
+    real(dp), intent(in) :: body(:)
+    character(len=*), intent(in) :: body_name
+    type(error_t), allocatable, intent(out) :: err
+    character(len=1), parameter :: axis(2) = ['x', 'y']
+    integer :: k, d
+    do k = 1, mats%n
+      if (mats%rest(k)) cycle
+      do d = 1, mats%ndim
+        associate (lo => mats%lo(d, k), hi => mats%hi(d, k))
+          if (.not. hi > lo) then
+            call new_error(err, status_invalid, axis(d), occurrence(mats, k)//': region: '// &
+              axis(d)//' = '//real_text(lo)//', '//real_text(hi)//' m has no extent (the '// &
+              'upper bound must exceed the lower)'); return
+          end if
+          if (hi <= 0.0_dp .or. lo >= body(d)) then
+            call new_error(err, status_invalid, axis(d), occurrence(mats, k)//': region: '// &
+              axis(d)//' = '//real_text(lo)//', '//real_text(hi)//' m lies outside '// &
+              body_name//': the box would hold no particle'); return
+          end if
+        end associate
+      end do
+    end do
+  end subroutine check_boxes
 
 end module wellposed_mpm_material_deck

@@ -13,6 +13,7 @@ module wellposed_mpm_ps_deck
   use, intrinsic :: iso_fortran_env, only: error_unit
   use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck, max_cases
   use wellposed_mpm_materials, only: add_material, check_regions, first_material
+  use wellposed_mpm_material_deck, only: check_boxes
   use wellposed_umat_layout, only: prop_k0
   use wellposed_mpm_deck_file, only: deck_sources_t, start_sources, next_source, read_failed, &
                                      sets_list
@@ -117,6 +118,9 @@ contains
     call shared_into_config(); if (allocated(err)) return
     cfg%width = width; cfg%height = height
     call legacy_weak_zone(); if (allocated(err)) return
+    call check_boxes(cfg%materials, [width, height], 'the plate [0, '//real_text(width)// &
+                     '] x [0, '//real_text(height)//'] m (&plate width, height)', err)
+    if (allocated(err)) return
     call first_material(cfg%materials, cfg%props, cfg%nprops, cfg%nstatv)
     call boundaries(); if (allocated(err)) return
     call study_cases(); if (allocated(err)) return

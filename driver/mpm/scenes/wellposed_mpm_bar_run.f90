@@ -96,7 +96,7 @@ contains
     logical :: root
     root = comm%rank == 0
     call read_mpm_deck(cli%deck_path, cli%overrides, r%cfg, r%opts, r%deck_text, err)
-    if (.not. allocated(err)) call check_bar_deck(cli%deck_path, r%cfg, err)
+    if (.not. allocated(err)) call check_bar_deck(cli%deck_path, r%cfg, err, cli%force)
     if (allocated(err)) call stop_all(comm, r%rd, err)
     if (len(cli%run_name) > 0) r%cfg%name = cli%run_name
     ! every rank builds the scene and keeps its strip (errors: the same on all)

@@ -109,7 +109,8 @@ contains
     root = comm%rank == 0
     call new_mpm_ranks(r%ranks, comm)
     call read_ps_deck(cli%deck_path, cli%overrides, r%cfg0, r%study, r%deck_text, err)
-    if (.not. allocated(err)) call check_plate_deck(cli%deck_path, r%cfg0, r%study, err)
+    if (.not. allocated(err)) &
+      call check_plate_deck(cli%deck_path, r%cfg0, r%study, err, cli%force)
     if (allocated(err)) call stop_all(comm, r%rd, err)
     if (len(cli%run_name) > 0) r%cfg0%name = cli%run_name
     call check_cases(r, cli, comm)

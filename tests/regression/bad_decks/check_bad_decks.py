@@ -29,6 +29,11 @@ word; a key is taken for an integer when every deck gives it a whole
 number). Free-text keys (title, name, label, out_dir, reference_label: a
 number read into them is the text of that number) have no wrong type.
 Exit status 0 when every refusal is as described.
+
+Without a launcher each program starts as an Open MPI singleton, whose
+start (a helper daemon, transport probes) costs most of a refusal's time:
+the runs here get an isolated singleton on the shared-memory transport
+(FAST_START, unless the environment sets them), which refuses the same.
 """
 import glob
 import os
@@ -58,6 +63,8 @@ GOOD = {
     # decks good on one rank, refused on more (run with --launcher only)
     'ranks': [],
 }
+FAST_START = {'OMPI_MCA_ess_singleton_isolated': '1', 'OMPI_MCA_pml': 'ob1',
+              'OMPI_MCA_btl': 'self,vader'}
 FREE_TEXT = {'title', 'name', 'label', 'out_dir', 'reference_label'}
 FORBIDDEN = re.compile(r'^\s*(ERROR )?STOP\b|Backtrace for this error|^#\d+ +0x|'
                        r'Program received signal|Error termination', re.M)
@@ -205,6 +212,14 @@ def problems(deck, expect, rc, out, err, folder):
     return bad
 
 
+def start_env():
+    """The environment of a run without a launcher (FAST_START added)."""
+    env = dict(os.environ)
+    for key, value in FAST_START.items():
+        env.setdefault(key, value)
+    return env
+
+
 def mode_decks(kind, out, exes, launcher, skip, only):
     failed = 0
     decks = [d for d in corpus(kind, out) if re.search(only, os.path.basename(d[0]))]
@@ -217,7 +232,8 @@ def mode_decks(kind, out, exes, launcher, skip, only):
             shutil.rmtree(folder, ignore_errors=True)
             os.makedirs(folder)
             cmd = launcher + [exe, '--out', folder, '--no-plot', deck]
-            p = subprocess.run(cmd, capture_output=True, text=True, errors='replace', timeout=120)
+            p = subprocess.run(cmd, capture_output=True, text=True, errors='replace', timeout=120,
+                               env=None if launcher else start_env())
             bad = problems(deck, expect, p.returncode, p.stdout, p.stderr, folder)
             if bad:
                 failed += 1
@@ -238,7 +254,8 @@ def mode_batch(kind, out, exe, driver, skip):
         cmd = [exe, '--out', runs, driver, batch, '--no-plot']
     else:
         cmd = [exe, '--batch', batch, '--out', runs, '--no-plot']
-    p = subprocess.run(cmd, capture_output=True, text=True, errors='replace', timeout=1200)
+    p = subprocess.run(cmd, capture_output=True, text=True, errors='replace', timeout=1200,
+                       env=start_env())
     bad = []
     if p.returncode != 1:
         bad.append(f'exit status {p.returncode}, not 1 (some job failed)')
