@@ -15,7 +15,7 @@ wellposed_configure_build
 
 mpm="${WELLPOSED_BUILD}/bin/wellposed-mpm"
 if [[ ! -x "${mpm}" ]]; then
-  echo "run: ${mpm} was not built (no target wellposed-mpm; driver/mpm not configured?)" >&2
+  echo "run: ${mpm} was not built (no target wellposed-mpm; mpm not configured?)" >&2
   exit 1
 fi
 exec "${mpm}" "$@"

@@ -38,7 +38,7 @@ import sys
 import tempfile
 
 # Top-level folders of the repository a path in a command may start with.
-REPO_DIRS = ("bench", "cmake", "docs", "driver", "inputs", "scripts", "src",
+REPO_DIRS = ("bench", "cmake", "docs", "host", "common", "point", "mpm", "apps", "inputs", "scripts", "src",
              "tests", "umat")
 # Programs of the system: not checked, only what they are given.
 SYSTEM = {"cmake", "gfortran", "apt-get", "sudo", "valgrind", "time", "git",
@@ -198,10 +198,12 @@ class Checker:
         return self.help_cache[exe]
 
     def source_text(self):
-        """Every driver, bench, test and script source of the repository."""
+        """Every host, program, bench, test and script source of the repository."""
         if self.sources is None:
             parts = []
-            for pattern in ("driver/**/*.f90", "driver/**/*.py", "bench/*.f90",
+            for pattern in ("host/**/*.f90", "common/**/*.f90", "common/**/*.py",
+                            "point/**/*.f90", "point/**/*.py", "mpm/**/*.f90",
+                            "mpm/**/*.py", "apps/**/*.f90", "bench/*.f90",
                             "tests/**/*.py", "tests/**/*.f90", "scripts/*.sh"):
                 for path in glob.glob(os.path.join(self.root, pattern), recursive=True):
                     with open(path, encoding="utf-8", errors="replace") as handle:

@@ -26,7 +26,7 @@ MAX_HEADER = 8
 MAX_LINES = 600
 FORTRAN = (".f90", ".F90", ".f", ".pf")
 OTHER = (".py", ".cmake", ".sh")
-FOLDERS = ("src", "umat", "driver", "bench", "tests", "cmake", "scripts")
+FOLDERS = ("src", "umat", "host", "common", "point", "mpm", "apps", "bench", "tests", "cmake", "scripts")
 SKIP = os.path.join("tests", "style", "fixtures")
 
 # A comment that says one of these reports a measurement.

@@ -7,7 +7,7 @@ measured in wellposed-mpm against the library's dispersion relation.
 For each frequency F the deck (an overlocal material on the cone, &load
 pulse = 'ramp_sine' with its amplitude) runs on a scene sized by the
 predicted wavelength with CELLS cells per wavelength
-(driver/mpm/plots/mpm_dispersion.py: scene_overrides, measure; here the
+(mpm/plots/mpm_dispersion.py: scene_overrides, measure; here the
 stations span 1 to 2.5 wavelengths and the fit windows 3 periods): once as
 given and once with h_zeta = 0, the local model with h_eta alone, whose
 exact speed is the high-frequency bound c_hi. The local run measures the
@@ -27,7 +27,7 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "..", "..", "driver", "mpm", "plots"))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "..", "mpm", "plots"))
 import mpm_dispersion as md  # noqa: E402
 
 

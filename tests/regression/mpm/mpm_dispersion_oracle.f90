@@ -1,6 +1,6 @@
 !> The library's dispersion relation of the overlocal model in uniaxial strain
 !> (section 2.5.4, fig. 2.10 left) at given frequencies, for the regression
-!> test and driver/mpm/plots/mpm_dispersion.py:
+!> test and mpm/plots/mpm_dispersion.py:
 !>   mpm_dispersion_oracle DENSITY S11 .. S23 PROPS(1:13) F1 [F2 ...]
 !> Solves omega = kappa c(kappa) by bisection, rho c^2 from
 !> overlocal_uniaxial_modulus (Fourier transform of eq. 2.15/4.27); prints

@@ -16,7 +16,7 @@ import os, subprocess, sys
 import h5py, numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, '..', '..', '..', 'driver', 'common'))
+sys.path.insert(0, os.path.join(HERE, '..', '..', '..', 'common'))
 from summary_text import read_summary  # noqa: E402
 DECK = os.path.join(HERE, 'decks', 'plate_stations.nml')
 WIDTH, HEIGHT, PPC, SAMPLE_DT = 2.0, 3.0, 2, 1e-4

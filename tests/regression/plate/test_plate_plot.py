@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What driver/mpm/plots/mpm_plate.py draws (fig. 4.2, 4.4), on a synthetic run.
+"""What mpm/plots/mpm_plate.py draws (fig. 4.2, 4.4), on a synthetic run.
 
 test_plate_plot.py              the unit tests below (python unittest)
 test_plate_plot.py --run DIR    checks a finished plate run: every case with a
@@ -24,7 +24,7 @@ import numpy as np
 matplotlib.use("Agg")
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", "..", ".."))
-sys.path.insert(0, os.path.join(ROOT, "driver", "mpm", "plots"))
+sys.path.insert(0, os.path.join(ROOT, "mpm", "plots"))
 import mpm_plate  # noqa: E402
 
 # two cases: (tag, dx, stage time, peak ||eps^p|| at the stage, x0, slope, FWHM)

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The elastic fig. 4.2 plate (decks/plate_elastic_corner.nml, h = 0.5, 0.25 m):
-where it would first yield (driver/mpm/plots/mpm_plate_yield.py).
+where it would first yield (mpm/plots/mpm_plate_yield.py).
 
 usage: test_plate_yield.py RUN_DIR             (the deck's clamped platen)
        test_plate_yield.py --contact RUN_DIR   (platen = 'contact', to 7 ms)
@@ -24,7 +24,7 @@ import os
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "..", "..", "driver", "mpm", "plots"))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "..", "mpm", "plots"))
 import mpm_plate_yield  # noqa: E402
 
 EXPECTED = {0.5: (4.77e-3, 5.30e-3), 0.25: (3.74e-3, 5.43e-3)}

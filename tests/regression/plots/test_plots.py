@@ -34,8 +34,8 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, '..', '..', '..'))
-sys.path.insert(0, os.path.join(ROOT, 'driver', 'mpm', 'plots'))
-sys.path.insert(0, os.path.join(ROOT, 'driver', 'point', 'plots'))
+sys.path.insert(0, os.path.join(ROOT, 'mpm', 'plots'))
+sys.path.insert(0, os.path.join(ROOT, 'point', 'plots'))
 import mpm_stations  # noqa: E402
 import plot_point  # noqa: E402
 
