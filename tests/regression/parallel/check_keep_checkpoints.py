@@ -57,7 +57,8 @@ with h5py.File(os.path.join(plain, a.name, 'run.h5')) as fa, \
 
 def summary(root):
     with open(os.path.join(root, a.name, 'summary.txt')) as f:
-        return [l for l in f if 'wall_time' not in l and not l.startswith(('ns_per', 'share_'))
+        return [l for l in f if 'wall_time' not in l
+                and not l.startswith(('ns_per', 'share_', 'bytes_per_particle'))
                 and '.ns_per' not in l]
 
 
