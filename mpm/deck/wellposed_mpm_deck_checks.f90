@@ -1,12 +1,11 @@
 !> Physical consistency of an MPM deck, checked after reading and before
-!> anything is set up (docs/guide/decks.md, "Refused decks"), every message with
-!> its numbers: the bar's initial stress balances the traction at t = 0
-!> (unless out_of_equilibrium) and lies inside the yield surface, asked
-!> through the UMAT contract alone (a zero increment: eq. 2.3, 2.10);
-!> stations inside the bar; samples, snapshots and the load pulse inside
-!> the run; a step count, t_end/dt with dt = cfl dx/c as the run sets it,
-!> of 1 to max_steps (beyond only with --force); a plate's top slower
-!> than the elastic wave speed.
+!> anything is set up (docs/guide/decks.md, "Refused decks"), every message
+!> with its numbers: the bar's initial stress balances the traction at t = 0
+!> (unless out_of_equilibrium) and lies inside the yield surface (a zero
+!> increment through the material's interface: eq. 2.3, 2.10); stations,
+!> samples, snapshots and the pulse inside the run; a step count t_end/dt,
+!> dt = cfl dx/c as the run sets it, of 1 to max_steps (beyond only with
+!> --force); a plate's top slower than the elastic wave speed.
 module wellposed_mpm_deck_checks
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
@@ -309,7 +308,7 @@ contains
         call probe_moduli(cfg, cfg%props(1:cfg%nprops), m_el, m_pl, err)
       else
         call probe_moduli(cfg, cfg%materials%props(1:cfg%materials%nprops(k), k), m_el, &
-                          m_pl, err)
+                          m_pl, err, cfg%materials%vumat(k))
       end if
       if (allocated(err)) then
         if (err%key == 'material') then      ! a modulus <= 0: say which, with its value
@@ -356,7 +355,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     type(umat_host_t) :: h
     real(dp) :: m, s(4), sv(cfg%nstatv), e(4), d(4), c
-    integer :: k, verdict
+    integer :: k, verdict, nsub
     if (.not. step_inputs(cfg%t_end, cfg%cfl, dx, cfg%density) .or. cfg%materials%n == 0) return
     call new_umat_host(h, 4, cfg%nstatv, err, what='particle')
     if (allocated(err)) return
@@ -365,6 +364,17 @@ contains
     m = 0.0_dp
     do k = 1, cfg%materials%n
       s = 0.0_dp; sv = 0.0_dp; e = 0.0_dp
+      if (cfg%materials%vumat(k)) then
+        ! through the VUMAT its particles are called through, as the scene probes it
+        call material_update(h, cfg%materials%props(1:cfg%materials%nprops(k), k), .true., s, &
+                             sv, e, d, nsub, err)
+        if (allocated(err)) then
+          err%message = path//': '//err%message//' (probing the moduli for the time step)'
+          return
+        end if
+        m = max(m, -s(1)/1.0e-7_dp)
+        cycle
+      end if
       call host_call(h, cfg%materials%props(1:cfg%materials%nprops(k), k), s, sv, e, d, verdict)
       if (verdict /= verdict_ok .and. verdict /= verdict_cutback) then
         call host_error(h, verdict, err, 'probing the moduli for the time step')
