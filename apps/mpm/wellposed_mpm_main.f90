@@ -19,6 +19,7 @@ program wellposed_mpm
   use wellposed_fs, only: shell_quote
   use wellposed_checked_io, only: say_error
   use wellposed_kinds, only: dp
+  use wellposed_out_of_memory, only: set_run_label
   use wellposed_mpm_memory, only: deck_memory, resident_start
   use wellposed_memory, only: check_memory, parse_memory
   implicit none
@@ -39,6 +40,7 @@ program wellposed_mpm
   end if
   if (len(cli%batch_file) > 0) call batch()
   if (len(cli%deck_path) == 0) cli%deck_path = find_data(default_deck_name)
+  call set_run_label('wellposed-mpm', cli%deck_path)
   call deck_scene_kind(cli%deck_path, cli%overrides, kind, err)
   if (allocated(err)) call die(err%message)
   call memory_check()

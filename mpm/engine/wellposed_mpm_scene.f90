@@ -6,6 +6,7 @@
 !> wellposed_mpm_step. Also Algorithm 1's host side. SI units, tension +.
 module wellposed_mpm_scene
   use, intrinsic :: iso_fortran_env, only: int64
+  use wellposed_out_of_memory, only: out_of_memory
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_mpm_grid, only: grid_t
@@ -146,7 +147,7 @@ contains
   !> refills it); the material and viscous pressure in use are kept.
   subroutine size_workspace(self)
     type(mpm_scene_t), intent(inout) :: self
-    integer :: cap, n, ns
+    integer :: cap, n, ns, st
     integer, allocatable :: mat(:)
     real(dp), allocatable :: q(:)
     cap = size(self%parts%gid)
@@ -167,7 +168,8 @@ contains
               self%e0(self%ntens, cap), self%de(self%ntens, cap), self%vol_n(cap), &
               self%lgrad(self%ndim, self%ndim, cap), self%block_idx(cap), self%block_pos(cap), &
               self%block_done(cap), self%done(cap), self%nnz(cap), self%block_avg(cap), &
-              self%block_dl(cap))
+              self%block_dl(cap), stat=st)
+    if (st /= 0) call out_of_memory('particle workspace', int(cap, int64), st)
     if (allocated(self%f_n)) deallocate (self%f_n)
     if (.not. umat_is_ours()) allocate (self%f_n(self%ndim, self%ndim, cap))
     self%mat(1:n) = mat

@@ -5,7 +5,9 @@
 !> zeros); put_stations / get_stations, a stations_t in a checkpoint.
 !> Particle snapshots go from every rank: wellposed_mpm_snapshots.
 module wellposed_mpm_parallel_io
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
+  use wellposed_out_of_memory, only: out_of_memory
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_mpi, only: comm_t, gatherv_real, broadcast, allreduce_sum
   use wellposed_checkpoint, only: checkpoint_t
@@ -34,9 +36,10 @@ contains
     integer, intent(in) :: root
     type(particles_t), intent(out) :: all
     real(dp), allocatable :: rec(:), recs(:)
-    integer :: reclen, p, n, g
+    integer :: reclen, p, n, g, st
     reclen = particle_record_length(parts)
-    allocate (rec(reclen*parts%n))
+    allocate (rec(reclen*parts%n), stat=st)
+    if (st /= 0) call out_of_memory('particle records', int(reclen, int64)*parts%n, st)
     do p = 1, parts%n
       call pack_particle(parts, p, rec((p - 1)*reclen + 1:p*reclen))
     end do

@@ -5,7 +5,9 @@
 !> included, so a decomposed run sums ghosts (wellposed_mpm_exchange)
 !> without touching the loops; fields are (ndim, node), node = i + nx*j.
 module wellposed_mpm_grid
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
+  use wellposed_out_of_memory, only: out_of_memory
   implicit none
   private
   public :: grid_t, new_grid, new_grid_1d, grid_reset, cell_layer, zero
@@ -47,7 +49,7 @@ contains
 
   !> A 1D grid of `ncells` cells of size `dx` starting at `origin`, one
   !> patch holding all nodes (serial run; no ghosts needed).
-  pure subroutine new_grid_1d(self, origin, dx, ncells)
+  subroutine new_grid_1d(self, origin, dx, ncells)
     type(grid_t), intent(out) :: self
     real(dp), intent(in) :: origin, dx
     integer, intent(in) :: ncells
@@ -57,10 +59,11 @@ contains
   !> A grid of `nnodes` nodes in `ndim` dimensions (node 0 at `origin` along
   !> x, cell size `dx`) of which this process holds the patch [glo, ghi]
   !> and owns all: free nodes at rest, nothing accumulated.
-  pure subroutine new_grid(self, ndim, origin, dx, nnodes, glo, ghi)
+  subroutine new_grid(self, ndim, origin, dx, nnodes, glo, ghi)
     type(grid_t), intent(out) :: self
     integer, intent(in) :: ndim, nnodes, glo, ghi
     real(dp), intent(in) :: origin, dx
+    integer :: st
     self%ndim = ndim
     self%origin = origin
     self%dx = dx
@@ -69,10 +72,11 @@ contains
     self%ihi = ghi
     self%glo = glo
     self%ghi = ghi
-    allocate (self%mass(glo:ghi))
-    allocate (self%momentum(ndim, glo:ghi), self%fint(ndim, glo:ghi), &
+    allocate (self%mass(glo:ghi), self%momentum(ndim, glo:ghi), self%fint(ndim, glo:ghi), &
               self%fext(ndim, glo:ghi), self%velocity(ndim, glo:ghi), &
-              self%accel(ndim, glo:ghi), self%fixed(ndim, glo:ghi), self%given(ndim, glo:ghi))
+              self%accel(ndim, glo:ghi), self%fixed(ndim, glo:ghi), self%given(ndim, glo:ghi), &
+              stat=st)
+    if (st /= 0) call out_of_memory('grid', int(ghi - glo + 1, int64), st)
     self%fixed = .false.
     self%given = .false.
     call grid_reset(self)

@@ -6,7 +6,9 @@
 !> grad) is rebuilt each step from x; a particle travels as one record of
 !> reals holding every other field.
 module wellposed_mpm_particles
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
+  use wellposed_out_of_memory, only: out_of_memory
   implicit none
   private
   public :: particles_t, new_particles, particle_bytes, copy_particle, particle_record_length, &
@@ -37,9 +39,10 @@ module wellposed_mpm_particles
 contains
 
   !> Room for `capacity` particles, none in use yet.
-  pure subroutine new_particles(self, capacity, ndim, nsup, nstatv)
+  subroutine new_particles(self, capacity, ndim, nsup, nstatv)
     type(particles_t), intent(out) :: self
     integer, intent(in) :: capacity, ndim, nsup, nstatv
+    integer :: st
     self%n = 0
     self%ndim = ndim
     self%nsup = nsup
@@ -49,7 +52,8 @@ contains
               self%vol0(capacity), self%vol(capacity), self%defgrad(3, 3, capacity), &
               self%stress(6, capacity), self%stran(6, capacity), &
               self%statev(nstatv, capacity), self%node(nsup, capacity), &
-              self%phi(nsup, capacity), self%grad(ndim, nsup, capacity))
+              self%phi(nsup, capacity), self%grad(ndim, nsup, capacity), stat=st)
+    if (st /= 0) call out_of_memory('particle storage', int(capacity, int64), st)
   end subroutine new_particles
 
   !> Bytes of storage per particle for this layout.
@@ -136,7 +140,7 @@ contains
   !> Room for at least `needed` particles, keeping the first n (grows by
   !> half again at least, so repeated arrivals reallocate rarely). A set
   !> never allocated is allocated with its ndim, nsup and nstatv.
-  pure subroutine ensure_capacity(parts, needed)
+  subroutine ensure_capacity(parts, needed)
     type(particles_t), intent(inout) :: parts
     integer, intent(in) :: needed
     integer :: cap, n, ndim, nsup, nstatv
@@ -166,38 +170,48 @@ contains
     call grow_r2(parts%phi)
     call grow_r3(parts%grad)
   contains
-    pure subroutine grow_i1(a)
+    subroutine grow_i1(a)
       integer, allocatable, intent(inout) :: a(:)
       integer, allocatable :: b(:)
-      allocate (b(cap))
+      integer :: st
+      allocate (b(cap), stat=st)
+      if (st /= 0) call out_of_memory('particle storage', int(cap, int64), st)
       b(1:n) = a(1:n)
       call move_alloc(b, a)
     end subroutine grow_i1
-    pure subroutine grow_i2(a)
+    subroutine grow_i2(a)
       integer, allocatable, intent(inout) :: a(:, :)
       integer, allocatable :: b(:, :)
-      allocate (b(size(a, 1), cap))
+      integer :: st
+      allocate (b(size(a, 1), cap), stat=st)
+      if (st /= 0) call out_of_memory('particle storage', int(cap, int64), st)
       b(:, 1:n) = a(:, 1:n)
       call move_alloc(b, a)
     end subroutine grow_i2
-    pure subroutine grow_r1(a)
+    subroutine grow_r1(a)
       real(dp), allocatable, intent(inout) :: a(:)
       real(dp), allocatable :: b(:)
-      allocate (b(cap))
+      integer :: st
+      allocate (b(cap), stat=st)
+      if (st /= 0) call out_of_memory('particle storage', int(cap, int64), st)
       b(1:n) = a(1:n)
       call move_alloc(b, a)
     end subroutine grow_r1
-    pure subroutine grow_r2(a)
+    subroutine grow_r2(a)
       real(dp), allocatable, intent(inout) :: a(:, :)
       real(dp), allocatable :: b(:, :)
-      allocate (b(size(a, 1), cap))
+      integer :: st
+      allocate (b(size(a, 1), cap), stat=st)
+      if (st /= 0) call out_of_memory('particle storage', int(cap, int64), st)
       b(:, 1:n) = a(:, 1:n)
       call move_alloc(b, a)
     end subroutine grow_r2
-    pure subroutine grow_r3(a)
+    subroutine grow_r3(a)
       real(dp), allocatable, intent(inout) :: a(:, :, :)
       real(dp), allocatable :: b(:, :, :)
-      allocate (b(size(a, 1), size(a, 2), cap))
+      integer :: st
+      allocate (b(size(a, 1), size(a, 2), cap), stat=st)
+      if (st /= 0) call out_of_memory('particle storage', int(cap, int64), st)
       b(:, :, 1:n) = a(:, :, 1:n)
       call move_alloc(b, a)
     end subroutine grow_r3
