@@ -7,7 +7,9 @@
 !> 1/2); after `max_cutbacks` in a row an error says where and why.
 module wellposed_point_path
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
+  use wellposed_out_of_memory, only: out_of_memory
   use wellposed_error, only: error_t, new_error, status_cutback
   use wellposed_dense, only: solve_dense
   use wellposed_point_material, only: material_t, point_state_t, umat_increment, ntens
@@ -52,7 +54,7 @@ contains
     class(history_t), intent(inout) :: self
     type(point_state_t), intent(in) :: s
     integer, intent(in) :: leg, inc
-    integer :: cap, nsv
+    integer :: cap, nsv, st(6)
     real(dp), allocatable :: t1(:), t2(:, :)
     integer, allocatable :: i1(:)
     nsv = size(s%statev)
@@ -62,12 +64,20 @@ contains
     end if
     cap = size(self%time)
     if (self%n == cap) then
-      allocate (t1(2*cap)); t1(1:cap) = self%time; call move_alloc(t1, self%time)
-      allocate (t2(2*cap, ntens)); t2(1:cap, :) = self%strain; call move_alloc(t2, self%strain)
-      allocate (t2(2*cap, ntens)); t2(1:cap, :) = self%stress; call move_alloc(t2, self%stress)
-      allocate (t2(2*cap, nsv)); t2(1:cap, :) = self%statev; call move_alloc(t2, self%statev)
-      allocate (i1(2*cap)); i1(1:cap) = self%leg; call move_alloc(i1, self%leg)
-      allocate (i1(2*cap)); i1(1:cap) = self%inc; call move_alloc(i1, self%inc)
+      st = 0
+      allocate (t1(2*cap), stat=st(1)); if (st(1) == 0) t1(1:cap) = self%time
+      if (st(1) == 0) call move_alloc(t1, self%time)
+      allocate (t2(2*cap, ntens), stat=st(2)); if (st(2) == 0) t2(1:cap, :) = self%strain
+      if (st(2) == 0) call move_alloc(t2, self%strain)
+      allocate (t2(2*cap, ntens), stat=st(3)); if (st(3) == 0) t2(1:cap, :) = self%stress
+      if (st(3) == 0) call move_alloc(t2, self%stress)
+      allocate (t2(2*cap, nsv), stat=st(4)); if (st(4) == 0) t2(1:cap, :) = self%statev
+      if (st(4) == 0) call move_alloc(t2, self%statev)
+      allocate (i1(2*cap), stat=st(5)); if (st(5) == 0) i1(1:cap) = self%leg
+      if (st(5) == 0) call move_alloc(i1, self%leg)
+      allocate (i1(2*cap), stat=st(6)); if (st(6) == 0) i1(1:cap) = self%inc
+      if (st(6) == 0) call move_alloc(i1, self%inc)
+      if (any(st /= 0)) call out_of_memory('path history', int(2*cap, int64), maxval(st))
     end if
     self%n = self%n + 1
     self%time(self%n) = s%time

@@ -29,6 +29,7 @@ program wellposed_point
   use wellposed_mpi, only: comm_t, comm_start, comm_stop
   use wellposed_batch_run, only: run_batch, default_figures
   use wellposed_abaqus_job, only: abaqus_set_job
+  use wellposed_out_of_memory, only: set_run_label
   implicit none
 
   type(point_deck_t) :: deck
@@ -97,6 +98,7 @@ program wellposed_point
   end if
   if (len(deck_path) == 0) call fail_usage('no deck given')
 
+  call set_run_label('wellposed-point', deck_path)
   call read_point_deck(deck_path, deck, err)
   call check(err)
   call memory_check()

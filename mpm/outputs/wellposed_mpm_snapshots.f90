@@ -7,7 +7,9 @@
 !> one dataset per field (width 1: N rows; width 2: (N, 2)).
 !> Entries and layout: docs/guide/parallel.md.
 module wellposed_mpm_snapshots
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
+  use wellposed_out_of_memory, only: out_of_memory
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
   use wellposed_mpi, only: comm_t, gatherv_real, gatherv_int
@@ -82,11 +84,16 @@ contains
     integer, intent(in) :: gid(:)
     real(dp), intent(in) :: rows(:, :)
     type(error_t), allocatable, intent(out) :: err
+    integer :: st
     call room(self, self%n + 1)
     self%n = self%n + 1
     associate (s => self%snaps(self%n))
       s%group = group
       s%time = t
+      if (allocated(s%gid)) deallocate (s%gid)
+      if (allocated(s%rows)) deallocate (s%rows)
+      allocate (s%gid(size(gid)), s%rows(size(rows, 1), size(rows, 2)), stat=st)
+      if (st /= 0) call out_of_memory('snapshot rows', int(size(rows), int64), st)
       s%gid = gid
       s%rows = rows
     end associate

@@ -6,7 +6,9 @@
 !> runs with different dx or cfl share one time axis.
 module wellposed_mpm_stations
   use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
+  use wellposed_out_of_memory, only: out_of_memory
   use wellposed_dense, only: solve_dense
   use wellposed_mpm_config, only: mpm_config_t
   use wellposed_mpm_particles, only: particles_t
@@ -110,10 +112,12 @@ contains
     type(stations_t), intent(inout) :: self
     type(particles_t), intent(in) :: parts
     real(dp), intent(in) :: sample_dt, t_end
-    integer :: nmax
+    integer :: nmax, st
     self%sample_dt = sample_dt
     nmax = int(t_end/sample_dt) + 2
-    allocate (self%time(nmax), self%hist(nfields, self%n, nmax), self%prev(nfields, self%n))
+    allocate (self%time(nmax), self%hist(nfields, self%n, nmax), self%prev(nfields, self%n), &
+              stat=st)
+    if (st /= 0) call out_of_memory('station histories', int(nmax, int64)*self%n, st)
     self%ns = 0
     self%t_prev = 0.0_dp
     call current(self, parts, self%prev)
