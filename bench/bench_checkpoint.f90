@@ -9,14 +9,14 @@ program bench_checkpoint
   use wellposed_kinds, only: dp
   use bench_args, only: real_arg, most_args
   use wellposed_error, only: error_t
-  use wellposed_mpm_config, only: mpm_config_t
+  use wellposed_mpm_bar_config, only: bar_config_t
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance
   use wellposed_mpm_restart, only: save_scene, restore_scene
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint, read_checkpoint
   use wellposed_fs, only: remove_tree
   implicit none
   integer, parameter :: nsteps = 200, nwrites = 5
-  type(mpm_config_t) :: cfg
+  type(bar_config_t) :: cfg
   type(mpm_scene_t) :: scene, again
   type(checkpoint_t) :: ck, back
   type(error_t), allocatable :: err

@@ -11,7 +11,7 @@ program bench_mpm1d
   use wellposed_kinds, only: dp
   use bench_args, only: int_arg, most_args
   use wellposed_error, only: error_t
-  use wellposed_mpm_config, only: mpm_config_t, shape_gimp, shape_linear, shape_names, &
+  use wellposed_mpm_bar_config, only: bar_config_t, shape_gimp, shape_linear, shape_names, &
                                   mass_lumped, mass_blended
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, timer_umat, &
                                   timer_transfer, timer_grid, plastic_count
@@ -23,7 +23,7 @@ program bench_mpm1d
   integer, parameter :: nwarm = 200, nrounds = 10, trial_calls = 200000
   real(dp), parameter :: target_ratio = 6.0_dp   !< GIMP, x trial
   integer :: nsteps = 2000                 !< first argument, if given
-  type(mpm_config_t) :: cfg
+  type(bar_config_t) :: cfg
   type(mpm_scene_t) :: sc
   type(error_t), allocatable :: err
   integer :: kind, k, round, per_round, nplastic, row, row_first, row_last

@@ -11,8 +11,8 @@ program bench_mpm2d
   use wellposed_kinds, only: dp
   use bench_args, only: int_arg, most_args
   use wellposed_error, only: error_t
-  use wellposed_mpm_plane_strain, only: ps_config_t
-  use wellposed_mpm_plate_config, only: bc_free2
+  use wellposed_mpm_plate_build, only: plate_config_t
+  use wellposed_mpm_plate_config, only: bc_plate_free
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, timer_umat, &
                                   timer_transfer, timer_grid, plastic_count
   use wellposed_mpm_shape_2d, only: shape2d_linear, shape2d_cpdi, shape2d_names
@@ -22,7 +22,7 @@ program bench_mpm2d
   implicit none
   integer, parameter :: nwarm = 150, nrounds = 8, per_round = 50, trial_calls = 200000
   real(dp), parameter :: target_ratio = 20.0_dp   !< CPDI, every particle plastic, x trial
-  type(ps_config_t) :: cfg
+  type(plate_config_t) :: cfg
   type(mpm_scene_t) :: sc
   type(error_t), allocatable :: err
   integer :: kind, k, row
@@ -45,8 +45,8 @@ program bench_mpm2d
   end do
   if (row == 0 .or. row == 4) then
     cfg = plate(shape2d_cpdi, 0.0_dp)
-    cfg%bottom = bc_free2
-    cfg%top = bc_free2
+    cfg%bottom = bc_plate_free
+    cfg%top = bc_plate_free
     cfg%velocity_gradient0 = reshape([-100.0_dp, 0.0_dp, 0.0_dp, 100.0_dp], [2, 2])
     call measure('sheared cpdi', target_ratio, 20, 10)
   end if
@@ -112,10 +112,10 @@ contains
   function plate(kind, length) result(c)
     integer, intent(in) :: kind
     real(dp), intent(in) :: length
-    type(ps_config_t) :: c
+    type(plate_config_t) :: c
     type(error_t), allocatable :: err
     real(dp) :: weak(14)
-    c = ps_config_t()
+    c = plate_config_t()
     c%dx = 0.25_dp
     c%shape = kind
     c%props = 0.0_dp

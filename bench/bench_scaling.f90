@@ -12,7 +12,7 @@ program bench_scaling
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop, comm_self, barrier, allreduce_max, &
                            allreduce_sum
-  use wellposed_mpm_plane_strain, only: ps_config_t, bc_free2
+  use wellposed_mpm_plate_build, only: plate_config_t, bc_plate_free
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance, plastic_count
   use wellposed_mpm_nonlocal, only: ours_bounds, nl_sweep_names, nl_jacobi
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
@@ -173,8 +173,8 @@ contains
     integer, intent(in), optional :: sweep
     type(error_t), allocatable :: e
     type(mpm_ranks_t) :: ranks
-    type(ps_config_t) :: c
-    c = ps_config_t()
+    type(plate_config_t) :: c
+    c = plate_config_t()
     c%name = 'bench_scaling_overlocal'
     c%title = 'overlocal plate'
     c%dx = 0.125_dp
@@ -317,8 +317,8 @@ contains
   !> (k0 = 40 MPa, no hardening), free edges, initial pure shear.
   function plate(height) result(c)
     real(dp), intent(in) :: height
-    type(ps_config_t) :: c
-    c = ps_config_t()
+    type(plate_config_t) :: c
+    c = plate_config_t()
     c%name = 'bench_scaling'
     c%title = 'scaling plate'
     c%width = 4.0_dp
@@ -329,8 +329,8 @@ contains
     c%props(1:5) = [76.0e9_dp, 26.0e9_dp, 0.0_dp, 0.0_dp, 40.0e6_dp]
     c%props(14) = 1.0_dp
     c%nprops = 14
-    c%bottom = bc_free2
-    c%top = bc_free2
+    c%bottom = bc_plate_free
+    c%top = bc_plate_free
     c%velocity_gradient0 = reshape([-100.0_dp, 0.0_dp, 0.0_dp, 100.0_dp], [2, 2])
     c%t_end = 1.0_dp
   end function plate

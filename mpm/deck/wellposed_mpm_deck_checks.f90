@@ -13,12 +13,12 @@ module wellposed_mpm_deck_checks
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text, real_text
   use wellposed_deck, only: unheld_stress_note
-  use wellposed_mpm_config, only: mpm_config_t, bc_free, pulse_ramp_sine
-  use wellposed_mpm_loads, only: surface_stress
-  use wellposed_mpm_bar, only: probe_moduli
+  use wellposed_mpm_bar_config, only: bar_config_t, bc_free, pulse_ramp_sine
+  use wellposed_mpm_bar_loads, only: surface_stress
+  use wellposed_mpm_bar_build, only: probe_moduli
   use wellposed_mpm_materials, only: mpm_materials_t
-  use wellposed_mpm_plane_strain, only: ps_config_t
-  use wellposed_mpm_ps_deck, only: ps_study_t
+  use wellposed_mpm_plate_build, only: plate_config_t
+  use wellposed_mpm_plate_deck, only: plate_study_t
   use wellposed_mpm_vumat_call, only: material_update
   use wellposed_umat_host, only: umat_host_t, new_umat_host, host_call, host_error, vumat_is_ours, &
                                  verdict_ok, verdict_cutback, umat_is_ours
@@ -46,7 +46,7 @@ contains
   !> consistent (see the module comment).
   subroutine check_bar_deck(path, cfg, err, force)
     character(len=*), intent(in) :: path
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
     logical, intent(in), optional :: force
     real(dp) :: last
@@ -93,8 +93,8 @@ contains
   !> run; stations inside the plate, sampled at a fixed interval.
   subroutine check_plate_deck(path, cfg, study, err, force)
     character(len=*), intent(in) :: path
-    type(ps_config_t), intent(in) :: cfg
-    type(ps_study_t), intent(in) :: study
+    type(plate_config_t), intent(in) :: cfg
+    type(plate_study_t), intent(in) :: study
     type(error_t), allocatable, intent(out) :: err
     logical, intent(in), optional :: force
     integer :: s
@@ -140,7 +140,7 @@ contains
   !> far end, against 0.
   subroutine check_equilibrium(path, cfg, err)
     character(len=*), intent(in) :: path
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
     real(dp) :: sb, sx, scale
     character(len=*), parameter :: hint = ' (&initial out_of_equilibrium = .true. starts '// &
@@ -169,7 +169,7 @@ contains
   !> every material of the bar: each region starts from the same stress.
   subroutine check_yield(path, cfg, err)
     character(len=*), intent(in) :: path
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
     character(len=:), allocatable :: which
     integer :: k
@@ -189,7 +189,7 @@ contains
   !> check_yield for one material of PROPS `mat_props`, named `which`.
   subroutine check_yield_of(path, cfg, mat_props, which, err, user_vumat)
     character(len=*), intent(in) :: path, which
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     real(dp), intent(in) :: mat_props(:)
     type(error_t), allocatable, intent(out) :: err
     logical, intent(in), optional :: user_vumat  !< the zero increment through a user's VUMAT
@@ -295,7 +295,7 @@ contains
   !> materials at the initial stress (probe_moduli), checked by check_steps.
   subroutine bar_steps(path, cfg, force, err)
     character(len=*), intent(in) :: path
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     logical, intent(in) :: force
     type(error_t), allocatable, intent(out) :: err
     real(dp) :: m, m_el, m_pl
@@ -349,7 +349,7 @@ contains
   !> sqrt(M/rho) (faster, the impact strain |v|/c would pass 1).
   subroutine plate_steps(path, cfg, dx, force, err)
     character(len=*), intent(in) :: path
-    type(ps_config_t), intent(in) :: cfg
+    type(plate_config_t), intent(in) :: cfg
     real(dp), intent(in) :: dx
     logical, intent(in) :: force
     type(error_t), allocatable, intent(out) :: err

@@ -19,7 +19,7 @@ module wellposed_mpm_deck_shared
   use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_scheme_names, &
                                              nl_scheme_id, nl_sweep_names, nl_sweep_id
   use wellposed_mpm_nonlocal_deck, only: resolve_nonlocal
-  use wellposed_mpm_config, only: scheme_names, mass_names
+  use wellposed_mpm_bar_config, only: scheme_names, mass_names
   use wellposed_text, only: real_text
   implicit none
   private

@@ -5,10 +5,10 @@
 module wellposed_mpm_deck_verify
   use wellposed_error, only: error_t
   use wellposed_mpm_scene_kind, only: scene_kind_plate
-  use wellposed_mpm_config, only: mpm_config_t
-  use wellposed_mpm_plane_strain, only: ps_config_t
-  use wellposed_mpm_deck, only: read_mpm_deck, mpm_options_t
-  use wellposed_mpm_ps_deck, only: read_ps_deck, ps_study_t
+  use wellposed_mpm_bar_config, only: bar_config_t
+  use wellposed_mpm_plate_build, only: plate_config_t
+  use wellposed_mpm_bar_deck, only: read_bar_deck, bar_options_t
+  use wellposed_mpm_plate_deck, only: read_plate_deck, plate_study_t
   use wellposed_mpm_deck_checks, only: check_bar_deck, check_plate_deck
   implicit none
   private
@@ -24,15 +24,15 @@ contains
     logical, intent(in) :: force
     type(error_t), allocatable, intent(out) :: err
     character(len=:), allocatable :: text
-    type(mpm_config_t) :: cfg
-    type(mpm_options_t) :: opts
-    type(ps_config_t) :: cfg0
-    type(ps_study_t) :: study
+    type(bar_config_t) :: cfg
+    type(bar_options_t) :: opts
+    type(plate_config_t) :: cfg0
+    type(plate_study_t) :: study
     if (kind == scene_kind_plate) then
-      call read_ps_deck(path, overrides, cfg0, study, text, err)
+      call read_plate_deck(path, overrides, cfg0, study, text, err)
       if (.not. allocated(err)) call check_plate_deck(path, cfg0, study, err, force)
     else
-      call read_mpm_deck(path, overrides, cfg, opts, text, err)
+      call read_bar_deck(path, overrides, cfg, opts, text, err)
       if (.not. allocated(err)) call check_bar_deck(path, cfg, err, force)
     end if
   end subroutine verify_mpm_deck

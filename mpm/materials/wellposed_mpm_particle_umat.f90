@@ -17,7 +17,7 @@ contains
   !> The plane-strain increment of a step dt from the velocity gradient lg
   !> (2 x 2, lg(a, b) = d v_a / d x_b; eq. 4.11) in the UMAT's order: 11,
   !> 22, 33 = 0, 12 engineering (NTENS = 4). A bar's uniaxial increment is
-  !> bar_kinematics' (wellposed_mpm_bar).
+  !> bar_kinematics' (wellposed_mpm_bar_build).
   pure subroutine strain_increment(lg, dt, de)
     real(dp), intent(in) :: lg(2, 2), dt
     real(dp), intent(out) :: de(4)

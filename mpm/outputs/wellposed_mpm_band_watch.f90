@@ -15,7 +15,7 @@ module wellposed_mpm_band_watch
   use wellposed_summary, only: summary_t
   use wellposed_mpm_solver, only: mpm_scene_t, plastic_strain
   use wellposed_mpm_plate_kind, only: platen_base, plate_config
-  use wellposed_mpm_plate_config, only: ps_config_t
+  use wellposed_mpm_plate_config, only: plate_config_t
   use wellposed_mpm_decomposition, only: gather_by_gid
   use wellposed_mpm_band, only: band_fit_t, fit_band, in_grown_box, line_meets_box
   implicit none
@@ -54,7 +54,7 @@ contains
     real(dp), intent(in) :: drop, threshold
     type(band_watch_t) :: w
     integer :: k, nbox
-    type(ps_config_t) :: plate
+    type(plate_config_t) :: plate
     plate = plate_config(sc)
     w%drop = drop
     w%threshold = threshold
@@ -125,7 +125,7 @@ contains
     type(comm_t), intent(in) :: comm
     real(dp) :: a(4), lp, yg, y
     integer :: p
-    type(ps_config_t) :: plate
+    type(plate_config_t) :: plate
     plate = plate_config(sc)
     lp = 0.5_dp*sc%dx/plate%ppc
     yg = platen_base(sc)
@@ -150,7 +150,7 @@ contains
     type(comm_t), intent(in) :: comm
     real(dp), allocatable :: f(:, :), all(:, :)
     integer :: n
-    type(ps_config_t) :: plate
+    type(plate_config_t) :: plate
     plate = plate_config(sc)
     n = sc%parts%n
     allocate (f(3, n))

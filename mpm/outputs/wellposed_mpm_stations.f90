@@ -10,7 +10,7 @@ module wellposed_mpm_stations
   use wellposed_kinds, only: dp
   use wellposed_out_of_memory, only: out_of_memory
   use wellposed_dense, only: solve_dense
-  use wellposed_mpm_config, only: mpm_config_t
+  use wellposed_mpm_bar_config, only: bar_config_t
   use wellposed_mpm_particles, only: particles_t
   implicit none
   private
@@ -62,7 +62,7 @@ contains
   !> Stations of `cfg` on the particles `parts` (reference positions x0).
   subroutine new_stations(self, cfg, parts, t_end)
     type(stations_t), intent(out) :: self
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     type(particles_t), intent(in) :: parts
     real(dp), intent(in) :: t_end
     integer :: s, p

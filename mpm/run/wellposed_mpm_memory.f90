@@ -8,10 +8,10 @@ module wellposed_mpm_memory
   use wellposed_error, only: error_t
   use wellposed_memory, only: proc_bytes
   use wellposed_mpm_scene_kind, only: scene_kind_plate
-  use wellposed_mpm_config, only: mpm_config_t
-  use wellposed_mpm_deck, only: read_mpm_deck, mpm_options_t
-  use wellposed_mpm_plane_strain, only: ps_config_t
-  use wellposed_mpm_ps_deck, only: read_ps_deck, ps_study_t
+  use wellposed_mpm_bar_config, only: bar_config_t
+  use wellposed_mpm_bar_deck, only: read_bar_deck, bar_options_t
+  use wellposed_mpm_plate_build, only: plate_config_t
+  use wellposed_mpm_plate_deck, only: read_plate_deck, plate_study_t
   implicit none
   private
   public :: deck_memory, resident_start, resident_bytes_per_particle
@@ -36,10 +36,10 @@ contains
     logical, intent(in) :: checkpoints
     real(dp), intent(out) :: bytes, nparticles
     type(error_t), allocatable, intent(out) :: err
-    type(mpm_config_t) :: cfg
-    type(mpm_options_t) :: opts
-    type(ps_config_t) :: pcfg
-    type(ps_study_t) :: study
+    type(bar_config_t) :: cfg
+    type(bar_options_t) :: opts
+    type(plate_config_t) :: pcfg
+    type(plate_study_t) :: study
     character(len=:), allocatable :: text
     integer :: ic
     real(dp) :: n
@@ -47,7 +47,7 @@ contains
     bytes = 0.0_dp
     nparticles = 0.0_dp
     if (kind == scene_kind_plate) then
-      call read_ps_deck(path, overrides, pcfg, study, text, err)
+      call read_plate_deck(path, overrides, pcfg, study, text, err)
       if (allocated(err)) return
       ! the cases run one after another: the largest one counts
       do ic = 1, study%ncases
@@ -58,7 +58,7 @@ contains
       outputs = checkpoints .or. study%snapshot_dt > 0.0_dp
       bytes = base_bytes + nparticles*merge(plate_out, plate_quiet, outputs)
     else
-      call read_mpm_deck(path, overrides, cfg, opts, text, err)
+      call read_bar_deck(path, overrides, cfg, opts, text, err)
       if (allocated(err)) return
       nparticles = anint(cfg%length/cfg%dx)*real(cfg%ppc, dp)
       outputs = checkpoints .or. cfg%snapshot_dt > 0.0_dp

@@ -3,13 +3,13 @@
 !> momentum) and what it adds to the step: the surface traction on the
 !> moving free surface, the mass matrix of &time mass, the uniaxial strain
 !> (NTENS 6), the work and impulse sums and the axial moduli probe. Its
-!> build: wellposed_mpm_bar.
+!> build: wellposed_mpm_bar_build.
 module wellposed_mpm_bar_kind
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_mpm_method, only: mass_lumped
-  use wellposed_mpm_config, only: mpm_config_t
-  use wellposed_mpm_loads, only: surface_stress
+  use wellposed_mpm_bar_config, only: bar_config_t
+  use wellposed_mpm_bar_loads, only: surface_stress
   use wellposed_mpm_mass_matrix, only: mass_matrix_update
   use wellposed_umat_host, only: umat_host_t, new_umat_host
   use wellposed_mpm_vumat_call, only: material_update
@@ -40,7 +40,7 @@ module wellposed_mpm_bar_kind
   !> (global), the probed loading modulus, the bookkeeping and the step's
   !> surface traction.
   type, extends(scene_kind_t) :: bar_kind_t
-    type(mpm_config_t) :: cfg
+    type(bar_config_t) :: cfg
     integer :: node_surface = 0, node_far = 0
     real(dp) :: modulus_plastic = 0.0_dp  !< axial loading modulus (Pa)
     type(bar_book_t) :: book
@@ -88,7 +88,7 @@ contains
   !> a rate-dependent model answers with its quasi-static (stiffest) limit.
   !> Increments of 1e-5 strain. Pa.
   subroutine probe_moduli(cfg, props, elastic, plastic, err, vumat)
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     real(dp), intent(in) :: props(:)
     real(dp), intent(out) :: elastic, plastic
     type(error_t), allocatable, intent(out) :: err

@@ -10,14 +10,14 @@ module wellposed_mpm_bar_outputs
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
   use wellposed_mpi, only: comm_t, allreduce_sum, broadcast
-  use wellposed_mpm_config, only: mpm_config_t, pulse_ramp_sine
+  use wellposed_mpm_bar_config, only: bar_config_t, pulse_ramp_sine
   use wellposed_mpm_scene, only: mpm_scene_t
   use wellposed_mpm_bar_kind, only: bar_book_t, bar_book
   use wellposed_mpm_solver, only: kinetic_energy, total_momentum
   use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations, &
                                     station_measures_t, measure_stations, field_sxx, &
                                     field_syy, field_v, field_z, field_apex, nfields
-  use wellposed_mpm_station_summary, only: add_station_summary, head_speed_t
+  use wellposed_mpm_bar_station_summary, only: add_station_summary, head_speed_t
   use wellposed_mpm_wake, only: wake_t, station_wake, wake_start
   use wellposed_mpm_particles, only: particles_t
   use wellposed_mpm_parallel_io, only: station_proxy_t, gather_particles, make_station_proxy, &
@@ -38,7 +38,7 @@ module wellposed_mpm_bar_outputs
     type(stations_t) :: st
     type(station_measures_t) :: meas
     type(station_proxy_t) :: proxy
-    type(mpm_config_t) :: cfg
+    type(bar_config_t) :: cfg
     real(dp) :: c_e = 0.0_dp, c_p = 0.0_dp
     type(head_speed_t) :: head
     logical :: sampled = .false.   !< rank 0: the last step was a sample
@@ -105,7 +105,7 @@ contains
   !> Stations of `cfg` on scene `sc` of `ntotal` particles (collective).
   subroutine stations_setup(self, cfg, sc, ntotal, comm)
     class(bar_stations_t), intent(inout) :: self
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     type(mpm_scene_t), intent(in) :: sc
     integer, intent(in) :: ntotal
     type(comm_t), intent(inout) :: comm

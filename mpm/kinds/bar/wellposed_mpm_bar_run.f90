@@ -11,15 +11,15 @@ module wellposed_mpm_bar_run
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_text, only: int_text, real_text
-  use wellposed_mpm_config
-  use wellposed_mpm_deck, only: read_mpm_deck, mpm_options_t
+  use wellposed_mpm_bar_config
+  use wellposed_mpm_bar_deck, only: read_bar_deck, bar_options_t
   use wellposed_mpm_deck_checks, only: check_bar_deck
-  use wellposed_mpm_station_summary, only: head_speed
+  use wellposed_mpm_bar_station_summary, only: head_speed
   use wellposed_mpm_nonlocal_summary, only: add_nonlocal_summary
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, timer_umat, timer_transfer, timer_grid
   use wellposed_mpm_bar_kind, only: bar_modulus_plastic
   use wellposed_mpm_paths, only: find_data, stations_plot_name
-  use wellposed_mpm_reference, only: reference_plot_args
+  use wellposed_mpm_bar_reference, only: reference_plot_args
   use wellposed_mpm_memory, only: resident_bytes_per_particle
   use wellposed_mpm_nonlocal, only: nl_scheme_names
   use wellposed_mpi, only: comm_t, allreduce_sum, allreduce_max, broadcast
@@ -45,8 +45,8 @@ module wellposed_mpm_bar_run
   !> A bar run: its deck, scene, files and outputs (the outputs point at
   !> one another and at h5, so a bar_run_t is a target and never copied).
   type :: bar_run_t
-    type(mpm_config_t) :: cfg
-    type(mpm_options_t) :: opts
+    type(bar_config_t) :: cfg
+    type(bar_options_t) :: opts
     type(mpm_scene_t) :: scene
     type(mpm_ranks_t) :: ranks
     type(run_dir_t) :: rd
@@ -95,7 +95,7 @@ contains
     character(len=:), allocatable :: h5_path
     logical :: root
     root = comm%rank == 0
-    call read_mpm_deck(cli%deck_path, cli%overrides, r%cfg, r%opts, r%deck_text, err)
+    call read_bar_deck(cli%deck_path, cli%overrides, r%cfg, r%opts, r%deck_text, err)
     if (.not. allocated(err)) call check_bar_deck(cli%deck_path, r%cfg, err, cli%force)
     if (allocated(err)) call stop_all(comm, r%rd, err)
     if (len(cli%run_name) > 0) r%cfg%name = cli%run_name

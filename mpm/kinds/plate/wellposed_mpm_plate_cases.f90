@@ -8,8 +8,8 @@ module wellposed_mpm_plate_cases
   use wellposed_error, only: error_t
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_checked_io, only: out_file_t
-  use wellposed_mpm_plane_strain, only: ps_config_t
-  use wellposed_mpm_ps_deck, only: ps_study_t
+  use wellposed_mpm_plate_build, only: plate_config_t
+  use wellposed_mpm_plate_deck, only: plate_study_t
   use wellposed_mpm_materials, only: scale_regions
   use wellposed_mpm_band, only: half_crossings
   implicit none
@@ -37,7 +37,7 @@ contains
 
   !> Case k's name: its label, else h<dx>[_s<scale>].
   function case_tag(study, k) result(t)
-    type(ps_study_t), intent(in) :: study
+    type(plate_study_t), intent(in) :: study
     integer, intent(in) :: k
     character(len=:), allocatable :: t
     t = trim(study%label(k))
@@ -49,10 +49,10 @@ contains
   !> Case k's configuration: the deck's (cfg0) at the case's dx, the plate,
   !> weak zone and top velocity scaled by its scale (fig. 4.6).
   function case_config(cfg0, study, k) result(c)
-    type(ps_config_t), intent(in) :: cfg0
-    type(ps_study_t), intent(in) :: study
+    type(plate_config_t), intent(in) :: cfg0
+    type(plate_study_t), intent(in) :: study
     integer, intent(in) :: k
-    type(ps_config_t) :: c
+    type(plate_config_t) :: c
     real(dp) :: f
     c = cfg0
     f = study%scale(k)

@@ -1,4 +1,4 @@
-!> The configuration of a plane-strain plate scene (wellposed_mpm_plane_strain;
+!> The configuration of a plane-strain plate scene (wellposed_mpm_plate_build;
 !> chapter 4's fig. 4.1 by default) and the checks a deck's values must
 !> pass before the scene is built, each error naming its deck key.
 module wellposed_mpm_plate_config
@@ -11,12 +11,12 @@ module wellposed_mpm_plate_config
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t
   implicit none
   private
-  public :: ps_config_t, check_plate_config, bc_roller, bc_fixed2, bc_free2, bc_velocity, bc2_names
+  public :: plate_config_t, check_plate_config, bc_roller, bc_plate_fixed, bc_plate_free, bc_velocity, plate_bc_names
   public :: platen_surface, platen_grid, platen_contact, platen_names
 
   !> Boundary kinds in 2D.
-  integer, parameter :: bc_roller = 1, bc_fixed2 = 2, bc_free2 = 3, bc_velocity = 4
-  character(len=8), parameter :: bc2_names(4) = [character(len=8) :: 'roller', 'fixed', 'free', &
+  integer, parameter :: bc_roller = 1, bc_plate_fixed = 2, bc_plate_free = 3, bc_velocity = 4
+  character(len=8), parameter :: plate_bc_names(4) = [character(len=8) :: 'roller', 'fixed', 'free', &
                                                  'velocity']
   integer, parameter :: max_props2 = 40
   !> Where the platen acts (docs/research/bands.md, "The platen"): 'surface', on the
@@ -29,7 +29,7 @@ module wellposed_mpm_plate_config
 
   !> One plane-strain scene (defaults: the 4 m x 5 m plate of fig. 4.1 with
   !> the local softening material of section 4.7.1, h = 0.5 m).
-  type :: ps_config_t
+  type :: plate_config_t
     character(len=:), allocatable :: name, title
     real(dp) :: width = 4.0_dp, height = 5.0_dp   !< m
     real(dp) :: dx = 0.5_dp                        !< cell size h (m)
@@ -45,7 +45,7 @@ module wellposed_mpm_plate_config
     !> materials by region (none: one material of props, nstatv)
     type(mpm_materials_t) :: materials
     ! boundaries
-    integer :: bottom = bc_roller, top = bc_velocity, sides = bc_free2
+    integer :: bottom = bc_roller, top = bc_velocity, sides = bc_plate_free
     real(dp) :: top_velocity = -7.5_dp             !< v_y of the top (m/s, < 0 compresses)
     real(dp) :: ramp_time = 0.0_dp                 !< s, linear ramp of the top velocity
     logical :: top_lateral_fixed = .true.          !< v_x = 0 on the top too (the dissertation's)
@@ -55,13 +55,13 @@ module wellposed_mpm_plate_config
     ! artificial viscosity
     real(dp) :: visc_a1 = 0.4_dp, visc_a2 = 4.0_dp
     type(nonlocal_settings_t) :: nonlocal
-  end type ps_config_t
+  end type plate_config_t
 
 contains
 
   !> Checks on the deck values a scene needs.
   subroutine check_plate_config(cfg, err)
-    type(ps_config_t), intent(in) :: cfg
+    type(plate_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
     real(dp) :: r(2)
     if (.not. (cfg%dx > 0.0_dp .and. ieee_is_finite(cfg%dx))) then

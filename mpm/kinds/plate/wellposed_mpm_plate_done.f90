@@ -12,7 +12,7 @@ module wellposed_mpm_plate_done
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_summary, only: summary_t
   use wellposed_h5_parallel, only: h5_parallel_file_t
-  use wellposed_mpm_ps_deck, only: ps_study_t
+  use wellposed_mpm_plate_deck, only: plate_study_t
   use wellposed_mpm_plate_cases, only: case_out_t, put_case_out, get_case_out
   use wellposed_mpm_plate_stations, only: plate_stations_t, restore_plate_stations
   use wellposed_mpm_output, only: mpm_output_t
@@ -26,7 +26,7 @@ module wellposed_mpm_plate_done
     integer :: current = 1        !< the case running
     integer :: steps_before = 0   !< steps of the cases before it
     type(summary_t), pointer :: sm => null()
-    type(ps_study_t) :: study
+    type(plate_study_t) :: study
     real(dp) :: t_end = 0.0_dp
   contains
     procedure :: setup => done_setup
@@ -40,7 +40,7 @@ contains
   !> Room for the cases of `study` (each run to t_end); `sm` the run's summary.
   subroutine done_setup(self, study, t_end, sm)
     class(plate_done_t), intent(inout) :: self
-    type(ps_study_t), intent(in) :: study
+    type(plate_study_t), intent(in) :: study
     real(dp), intent(in) :: t_end
     type(summary_t), target, intent(in) :: sm
     self%name = 'cases'

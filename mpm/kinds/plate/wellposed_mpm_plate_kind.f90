@@ -4,7 +4,7 @@
 !> and the platen (on the surface, grid or by contact), the plane-strain
 !> kinematics (NTENS 4, Jaumann rotation), the moduli probe; and its
 !> measures (applied stress, apparent strain). Its build:
-!> wellposed_mpm_plane_strain. The platen: docs/research/bands.md.
+!> wellposed_mpm_plate_build. The platen: docs/research/bands.md.
 module wellposed_mpm_plate_kind
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -14,7 +14,7 @@ module wellposed_mpm_plate_kind
   use wellposed_mpm_shape_2d, only: shape_2d, shape2d_linear
   use wellposed_mpm_particle_umat, only: strain_increment
   use wellposed_mpm_vumat_call, only: material_update
-  use wellposed_mpm_plate_config, only: ps_config_t, bc_roller, bc_fixed2, bc_velocity, &
+  use wellposed_mpm_plate_config, only: plate_config_t, bc_roller, bc_plate_fixed, bc_velocity, &
                                         platen_surface, platen_contact
   use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t
   implicit none
@@ -26,7 +26,7 @@ module wellposed_mpm_plate_kind
   !> (m), the platen's lowest node row (none yet: -huge) and the probed
   !> bulk modulus K (Pa).
   type, extends(scene_kind_t) :: plate_kind_t
-    type(ps_config_t) :: cfg
+    type(plate_config_t) :: cfg
     real(dp) :: top_disp = 0.0_dp
     integer :: platen_row = -huge(1)
     real(dp) :: bulk = 0.0_dp
@@ -151,7 +151,7 @@ contains
           xy = sc%origin + cfg%dx*[i, j]
           if (xy(2) <= 0.5_dp*tol) then
             if (cfg%bottom == bc_roller) sc%grid%fixed(2, g) = .true.
-            if (cfg%bottom == bc_fixed2) sc%grid%fixed(:, g) = .true.
+            if (cfg%bottom == bc_plate_fixed) sc%grid%fixed(:, g) = .true.
           end if
           if (cfg%sides == bc_roller .and. (xy(1) <= tol .or. xy(1) >= cfg%width - tol)) &
             sc%grid%fixed(1, g) = .true.
@@ -275,7 +275,7 @@ contains
   !> The configuration of the plate scene sc (the defaults for another kind).
   function plate_config(sc) result(cfg)
     type(mpm_scene_t), intent(in) :: sc
-    type(ps_config_t) :: cfg
+    type(plate_config_t) :: cfg
     select type (k => sc%kind)
     type is (plate_kind_t)
       cfg = k%cfg
@@ -358,7 +358,7 @@ contains
   !> The platen's velocity v_top of the step ending at t + dt: the deck's,
   !> ramped linearly over ramp_time (m/s).
   pure real(dp) function platen_velocity(cfg, t, dt) result(vtop)
-    type(ps_config_t), intent(in) :: cfg
+    type(plate_config_t), intent(in) :: cfg
     real(dp), intent(in) :: t, dt
     vtop = cfg%top_velocity
     if (cfg%ramp_time > 0.0_dp) vtop = vtop*min(1.0_dp, (t + dt)/cfg%ramp_time)

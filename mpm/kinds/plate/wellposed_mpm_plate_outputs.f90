@@ -13,7 +13,7 @@ module wellposed_mpm_plate_outputs
   use wellposed_mpi, only: comm_t, allreduce_sum, allreduce_max
   use wellposed_mpm_scene, only: mpm_scene_t
   use wellposed_mpm_solver, only: applied_stress, plastic_strain, plastic_count
-  use wellposed_mpm_plane_strain, only: apparent_strain
+  use wellposed_mpm_plate_build, only: apparent_strain
   use wellposed_mpm_decomposition, only: gather_by_gid
   use wellposed_mpm_plate_cases, only: band_width
   use wellposed_mpm_band_watch, only: band_watch_t

@@ -11,13 +11,13 @@ module wellposed_mpm_plate_run
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_text, only: int_text, real_text
-  use wellposed_mpm_plane_strain, only: ps_config_t
+  use wellposed_mpm_plate_build, only: plate_config_t
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, max_substeps
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpm_shape_2d, only: shape2d_names
-  use wellposed_mpm_config, only: scheme_names
+  use wellposed_mpm_bar_config, only: scheme_names
   use wellposed_mpm_nonlocal, only: nl_scheme_names
-  use wellposed_mpm_ps_deck, only: read_ps_deck, ps_study_t
+  use wellposed_mpm_plate_deck, only: read_plate_deck, plate_study_t
   use wellposed_mpm_deck_checks, only: check_plate_deck
   use wellposed_mpm_paths, only: find_data, plate_plot_name
   use wellposed_mpm_plate_cases, only: case_out_t, case_tag, case_config, curve_difference, &
@@ -51,8 +51,8 @@ module wellposed_mpm_plate_run
   !> A plate run: its deck, files, finished cases and the snapshots of
   !> every case (a target, never copied: the outputs point into it).
   type :: plate_run_t
-    type(ps_config_t) :: cfg0
-    type(ps_study_t) :: study
+    type(plate_config_t) :: cfg0
+    type(plate_study_t) :: study
     type(mpm_ranks_t) :: ranks
     type(run_dir_t) :: rd
     type(h5_parallel_file_t) :: h5
@@ -67,7 +67,7 @@ module wellposed_mpm_plate_run
   !> One case: its scene and outputs (a target, never copied).
   type :: plate_case_t
     integer :: ic = 0, nsteps_est = 0
-    type(ps_config_t) :: cfg
+    type(plate_config_t) :: cfg
     type(mpm_scene_t) :: sc
     character(len=:), allocatable :: tag
     type(plate_curve_t) :: curve
@@ -108,7 +108,7 @@ contains
     logical :: root
     root = comm%rank == 0
     call new_mpm_ranks(r%ranks, comm)
-    call read_ps_deck(cli%deck_path, cli%overrides, r%cfg0, r%study, r%deck_text, err)
+    call read_plate_deck(cli%deck_path, cli%overrides, r%cfg0, r%study, r%deck_text, err)
     if (.not. allocated(err)) &
       call check_plate_deck(cli%deck_path, r%cfg0, r%study, err, cli%force)
     if (allocated(err)) call stop_all(comm, r%rd, err)

@@ -1,4 +1,4 @@
-!> Stations of a plate case (&stations of wellposed_mpm_ps_deck): the
+!> Stations of a plate case (&stations of wellposed_mpm_plate_deck): the
 !> histories of sigma_xx, sigma_yy, sigma_xy, v_x and v_y of the particle
 !> nearest each point (scaled with the case), sampled every &output
 !> sample_dt on rank 0 through a station proxy, as the bar's stations are
@@ -19,7 +19,7 @@ module wellposed_mpm_plate_stations
                                     field_sxx, field_syy, field_sxy, field_v, field_vy
   use wellposed_mpm_parallel_io, only: station_proxy_t, gather_particles, make_station_proxy, &
                                        fill_station_proxy, put_stations, get_stations
-  use wellposed_mpm_ps_deck, only: ps_study_t
+  use wellposed_mpm_plate_deck, only: plate_study_t
   implicit none
   private
   public :: plate_stations_t, new_plate_stations, restore_plate_stations
@@ -43,7 +43,7 @@ contains
   !> (collective; none when the deck gives no &stations).
   subroutine new_plate_stations(self, study, ic, sc, t_end, comm)
     type(plate_stations_t), intent(out) :: self
-    type(ps_study_t), intent(in) :: study
+    type(plate_study_t), intent(in) :: study
     integer, intent(in) :: ic
     type(mpm_scene_t), intent(in) :: sc
     real(dp), intent(in) :: t_end
@@ -69,7 +69,7 @@ contains
   !> under `prefix` (collective: rank 0 reads the histories).
   subroutine restore_plate_stations(self, study, t_end, comm, ck, prefix, err)
     type(plate_stations_t), intent(out) :: self
-    type(ps_study_t), intent(in) :: study
+    type(plate_study_t), intent(in) :: study
     real(dp), intent(in) :: t_end
     type(comm_t), intent(in) :: comm
     type(checkpoint_t), intent(in) :: ck

@@ -12,7 +12,7 @@ H = (M_L + M_P)/2) grid acceleration, as wellposed-mpm takes it (linear
 weights; GIMP's are the same at rest). Printed:
 
 - the largest cfl with every eigenvalue of the map within the unit circle
-  (bisection), beside the closed form of wellposed_mpm_cfl_limit;
+  (bisection), beside the closed form of wellposed_mpm_bar_cfl_limit;
 - the group velocity of MUSL with the blended mass, per wavelength in
   cells, from the eigenvalues' phases (the acoustic branch).
 

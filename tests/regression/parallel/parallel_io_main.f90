@@ -9,7 +9,7 @@ program parallel_io_main
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop, allreduce_sum
-  use wellposed_mpm_config, only: mpm_config_t
+  use wellposed_mpm_bar_config, only: bar_config_t
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance
   use wellposed_mpm_particles, only: particles_t
   use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations
@@ -20,7 +20,7 @@ program parallel_io_main
 
   integer, parameter :: nsteps = 200
   type(comm_t) :: comm
-  type(mpm_config_t) :: cfg
+  type(bar_config_t) :: cfg
   type(mpm_scene_t) :: ref
   type(particles_t) :: mine, gathered
   type(decomposition_t) :: dec

@@ -8,7 +8,7 @@ program parallel_restart_main
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop, allreduce_sum, barrier
-  use wellposed_mpm_config, only: mpm_config_t
+  use wellposed_mpm_bar_config, only: bar_config_t
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance
   use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, &
                                          restrict_particles, owner_of_position
@@ -20,7 +20,7 @@ program parallel_restart_main
 
   integer, parameter :: nsteps = 40
   type(comm_t) :: comm
-  type(mpm_config_t) :: cfg
+  type(bar_config_t) :: cfg
   type(mpm_scene_t) :: ref, scene
   type(decomposition_t) :: dec
   type(mpm_ranks_t) :: ranks

@@ -3,9 +3,9 @@
 !> bar's own &initial (stress, velocity, out_of_equilibrium), &load (base,
 !> peak, duration, start, pulse; ramp_sine: rate, amplitude, frequency) and
 !> &stations (first, spacing, count), and &output's reference keys, into an
-!> mpm_config_t. Overrides `group.key=value` are read after the deck as
+!> bar_config_t. Overrides `group.key=value` are read after the deck as
 !> one-line namelists, under the same rules. Keys: docs/guide/decks.md.
-module wellposed_mpm_deck
+module wellposed_mpm_bar_deck
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -15,18 +15,18 @@ module wellposed_mpm_deck
   use wellposed_mpm_scene_kind, only: scene_kind_bar
   use wellposed_mpm_materials, only: first_material
   use wellposed_mpm_material_deck, only: check_boxes
-  use wellposed_mpm_config
-  use wellposed_mpm_reference, only: check_reference
+  use wellposed_mpm_bar_config
+  use wellposed_mpm_bar_reference, only: check_reference
   use wellposed_text, only: int_text, real_text
   implicit none
   private
-  public :: read_mpm_deck, mpm_options_t
+  public :: read_bar_deck, bar_options_t
 
   !> Driver options that are not part of the physics.
-  type :: mpm_options_t
+  type :: bar_options_t
     logical :: plot = .true.           !< run the plot script at the end
     character(len=:), allocatable :: reference, reference_label  !< &output
-  end type mpm_options_t
+  end type bar_options_t
 
   character(len=8), parameter :: bar_groups(3) = [character(len=8) :: 'initial', 'load', &
     'stations']
@@ -34,11 +34,11 @@ module wellposed_mpm_deck
 contains
 
   !> Read `path` (and then the overrides, each "group.key=value") into cfg.
-  subroutine read_mpm_deck(path, overrides, cfg, opts, text, err)
+  subroutine read_bar_deck(path, overrides, cfg, opts, text, err)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: overrides(:)
-    type(mpm_config_t), intent(out) :: cfg
-    type(mpm_options_t), intent(out) :: opts
+    type(bar_config_t), intent(out) :: cfg
+    type(bar_options_t), intent(out) :: opts
     character(len=:), allocatable, intent(out) :: text
     type(error_t), allocatable, intent(out) :: err
     type(shared_deck_t) :: sh
@@ -131,7 +131,7 @@ contains
       end do
     end subroutine load_keys
 
-    !> The keys of pulse = 'ramp_sine' (eq. of wellposed_mpm_loads): all
+    !> The keys of pulse = 'ramp_sine' (eq. of wellposed_mpm_bar_loads): all
     !> three given and finite, frequency > 0, and |amplitude| 2 pi frequency
     !> < |rate| so that the surface stress rate never changes sign (a
     !> reversal would unload the material elastically and the measured
@@ -225,6 +225,6 @@ contains
       call check_word(path, grp, key, value, names, id, err)
     end function word
 
-  end subroutine read_mpm_deck
+  end subroutine read_bar_deck
 
-end module wellposed_mpm_deck
+end module wellposed_mpm_bar_deck

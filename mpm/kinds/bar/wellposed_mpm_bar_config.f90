@@ -2,7 +2,7 @@
 !> study of section 2.3), as plain data: the deck reader fills it, the unit
 !> tests build it by hand, the solver only reads it. SI units throughout
 !> (m, s, kg, Pa); stresses tension positive, Abaqus component order.
-module wellposed_mpm_config
+module wellposed_mpm_bar_config
   use wellposed_kinds, only: dp
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t
   use wellposed_mpm_materials, only: mpm_materials_t
@@ -12,7 +12,7 @@ module wellposed_mpm_config
                                   mass_blended, mass_names
   implicit none
   private
-  public :: mpm_config_t, shape_linear, shape_gimp, shape_names, scheme_usl, scheme_musl, &
+  public :: bar_config_t, shape_linear, shape_gimp, shape_names, scheme_usl, scheme_musl, &
             scheme_names, bc_fixed, bc_symmetric, bc_free, bc_names, pulse_triangle, &
             pulse_cosine, pulse_ramp_sine, pulse_names, max_props, mass_lumped, &
             mass_consistent, mass_blended, mass_names
@@ -33,7 +33,7 @@ module wellposed_mpm_config
   integer, parameter :: max_props = 40
 
   !> One scene. Defaults are the Sandler-Rubin case (shared reference A).
-  type :: mpm_config_t
+  type :: bar_config_t
     character(len=:), allocatable :: name           !< scene name, output folder
     character(len=:), allocatable :: title          !< one line for plots
     ! geometry and grid (m)
@@ -82,6 +82,6 @@ module wellposed_mpm_config
     type(nonlocal_settings_t) :: nonlocal
     !> materials by region (none: one material of props, nstatv)
     type(mpm_materials_t) :: materials
-  end type mpm_config_t
+  end type bar_config_t
 
-end module wellposed_mpm_config
+end module wellposed_mpm_bar_config

@@ -5,9 +5,9 @@
 !> amplitude sin(2 pi f s), s = t - start, where |amplitude| 2 pi f < |rate|
 !> keeps the surface loading so the sinusoid travels at the plastic
 !> (dispersive) wave speed at f.
-module wellposed_mpm_loads
+module wellposed_mpm_bar_loads
   use wellposed_kinds, only: dp
-  use wellposed_mpm_config, only: mpm_config_t, pulse_triangle, pulse_cosine, pulse_ramp_sine
+  use wellposed_mpm_bar_config, only: bar_config_t, pulse_triangle, pulse_cosine, pulse_ramp_sine
   implicit none
   private
   public :: surface_stress, pulse_shape, ramp_sine
@@ -18,7 +18,7 @@ contains
 
   !> Axial stress sigma_xx prescribed at the surface at time t (Pa).
   pure real(dp) function surface_stress(cfg, t)
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     real(dp), intent(in) :: t
     surface_stress = cfg%load_base
     if (cfg%pulse == pulse_ramp_sine) then
@@ -54,4 +54,4 @@ contains
     ramp_sine = rate*s + amplitude*sin(2.0_dp*pi*frequency*s)
   end function ramp_sine
 
-end module wellposed_mpm_loads
+end module wellposed_mpm_bar_loads

@@ -3,12 +3,12 @@
 !> with ppc particles per cell, the far end fixed, symmetric or free, the
 !> checks a scene must pass and the time step from the UMAT's axial moduli.
 !> The kind itself: wellposed_mpm_bar_kind; the step: wellposed_mpm_step.
-module wellposed_mpm_bar
+module wellposed_mpm_bar_build
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_mpm_config
-  use wellposed_mpm_cfl_limit, only: cfl_limit
+  use wellposed_mpm_bar_config
+  use wellposed_mpm_bar_cfl_limit, only: cfl_limit
   use wellposed_mpm_shape, only: support_size
   use wellposed_mpm_exchange, only: mpm_exchange_t
   use wellposed_mpm_materials, only: single_material
@@ -31,7 +31,7 @@ contains
   !> the nonlocal Gaussian's) and the particles in it.
   subroutine new_bar_scene(self, cfg, err, exchange)
     type(mpm_scene_t), intent(out) :: self
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
     class(mpm_exchange_t), intent(in), optional :: exchange
     integer :: ncell_body, ncells, p, c, k, np, nlocal, cap, rank
@@ -117,7 +117,7 @@ contains
 
   !> Checks a scene must pass before it runs (impossible scenes: error).
   pure subroutine check_scene(cfg, err)
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
     real(dp) :: ncell, limit
     character(len=12) :: lim_text, cfl_text, ppc_text
@@ -197,4 +197,4 @@ contains
     end subroutine bad
   end subroutine check_scene
 
-end module wellposed_mpm_bar
+end module wellposed_mpm_bar_build

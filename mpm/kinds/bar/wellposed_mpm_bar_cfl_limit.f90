@@ -5,7 +5,7 @@
 !> (consistent), 2/(mu (1 + mu)) (blended). MUSL is stable iff
 !> cfl^2 w0^2 mu alpha <= 4, USL iff cfl^2 w0^2 alpha (2 - mu) <= 4.
 !> tests/regression/mpm/mpm_bloch.py checks these against the whole step.
-module wellposed_mpm_cfl_limit
+module wellposed_mpm_bar_cfl_limit
   use wellposed_kinds, only: dp
   use wellposed_mpm_method, only: scheme_musl, mass_lumped, mass_consistent
   implicit none
@@ -58,4 +58,4 @@ contains
     limit = 2.0_dp/sqrt(worst)
   end function cfl_limit
 
-end module wellposed_mpm_cfl_limit
+end module wellposed_mpm_bar_cfl_limit

@@ -4,7 +4,7 @@
 !> dashed on the same axes (the dissertation's convention in figs. 2.6,
 !> 2.9 and 2.10 right); when the run has not been made yet the plot says so
 !> and prints the command that makes it (mpm/plots/mpm_stations.py).
-module wellposed_mpm_reference
+module wellposed_mpm_bar_reference
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_fs, only: path_exists, shell_quote
   implicit none
@@ -65,4 +65,4 @@ contains
            shell_quote(show)//' --make '//shell_quote(make)
   end function reference_plot_args
 
-end module wellposed_mpm_reference
+end module wellposed_mpm_bar_reference

@@ -5,17 +5,17 @@
 !> 2.10 left). The head is compared with C_P, or for an overlocal material
 !> with its dispersion relation's low-frequency limit (head_speed). A figure
 !> that does not apply is `not_applicable  # why` (docs/guide/decks.md).
-module wellposed_mpm_station_summary
+module wellposed_mpm_bar_station_summary
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_text, only: int_text, real_text
   use wellposed_summary, only: summary_t
-  use wellposed_mpm_config, only: mpm_config_t, pulse_ramp_sine
+  use wellposed_mpm_bar_config, only: bar_config_t, pulse_ramp_sine
   use wellposed_mpm_stations, only: station_measures_t, find_apex, phase_speed
   use wellposed_umat_host, only: umat_is_ours
   use wellposed_error, only: error_t
   use wellposed_umat_layout, only: prop_h, prop_h_zeta
-  use wellposed_mpm_bar, only: probe_moduli
+  use wellposed_mpm_bar_build, only: probe_moduli
   implicit none
   private
   public :: add_station_summary, head_speed
@@ -37,7 +37,7 @@ contains
   !> with PROPS(6) = h_eta + h_zeta, PROPS(12) = 0. For a user's UMAT
   !> (nonlocal_contract) that slot meaning is not known: c = 0.
   function head_speed(cfg, overlocal, c_p) result(head)
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     logical, intent(in) :: overlocal
     real(dp), intent(in) :: c_p
     type(head_speed_t) :: head
@@ -71,7 +71,7 @@ contains
   !> the speed the head runs at (`head`, head_speed).
   subroutine add_station_summary(sm, cfg, x, time, sxx, apex_flag, meas, c_e, c_p, head)
     type(summary_t), intent(inout) :: sm
-    type(mpm_config_t), intent(in) :: cfg
+    type(bar_config_t), intent(in) :: cfg
     real(dp), intent(in) :: x(:), time(:), sxx(:, :), apex_flag(:, :), c_e, c_p
     type(station_measures_t), intent(in) :: meas
     type(head_speed_t), intent(in) :: head
@@ -173,4 +173,4 @@ contains
     end if
   end subroutine add_station_summary
 
-end module wellposed_mpm_station_summary
+end module wellposed_mpm_bar_station_summary

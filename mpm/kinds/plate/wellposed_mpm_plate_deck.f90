@@ -3,9 +3,9 @@
 !> own &plate, &boundary, &stations and &study (one run per dx and scale,
 !> fig. 4.6), plus the plate's keys of &time (stop_on_cutback) and &output
 !> (band_y, band_x, band_axis, band_time, band_drop, band_onset_strain),
-!> into a ps_config_t and its list of cases. Overrides `group.key=value`
+!> into a plate_config_t and its list of cases. Overrides `group.key=value`
 !> are read after the deck. Keys: docs/guide/decks.md; the platen: docs/research/bands.md.
-module wellposed_mpm_ps_deck
+module wellposed_mpm_plate_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text, real_text
@@ -18,12 +18,12 @@ module wellposed_mpm_ps_deck
   use wellposed_mpm_deck_file, only: deck_sources_t, start_sources, next_source, read_failed, &
                                      sets_list
   use wellposed_mpm_scene_kind, only: scene_kind_plate
-  use wellposed_mpm_plane_strain, only: ps_config_t, bc2_names, bc_roller, bc_fixed2, bc_free2, &
+  use wellposed_mpm_plate_build, only: plate_config_t, plate_bc_names, bc_roller, bc_plate_fixed, bc_plate_free, &
                                         bc_velocity, platen_names
   use wellposed_mpm_shape_2d, only: shape2d_names
   implicit none
   private
-  public :: read_ps_deck, ps_study_t, max_stations
+  public :: read_plate_deck, plate_study_t, max_stations
 
   character(len=8), parameter :: plate_groups(4) = [character(len=8) :: 'plate', 'boundary', &
     'stations', 'study']
@@ -31,7 +31,7 @@ module wellposed_mpm_ps_deck
   integer, parameter :: max_stations = 16
 
   !> The cases of one deck and the output settings.
-  type :: ps_study_t
+  type :: plate_study_t
     integer :: ncases = 1
     real(dp) :: dx(max_cases) = 0.0_dp
     real(dp) :: scale(max_cases) = 1.0_dp
@@ -57,15 +57,15 @@ module wellposed_mpm_ps_deck
     !> &stations: the points (m, unscaled plate) whose histories are sampled
     integer :: nstations = 0
     real(dp) :: station_x(max_stations) = 0.0_dp, station_y(max_stations) = 0.0_dp
-  end type ps_study_t
+  end type plate_study_t
 
 contains
 
   !> Read `path` and the overrides into cfg (the first case's config) and study.
-  subroutine read_ps_deck(path, overrides, cfg, cases, text, err)
+  subroutine read_plate_deck(path, overrides, cfg, cases, text, err)
     character(len=*), intent(in) :: path, overrides(:)
-    type(ps_config_t), intent(out) :: cfg
-    type(ps_study_t), intent(out) :: cases
+    type(plate_config_t), intent(out) :: cfg
+    type(plate_study_t), intent(out) :: cases
     character(len=:), allocatable, intent(out) :: text
     type(error_t), allocatable, intent(out) :: err
     type(shared_deck_t) :: sh
@@ -238,11 +238,11 @@ contains
 
     !> &boundary's words and numbers into cfg.
     subroutine boundaries()
-      cfg%bottom = word(bottom, bc2_names, 'boundary', 'bottom'); if (allocated(err)) return
-      cfg%top = word(top, bc2_names, 'boundary', 'top'); if (allocated(err)) return
-      cfg%sides = word(sides, bc2_names, 'boundary', 'sides'); if (allocated(err)) return
-      if (cfg%bottom == bc_velocity .or. cfg%sides == bc_velocity .or. cfg%sides == bc_fixed2 &
-          .or. cfg%top == bc_roller .or. cfg%top == bc_fixed2) then
+      cfg%bottom = word(bottom, plate_bc_names, 'boundary', 'bottom'); if (allocated(err)) return
+      cfg%top = word(top, plate_bc_names, 'boundary', 'top'); if (allocated(err)) return
+      cfg%sides = word(sides, plate_bc_names, 'boundary', 'sides'); if (allocated(err)) return
+      if (cfg%bottom == bc_velocity .or. cfg%sides == bc_velocity .or. cfg%sides == bc_plate_fixed &
+          .or. cfg%top == bc_roller .or. cfg%top == bc_plate_fixed) then
         call new_error(err, status_invalid, 'boundary', path//': &boundary: bottom is '// &
           "'roller', 'fixed' or 'free'; top is 'velocity' or 'free'; sides are 'free' or "// &
           "'roller'"); return
@@ -323,6 +323,6 @@ contains
       call check_regions(cfg%materials, err)
     end subroutine legacy_weak_zone
 
-  end subroutine read_ps_deck
+  end subroutine read_plate_deck
 
-end module wellposed_mpm_ps_deck
+end module wellposed_mpm_plate_deck

@@ -4,14 +4,14 @@
 !> this rank's strip of cell rows, the materials and the time step (the
 !> kind's probe). The kind itself (boundaries, platen, kinematics,
 !> measures): wellposed_mpm_plate_kind. Deck keys: docs/guide/decks.md.
-module wellposed_mpm_plane_strain
+module wellposed_mpm_plate_build
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_mpm_materials, only: single_material
   use wellposed_mpm_exchange, only: mpm_exchange_t
   use wellposed_mpm_shape_2d, only: support_size_2d, shape2d_reach
-  use wellposed_mpm_plate_config, only: ps_config_t, check_plate_config, bc_roller, &
-                                        bc_fixed2, bc_free2, bc_velocity, bc2_names, platen_names
+  use wellposed_mpm_plate_config, only: plate_config_t, check_plate_config, bc_roller, &
+                                        bc_plate_fixed, bc_plate_free, bc_velocity, plate_bc_names, platen_names
   use wellposed_mpm_scene, only: mpm_scene_t
   use wellposed_mpm_scene_build, only: start_scene, setup_ranks, scene_particles, &
                                        assign_materials, init_particles
@@ -19,8 +19,8 @@ module wellposed_mpm_plane_strain
                                       apparent_strain
   implicit none
   private
-  public :: ps_config_t, new_plate_scene, platen_velocity, apparent_strain, bc_roller, &
-            bc_fixed2, bc_free2, bc_velocity, bc2_names, platen_names
+  public :: plate_config_t, new_plate_scene, platen_velocity, apparent_strain, bc_roller, &
+            bc_plate_fixed, bc_plate_free, bc_velocity, plate_bc_names, platen_names
 
 contains
 
@@ -30,7 +30,7 @@ contains
   !> them (global ids as in the serial scene).
   subroutine new_plate_scene(self, cfg, err, exchange)
     type(mpm_scene_t), intent(out) :: self
-    type(ps_config_t), intent(in) :: cfg
+    type(plate_config_t), intent(in) :: cfg
     type(error_t), allocatable, intent(out) :: err
     class(mpm_exchange_t), intent(in), optional :: exchange
     integer :: ncx, ncy, np, p, a, b, g, nlocal, cap, rank
@@ -98,4 +98,4 @@ contains
 
   end subroutine new_plate_scene
 
-end module wellposed_mpm_plane_strain
+end module wellposed_mpm_plate_build
