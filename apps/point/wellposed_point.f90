@@ -21,6 +21,7 @@ program wellposed_point
   use wellposed_dense, only: solve_dense
   use wellposed_point_material, only: material_t, point_state_t, umat_increment, ntens
   use wellposed_point_path, only: history_t, run_leg
+  use wellposed_point_dissipation, only: add_dissipation
   use wellposed_point_probes, only: elastic_stiffness, lode_frame_t, find_lode_frame, &
     rtheta_probe, acoustic_t, acoustic_probe, wave_speeds, gudehus_probe, pi
   use wellposed_point_chapter3, only: ch3_result_t, run_chapter3
@@ -294,6 +295,7 @@ contains
       ep(:, i) = hist%strain(i, :) - hist%strain(1, :) - ep(:, i)
     end do
     call h5%write(lab//'/path/plastic_strain', transpose(ep))
+    call add_dissipation(summary, lab, hist%stress(1:n, :), hist%strain(1:n, :), ep)
     tr = sum(ep(1:3, n))
     nrm = sqrt(sum(ep(1:3, n)**2) + 0.5_dp*sum(ep(4:6, n)**2))
     call summary%add(lab//'.path.final_plastic_volume', tr, &
