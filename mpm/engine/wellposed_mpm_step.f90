@@ -17,7 +17,7 @@ module wellposed_mpm_step
   use wellposed_mpm_transfer, only: p2g, grid_update, velocity_from_momentum, g2p, &
                                     velocity_gradients
   use wellposed_mpm_nonlocal, only: nonlocal_solve, sweep_key
-  use wellposed_mpm_scene, only: mpm_scene_t, size_workspace, timer_transfer, timer_grid, &
+  use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t, size_workspace, timer_transfer, timer_grid, &
                                  timer_umat
   implicit none
   private
@@ -27,18 +27,30 @@ contains
 
   !> One explicit step of length dt (see the module comment for the order).
   !> Collective over the scene's ranks; an error on any rank is an error on
-  !> every rank, with the message of the rank where it arose.
+  !> every rank, with the message of the rank where it arose. The kind
+  !> leaves the scene for the step, so its bindings change it through their
+  !> own argument and read the scene without an alias of it.
   subroutine advance(self, err)
     type(mpm_scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
-    integer(int64) :: t0, t1
+    class(scene_kind_t), allocatable :: kind
+    call move_alloc(self%kind, kind)
+    call step(self, kind, err)
+    call move_alloc(kind, self%kind)
+  end subroutine advance
+
+  !> The step of `advance`, the scene's kind in `kind`.
+  subroutine step(self, kind, err)
+    type(mpm_scene_t), intent(inout) :: self
+    class(scene_kind_t), intent(inout) :: kind
+    type(error_t), allocatable, intent(out) :: err
+    integer(int64) :: t0
     integer(int64), allocatable :: skey(:)
-    integer :: p, n, d, nt, last
+    integer :: p, n, d, last
     real(dp) :: dt, mmin, reaction(self%ndim), given(self%ndim)
     logical :: visc
 
     d = self%ndim
-    nt = self%ntens
     dt = self%dt
     call system_clock(t0)
     call hand_off(self, err)
@@ -64,19 +76,19 @@ contains
       ! --- particle to grid: eq. 4.4, momentum, eq. 4.5 (sigma - q I), and
       ! the kind's forces of its own particles (before the ghost sum)
       call p2g(g, pt, n, self%q, self%nnz)
-      call self%kind%forces(self)
+      call kind%forces(self)
       call ex%sum_grid(g, .false.)
       ! --- the kind's loads and boundary conditions on the summed grid
       given = 0.0_dp
-      call self%kind%conditions(self, given)
-      call tick(timer_transfer)
+      call kind%conditions(self, given)
+      call tick(self, timer_transfer, t0)
       ! --- grid update, eq. 4.9-4.10, and the boundary conditions over the
       ! whole patch: ghost nodes hold the same sums as their owners
       mmin = self%mass_floor
       call grid_update(g, dt, mmin, given, reaction)
-      call self%kind%grid_solved(self, reaction, err)
+      call kind%grid_solved(self, reaction, err)
       if (allocated(err)) return
-      call tick(timer_grid)
+      call tick(self, timer_grid, t0)
       ! --- grid to particle: FLIP velocity (eq. 4.13), position (eq. 4.12)
       call g2p(g, pt, n, dt, self%nnz, musl=self%scheme == scheme_musl)
       if (self%scheme == scheme_musl) then
@@ -87,18 +99,18 @@ contains
       ! --- velocity gradient (eq. 4.11); the kind's strain increment, F and
       ! volume; viscosity; the start of Algorithm 1's sweeps
       call velocity_gradients(g, pt, n, self%lgrad, self%nnz)
-      last = self%kind%kinematics(self)
-      if (last <= n) call inside_out(last)
+      last = kind%kinematics(self)
+      if (last <= n) call inside_out(self, last, err)
       visc = self%visc_a1 > 0.0_dp .or. self%visc_a2 > 0.0_dp
       if (visc .or. self%nl%active) then
         do p = 1, last - 1
           if (visc) call viscosity(self, p, self%lgrad(:, :, p))
-          call keep_start(p)
+          call keep_start(self, p)
         end do
       end if
       call ex%sync_error(err)
       if (allocated(err)) return
-      call tick(timer_transfer)
+      call tick(self, timer_transfer, t0)
       ! --- stress update through the UMAT by the dissertation's Algorithm 1:
       ! with h_zeta = 0 one call per particle, exactly the local update;
       ! otherwise the fixed point on the grid (collective: the sweeps in the
@@ -117,40 +129,46 @@ contains
       if (allocated(err)) return
       if (self%max_substeps_step > self%max_substeps) self%max_substeps = self%max_substeps_step
       ! --- the kind's bookkeeping of the step
-      call self%kind%bookkeeping(self)
-      call tick(timer_umat)
+      call kind%bookkeeping(self)
+      call tick(self, timer_umat, t0)
     end associate
     self%t = self%t + dt
     self%nstep = self%nstep + 1
+  end subroutine step
 
-  contains
+  !> The error of particle p turned inside out (det F <= 0).
+  subroutine inside_out(self, p, err)
+    type(mpm_scene_t), intent(in) :: self
+    integer, intent(in) :: p
+    type(error_t), allocatable, intent(inout) :: err
+    call new_error(err, status_cutback, 'time', 'step '//int_text(self%nstep + 1)// &
+      ': particle '//int_text(self%parts%gid(p))//' was turned inside out (det F <= 0); '// &
+      'a smaller &time cfl may help')
+  end subroutine inside_out
 
-    !> The error of particle p turned inside out (det F <= 0).
-    subroutine inside_out(p)
-      integer, intent(in) :: p
-      call new_error(err, status_cutback, 'time', 'step '//int_text(self%nstep + 1)// &
-        ': particle '//int_text(self%parts%gid(p))//' was turned inside out (det F <= 0); '// &
-        'a smaller &time cfl may help')
-    end subroutine inside_out
+  !> The start of particle p's stress update: Algorithm 1's sweeps restart
+  !> from copies; a local model updates in place.
+  subroutine keep_start(self, p)
+    type(mpm_scene_t), intent(inout) :: self
+    integer, intent(in) :: p
+    integer :: nt
+    if (.not. self%nl%active) return
+    nt = self%ntens
+    self%s0(:, p) = self%parts%stress(1:nt, p)
+    self%sv0(:, p) = self%parts%statev(:, p)
+    self%e0(:, p) = self%parts%stran(1:nt, p)
+  end subroutine keep_start
 
-    !> The start of particle p's stress update: Algorithm 1's sweeps restart
-    !> from copies; a local model updates in place.
-    subroutine keep_start(p)
-      integer, intent(in) :: p
-      if (.not. self%nl%active) return
-      self%s0(:, p) = self%parts%stress(1:nt, p)
-      self%sv0(:, p) = self%parts%statev(:, p)
-      self%e0(:, p) = self%parts%stran(1:nt, p)
-    end subroutine keep_start
-
-    subroutine tick(timer)
-      integer, intent(in) :: timer
-      call system_clock(t1)
-      self%ticks(timer) = self%ticks(timer) + (t1 - t0)
-      t0 = t1
-    end subroutine tick
-
-  end subroutine advance
+  !> The clock since t0 added to the scene's timer; t0 becomes now.
+  subroutine tick(self, timer, t0)
+    type(mpm_scene_t), intent(inout) :: self
+    integer, intent(in) :: timer
+    integer(int64), intent(inout) :: t0
+    integer(int64) :: t1
+    call system_clock(t1)
+    self%ticks(timer) = self%ticks(timer) + (t1 - t0)
+    t0 = t1
+  end subroutine tick
 
   !> Particles to the rank of their cell layer (collective), with their
   !> material and viscous pressure; the workspace follows the capacity.
