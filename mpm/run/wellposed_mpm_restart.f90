@@ -88,17 +88,16 @@ contains
     real(dp), allocatable :: recs(:), partials(:), kind_sc(:)
     integer :: layout(7), steps(3), nl(5)
     real(dp) :: sc(3)
-    integer :: plen, reclen, nsaved, first, p, m, g, k, rank, nranks, d, npart
-    call get_ints([character(len=24) :: 'layout_version', 'ndim', 'nsup', 'nstatv', 'ntotal', &
-                   'nranks', 'record_length'], layout)
+    integer :: plen, reclen, nsaved, p, m, k, rank, nranks, npart
+    call get_ints(ckpt, [character(len=24) :: 'layout_version', 'ndim', 'nsup', 'nstatv', &
+                  'ntotal', 'nranks', 'record_length'], layout, err)
     if (allocated(err)) return
     rank = scene%exchange%rank()
     nranks = scene%exchange%nranks()
-    d = scene%ndim
     plen = particle_record_length(scene%parts)
     if (layout(1) /= layout_version) then
-      call bad('MPM checkpoint layout '//int_text(layout(1))//', this program reads '// &
-               int_text(layout_version)); return
+      call refuse(err, 'MPM checkpoint layout '//int_text(layout(1))//', this program reads '// &
+                  int_text(layout_version)); return
     end if
     reclen = layout(7)
     nsaved = layout(6)
@@ -108,63 +107,22 @@ contains
     npart = size(scene%kind%partial_sums())
     call ckpt%get('mpm/kind_scalars', kind_sc, err); if (allocated(err)) return
     if (size(kind_sc) /= size(scene%kind%scalars())) then
-      call bad('its kind_scalars entry is garbled'); return
+      call refuse(err, 'its kind_scalars entry is garbled'); return
     end if
-    if (sc(3) /= scene%dx .or. sc(2) /= scene%dt) then
-      call new_error(err, status_invalid, 'checkpoint', 'the checkpoint was written with '// &
-        'dx = '//real_text(sc(3))//' m and dt = '//real_text(sc(2))//' s; this deck gives '// &
-        real_text(scene%dx)//' m and '//real_text(scene%dt)//' s: restart with the deck '// &
-        '(and overrides) of the interrupted run')
-      return
-    end if
-    if (layout(2) /= scene%parts%ndim .or. layout(3) /= scene%parts%nsup .or. &
-        layout(4) /= scene%parts%nstatv .or. layout(5) /= scene%ntotal .or. &
-        layout(7) /= plen + 2) then
-      call bad('it holds '//int_text(layout(5))//' particles with ndim, nsup, nstatv = '// &
-               int_text(layout(2))//', '//int_text(layout(3))//', '//int_text(layout(4))// &
-               '; this deck gives '//int_text(scene%ntotal)//', '//int_text(scene%parts%ndim)// &
-               ', '//int_text(scene%parts%nsup)//', '//int_text(scene%parts%nstatv)// &
-               ' (another deck?)'); return
-    end if
+    call check_scene_matches(scene, layout, sc, plen, err); if (allocated(err)) return
     call ckpt%get('mpm/counts', counts, err); if (allocated(err)) return
     call ckpt%get('mpm/particles', recs, err); if (allocated(err)) return
     call ckpt%get('mpm/partials', partials, err); if (allocated(err)) return
-    call get_ints([character(len=24) :: 'nstep', 'max_substeps', 'moved'], steps)
+    call get_ints(ckpt, [character(len=24) :: 'nstep', 'max_substeps', 'moved'], steps, err)
     if (allocated(err)) return
-    call get_ints([character(len=24) :: 'nl_steps_iterated', 'nl_iterations_total', &
-                   'nl_iterations_max', 'nl_warned_sharp', 'nl_warned_printed'], nl)
+    call get_ints(ckpt, [character(len=24) :: 'nl_steps_iterated', 'nl_iterations_total', &
+                  'nl_iterations_max', 'nl_warned_sharp', 'nl_warned_printed'], nl, err)
     if (allocated(err)) return
     if (size(counts) /= nsaved .or. sum(counts) /= scene%ntotal .or. &
         size(recs) /= reclen*scene%ntotal .or. size(partials) /= npart*nsaved) then
-      call bad('its particle entries do not match its layout'); return
+      call refuse(err, 'its particle entries do not match its layout'); return
     end if
-    ! which saved records this rank takes, in which order
-    if (nsaved == nranks) then
-      first = sum(counts(1:rank))
-      order = [(first + p, p=1, counts(rank + 1))]
-    else
-      allocate (order(scene%ntotal))
-      order = 0
-      do p = 1, scene%ntotal
-        g = nint(recs((p - 1)*reclen + 1))
-        if (g < 1 .or. g > scene%ntotal) then
-          call bad('its particle ids are not 1 .. '//int_text(scene%ntotal)); return
-        end if
-        order(g) = p
-      end do
-      m = 0
-      do k = 1, scene%ntotal
-        p = order(k)
-        if (p == 0) then
-          call bad('its particle ids are not 1 .. '//int_text(scene%ntotal)); return
-        end if
-        ! the record: gid, x0(d), x(d), ...
-        if (scene%exchange%owner(recs((p - 1)*reclen + 1 + d + d)) /= rank) cycle
-        m = m + 1
-        order(m) = p
-      end do
-      order = order(1:m)
-    end if
+    call records_of_rank(scene, counts, recs, reclen, order, err); if (allocated(err)) return
     m = size(order)
     scene%parts%n = 0
     call ensure_capacity(scene%parts, m)
@@ -194,23 +152,94 @@ contains
     scene%nl%iterations_max = nl(3)
     scene%nl%warned_sharp = nl(4) == 1
     scene%nl%warned_printed = nl(5) == 1
-  contains
-    !> The integer entries mpm/<names(k)> into v(k).
-    subroutine get_ints(names, v)
-      character(len=*), intent(in) :: names(:)
-      integer, intent(out) :: v(:)
-      integer :: j
-      v = 0
-      do j = 1, size(names)
-        call ckpt%get('mpm/'//trim(names(j)), v(j), err)
-        if (allocated(err)) return
-      end do
-    end subroutine get_ints
-    subroutine bad(why)
-      character(len=*), intent(in) :: why
-      call new_error(err, status_invalid, 'checkpoint', 'the checkpoint cannot continue this '// &
-                     'scene: '//why)
-    end subroutine bad
   end subroutine restore_scene
+
+  !> The checkpoint's dx, dt (sc(3), sc(2)) and particle layout (layout:
+  !> version, ndim, nsup, nstatv, ntotal, nranks, record length) against
+  !> the scene the deck built: another deck or other overrides are refused.
+  subroutine check_scene_matches(scene, layout, sc, plen, err)
+    type(mpm_scene_t), intent(in) :: scene
+    integer, intent(in) :: layout(7), plen
+    real(dp), intent(in) :: sc(3)
+    type(error_t), allocatable, intent(out) :: err
+    if (sc(3) /= scene%dx .or. sc(2) /= scene%dt) then
+      call new_error(err, status_invalid, 'checkpoint', 'the checkpoint was written with '// &
+        'dx = '//real_text(sc(3))//' m and dt = '//real_text(sc(2))//' s; this deck gives '// &
+        real_text(scene%dx)//' m and '//real_text(scene%dt)//' s: restart with the deck '// &
+        '(and overrides) of the interrupted run')
+      return
+    end if
+    if (layout(2) /= scene%parts%ndim .or. layout(3) /= scene%parts%nsup .or. &
+        layout(4) /= scene%parts%nstatv .or. layout(5) /= scene%ntotal .or. &
+        layout(7) /= plen + 2) then
+      call refuse(err, 'it holds '//int_text(layout(5))//' particles with ndim, nsup, '// &
+                  'nstatv = '//int_text(layout(2))//', '//int_text(layout(3))//', '// &
+                  int_text(layout(4))//'; this deck gives '//int_text(scene%ntotal)//', '// &
+                  int_text(scene%parts%ndim)//', '//int_text(scene%parts%nsup)//', '// &
+                  int_text(scene%parts%nstatv)//' (another deck?)')
+    end if
+  end subroutine check_scene_matches
+
+  !> Which saved records (1-based, `order`) this rank takes: saved on as
+  !> many ranks as now, its own in their order; else those of its cell
+  !> layers in global-id order (the ids must be 1 .. ntotal, each once).
+  subroutine records_of_rank(scene, counts, recs, reclen, order, err)
+    type(mpm_scene_t), intent(in) :: scene
+    integer, intent(in) :: counts(:), reclen
+    real(dp), intent(in) :: recs(:)
+    integer, allocatable, intent(out) :: order(:)
+    type(error_t), allocatable, intent(out) :: err
+    integer :: rank, first, p, g, k, m, d
+    rank = scene%exchange%rank()
+    d = scene%ndim
+    if (size(counts) == scene%exchange%nranks()) then
+      first = sum(counts(1:rank))
+      order = [(first + p, p=1, counts(rank + 1))]
+      return
+    end if
+    allocate (order(scene%ntotal))
+    order = 0
+    do p = 1, scene%ntotal
+      g = nint(recs((p - 1)*reclen + 1))
+      if (g < 1 .or. g > scene%ntotal) then
+        call refuse(err, 'its particle ids are not 1 .. '//int_text(scene%ntotal)); return
+      end if
+      order(g) = p
+    end do
+    m = 0
+    do k = 1, scene%ntotal
+      p = order(k)
+      if (p == 0) then
+        call refuse(err, 'its particle ids are not 1 .. '//int_text(scene%ntotal)); return
+      end if
+      ! the record: gid, x0(d), x(d), ...
+      if (scene%exchange%owner(recs((p - 1)*reclen + 1 + d + d)) /= rank) cycle
+      m = m + 1
+      order(m) = p
+    end do
+    order = order(1:m)
+  end subroutine records_of_rank
+
+  !> The integer entries mpm/<names(k)> of ckpt into v(k).
+  subroutine get_ints(ckpt, names, v, err)
+    type(checkpoint_t), intent(in) :: ckpt
+    character(len=*), intent(in) :: names(:)
+    integer, intent(out) :: v(:)
+    type(error_t), allocatable, intent(out) :: err
+    integer :: j
+    v = 0
+    do j = 1, size(names)
+      call ckpt%get('mpm/'//trim(names(j)), v(j), err)
+      if (allocated(err)) return
+    end do
+  end subroutine get_ints
+
+  !> The refusal of a checkpoint that cannot continue the scene, and why.
+  subroutine refuse(err, why)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in) :: why
+    call new_error(err, status_invalid, 'checkpoint', 'the checkpoint cannot continue this '// &
+                   'scene: '//why)
+  end subroutine refuse
 
 end module wellposed_mpm_restart
