@@ -22,7 +22,7 @@ module wellposed_mpm_snapshots
 
   !> Version of the checkpoint entries; checkpoints of the programs before
   !> this store (snapshots kept whole on rank 0) have none and are refused.
-  integer, parameter :: snapshots_version = 1
+  integer, parameter :: snapshots_version = 2
 
   !> One snapshot: this rank's rows of it.
   type :: snapshot_t
@@ -263,7 +263,10 @@ contains
     do k = 1, self%n
       groups = groups//self%snaps(k)%group//new_line('a')
     end do
-    call ckpt%put(prefix//'layout', [snapshots_version, self%n, nc, size(self%names)])
+    call ckpt%put(prefix//'version', snapshots_version)
+    call ckpt%put(prefix//'count', self%n)
+    call ckpt%put(prefix//'columns', nc)
+    call ckpt%put(prefix//'fields', size(self%names))
     call ckpt%put(prefix//'rows', [0, n_rows])
     call ckpt%put(prefix//'times', [0.0_dp, (self%snaps(k)%time, k=1, self%n)])
     call ckpt%put_text(prefix//'groups', groups)
@@ -272,26 +275,28 @@ contains
 
   !> Refuse a checkpoint without the store's entries under `prefix`, or
   !> with another version of them: one written by the programs that kept
-  !> every snapshot on rank 0 (the caller adds the file's name).
+  !> every snapshot on rank 0 (the caller adds the file's name); version 1
+  !> held the header as one positional `layout` entry.
   subroutine check_snapshots_format(ckpt, prefix, err)
     type(checkpoint_t), intent(in) :: ckpt
     character(len=*), intent(in) :: prefix
     type(error_t), allocatable, intent(out) :: err
-    integer, allocatable :: layout(:)
-    if (.not. ckpt%has(prefix//'layout')) then
+    integer :: version
+    if (.not. ckpt%has(prefix//'version') .and. .not. ckpt%has(prefix//'layout')) then
       call new_error(err, status_invalid, 'checkpoint', 'it was written by an earlier '// &
         'version of the program, which kept every particle snapshot on rank 0; this '// &
         'version keeps them with the ranks and cannot continue it: run the deck from the '// &
         'start, or finish the run with the version that wrote it')
       return
     end if
-    call ckpt%get(prefix//'layout', layout, err)
-    if (allocated(err)) return
-    if (size(layout) /= 4) then
-      call new_error(err, status_invalid, 'checkpoint', 'its snapshot layout entry is garbled')
-    else if (layout(1) /= snapshots_version) then
+    version = 1
+    if (ckpt%has(prefix//'version')) then
+      call ckpt%get(prefix//'version', version, err)
+      if (allocated(err)) return
+    end if
+    if (version /= snapshots_version) then
       call new_error(err, status_invalid, 'checkpoint', 'its particle snapshots are of '// &
-        'version '//int_text(layout(1))//', this program reads version '// &
+        'version '//int_text(version)//', this program reads version '// &
         int_text(snapshots_version))
     end if
   end subroutine check_snapshots_format
@@ -308,32 +313,31 @@ contains
     type(comm_t), intent(in) :: comm
     character(len=*), intent(in) :: prefix
     type(error_t), allocatable, intent(out) :: err
-    integer, allocatable :: layout(:), n_rows(:)
+    integer, allocatable :: n_rows(:)
     real(dp), allocatable :: times(:), values(:)
     character(len=:), allocatable :: groups
-    integer :: nsnap, nc, k, b, r, first, nb, j, at, nl, a
+    integer :: nsnap, nc, nfields, k, b, r, first, nb, j, at, nl, a
     call check_snapshots_format(ckpt, prefix, err)
     if (allocated(err)) return
-    call ckpt%get(prefix//'layout', layout, err)
-    if (allocated(err)) return
-    nsnap = layout(2)
-    nc = layout(3)
-    if (nc /= self%ncols .or. layout(4) /= size(self%names) .or. nsnap < 0) then
-      call bad('its snapshots hold '//int_text(layout(4))//' fields of '//int_text(nc)// &
-               ' values per particle; this program writes '//int_text(size(self%names))// &
-               ' of '//int_text(self%ncols)); return
+    call ckpt%get(prefix//'count', nsnap, err); if (allocated(err)) return
+    call ckpt%get(prefix//'columns', nc, err); if (allocated(err)) return
+    call ckpt%get(prefix//'fields', nfields, err); if (allocated(err)) return
+    if (nc /= self%ncols .or. nfields /= size(self%names) .or. nsnap < 0) then
+      call refuse(err, 'its snapshots hold '//int_text(nfields)//' fields of '// &
+                  int_text(nc)//' values per particle; this program writes '// &
+                  int_text(size(self%names))//' of '//int_text(self%ncols)); return
     end if
     call ckpt%get(prefix//'rows', n_rows, err); if (allocated(err)) return
     call ckpt%get(prefix//'times', times, err); if (allocated(err)) return
     call ckpt%get_text(prefix//'groups', groups, err); if (allocated(err)) return
     call ckpt%get(prefix//'values', values, err); if (allocated(err)) return
     if (size(n_rows) /= nsnap + 1 .or. size(times) /= nsnap + 1) then
-      call bad('its snapshot counts are garbled'); return
+      call refuse(err, 'its snapshot counts are garbled'); return
     end if
     n_rows = n_rows(2:)
     if (any(n_rows < 0) .or. size(values) /= 1 + nc*sum(n_rows) .or. &
         count([(groups(j:j) == new_line('a'), j=1, len(groups))]) /= nsnap) then
-      call bad('its snapshots are garbled'); return
+      call refuse(err, 'its snapshots are garbled'); return
     end if
     deallocate (self%snaps)
     allocate (self%snaps(max(nsnap, 8)))
@@ -356,11 +360,13 @@ contains
         a = a + nc*n_rows(k)
       end associate
     end do
-  contains
-    subroutine bad(what)
-      character(len=*), intent(in) :: what
-      call new_error(err, status_invalid, 'checkpoint', what)
-    end subroutine bad
   end subroutine store_get
+
+  !> A checkpoint's snapshots refused, and why.
+  subroutine refuse(err, what)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in) :: what
+    call new_error(err, status_invalid, 'checkpoint', what)
+  end subroutine refuse
 
 end module wellposed_mpm_snapshots

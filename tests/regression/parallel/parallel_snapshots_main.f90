@@ -194,12 +194,16 @@ contains
     call store%get(back, comm, 'snapshots/', err)
     call refused('no store entries (get)', 'written by an earlier version of the program')
     ! a later version of the entries
-    call back%put('snapshots/layout', [snapshots_version + 1, 0, ncols, 2])
+    call back%put('snapshots/version', snapshots_version + 1)
+    call back%put('snapshots/count', 0)
+    call back%put('snapshots/columns', ncols)
+    call back%put('snapshots/fields', 2)
     call check_snapshots_format(back, 'snapshots/', err)
     call refused('another version', 'version '//int_text(snapshots_version + 1)// &
                  ', this program reads version '//int_text(snapshots_version))
     ! the right version, other fields
-    call back%put('snapshots/layout', [snapshots_version, 0, ncols + 1, 2])
+    call back%put('snapshots/version', snapshots_version)
+    call back%put('snapshots/columns', ncols + 1)
     call store%get(back, comm, 'snapshots/', err)
     call refused('other fields', 'values per particle')
   end subroutine old_format
