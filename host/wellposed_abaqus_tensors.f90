@@ -1,11 +1,11 @@
 !> The tensor utilities of Abaqus/Standard that legacy UMATs call, with
 !> Abaqus' documented meaning (Abaqus User Subroutines Reference, "Utility
-!> routines"); host/abaqus_utilities.f90 exposes them under their
+!> routines"); host/abaqus_externals.f90 exposes them under their
 !> Abaqus names. A tensor travels as an Abaqus vector of NDI direct
 !> components (11, 22, 33 as far as NDI reaches) followed by NSHR shears
 !> (12, 13, 23 as far as NSHR reaches); LSTR = 1 marks a stress, LSTR = 2 a
 !> strain, whose shears are engineering shears (gamma = 2 eps).
-module wellposed_abaqus_utils
+module wellposed_abaqus_tensors
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_lapack, only: sym_eigen
@@ -94,4 +94,4 @@ contains
     sp = abaqus_vector(t, lstr, ndi, nshr)
   end function abaqus_rotsig
 
-end module wellposed_abaqus_utils
+end module wellposed_abaqus_tensors

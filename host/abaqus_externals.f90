@@ -66,7 +66,7 @@ end subroutine stdb_abqerr
 !> SINV: SINV1 = (S11 + S22 + S33)/3, SINV2 = sqrt(3/2 dev(S):dev(S)).
 subroutine sinv(stress, sinv1, sinv2, ndi, nshr)
   use wellposed_kinds, only: dp
-  use wellposed_abaqus_utils, only: abaqus_sinv
+  use wellposed_abaqus_tensors, only: abaqus_sinv
   implicit none
   integer, intent(in) :: ndi, nshr
   real(dp), intent(in) :: stress(ndi + nshr)
@@ -78,7 +78,7 @@ end subroutine sinv
 subroutine sprinc(s, ps, lstr, ndi, nshr)
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
-  use wellposed_abaqus_utils, only: abaqus_sprind
+  use wellposed_abaqus_tensors, only: abaqus_sprind
   use wellposed_abaqus_job, only: abaqus_abort
   implicit none
   integer, intent(in) :: lstr, ndi, nshr
@@ -94,7 +94,7 @@ end subroutine sprinc
 subroutine sprind(s, ps, an, lstr, ndi, nshr)
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
-  use wellposed_abaqus_utils, only: abaqus_sprind
+  use wellposed_abaqus_tensors, only: abaqus_sprind
   use wellposed_abaqus_job, only: abaqus_abort
   implicit none
   integer, intent(in) :: lstr, ndi, nshr
@@ -108,7 +108,7 @@ end subroutine sprind
 !> ROTSIG: SPRIME = R S R^T in Abaqus vector form (LSTR = 2: strain).
 subroutine rotsig(s, r, sprime, lstr, ndi, nshr)
   use wellposed_kinds, only: dp
-  use wellposed_abaqus_utils, only: abaqus_rotsig
+  use wellposed_abaqus_tensors, only: abaqus_rotsig
   implicit none
   integer, intent(in) :: lstr, ndi, nshr
   real(dp), intent(in) :: s(ndi + nshr), r(3, 3)
