@@ -19,6 +19,7 @@ module wellposed_mpm_bar_outputs
                                     field_syy, field_v, field_z, field_apex, nfields
   use wellposed_mpm_bar_station_summary, only: add_station_summary, head_speed_t
   use wellposed_mpm_wake, only: wake_t, station_wake, wake_start
+  use wellposed_mpm_bar_admissibility, only: add_admissibility
   use wellposed_mpm_particles, only: particles_t
   use wellposed_mpm_parallel_io, only: station_proxy_t, gather_particles, make_station_proxy, &
                                        fill_station_proxy, put_stations, get_stations
@@ -149,12 +150,21 @@ contains
   subroutine stations_summarise(self, sm)
     class(bar_stations_t), intent(inout) :: self
     type(summary_t), intent(inout) :: sm
+    character(len=:), allocatable :: why
     associate (st => self%st)
       call add_station_summary(sm, self%cfg, st%x, st%time(1:st%ns), &
                                st%hist(field_sxx, :, 1:st%ns), st%hist(field_apex, :, 1:st%ns), &
                                self%meas, self%c_e, self%c_p, self%head)
     end associate
     call add_wake(self, sm)
+    why = ''
+    if (.not. self%c_p > self%c_e) why = 'C_P <= C_E: the pulse opens no region of nonuniqueness'
+    if (self%cfg%pulse == pulse_ramp_sine) why = "pulse = 'ramp_sine' is a ramp, not a pulse"
+    associate (st => self%st, cfg => self%cfg)
+      call add_admissibility(sm, st%x, st%time(1:st%ns), st%hist(field_sxx, :, 1:st%ns), &
+                             sign(1.0_dp, cfg%load_peak), cfg%load_start, cfg%load_duration, &
+                             self%c_e, self%c_p, why)
+    end associate
   end subroutine stations_summarise
 
   !> The wake behind the pulse at every station (wellposed_mpm_wake) and
