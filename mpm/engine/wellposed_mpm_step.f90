@@ -17,8 +17,8 @@ module wellposed_mpm_step
   use wellposed_mpm_transfer, only: p2g, grid_update, velocity_from_momentum, g2p, &
                                     velocity_gradients
   use wellposed_mpm_nonlocal, only: nonlocal_solve, sweep_key
-  use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t, size_workspace, timer_transfer, timer_grid, &
-                                 timer_umat
+  use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t, size_workspace, timer_transfer, &
+                                 timer_grid, timer_umat
   implicit none
   private
   public :: advance

@@ -27,21 +27,23 @@ contains
     call sm%add(prefix//'nonlocal_iterations_mean', real(nl%iterations_total, dp)/ &
                 max(nl%steps_iterated, 1), 'sweeps per step with plastic particles')
     call sm%add(prefix//'nonlocal_iterations_max', nl%iterations_max)
-    call add_bound(prefix//'lipschitz_eq4_43_sharp', nl%bound_43, &
+    call add_bound(sm, prefix//'lipschitz_eq4_43_sharp', nl%bound_43, &
                    '|h_zeta/(a + h_eta)|, eq. 4.43 with N_alpha = 1')
-    call add_bound(prefix//'lipschitz_eq4_45_sharp', nl%bound_45, &
+    call add_bound(sm, prefix//'lipschitz_eq4_45_sharp', nl%bound_45, &
                    '|(h_eta + h_zeta)/a|, eq. 4.45 with N_alpha = 1')
-  contains
-    subroutine add_bound(key, bound, what)
-      character(len=*), intent(in) :: key, what
-      real(dp), intent(in) :: bound
-      if (bound >= 0.0_dp) then
-        call sm%add(key, bound, what)
-      else
-        call sm%not_applicable(key, no_bound)
-      end if
-    end subroutine add_bound
   end subroutine add_nonlocal_summary
+
+  !> A contraction bound under `key`, or why it is not known (bound < 0).
+  subroutine add_bound(sm, key, bound, what)
+    type(summary_t), intent(inout) :: sm
+    character(len=*), intent(in) :: key, what
+    real(dp), intent(in) :: bound
+    if (bound >= 0.0_dp) then
+      call sm%add(key, bound, what)
+    else
+      call sm%not_applicable(key, no_bound)
+    end if
+  end subroutine add_bound
 
   !> A bound for a progress line: the number, or why it is not known.
   function bound_text(bound, number) result(text)

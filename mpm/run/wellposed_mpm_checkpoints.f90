@@ -125,32 +125,35 @@ contains
     if (len(ck_file) == 0) then
       call latest_checkpoint(ck_dir, ck_file, e)
       if (allocated(e)) then
-        call fail(e%message//' (run with --checkpoint-every STEPS first)'); return
+        call refuse_restart(err, e%message//' (run with --checkpoint-every STEPS first)'); return
       end if
     end if
     call read_checkpoint(ck_file, ck, e)
     if (allocated(e)) then
-      call fail(e%message//'; an older checkpoint of '//ck_dir// &
-                ' may be given with --restart-from FILE'); return
+      call refuse_restart(err, e%message//'; an older checkpoint of '//ck_dir// &
+                          ' may be given with --restart-from FILE'); return
     end if
     call check_snapshots_format(ck, 'snapshots/', e)
     if (allocated(e)) then
-      call fail(ck_file//': '//e%message); return
+      call refuse_restart(err, ck_file//': '//e%message); return
     end if
     call ck%get_text('run/deck', saved, e)
     if (allocated(e)) then
-      call fail(ck_file//': '//e%message//' (a checkpoint of an earlier version of '// &
-                'this program: restart is from this version''s checkpoints only)'); return
+      call refuse_restart(err, ck_file//': '//e%message//' (a checkpoint of an earlier '// &
+                          'version of this program: restart is from this version''s '// &
+                          'checkpoints only)'); return
     end if
     if (deck_essence(saved) /= deck_essence(deck_text)) &
-      call fail(ck_file//' was written for another deck than '//deck_path//': their '// &
-                'namelist values differ (comments, spacing and letter case outside quotes '// &
-                'do not count)')
-  contains
-    subroutine fail(text)
-      character(len=*), intent(in) :: text
-      call new_error(err, status_invalid, 'restart', text)
-    end subroutine fail
+      call refuse_restart(err, ck_file//' was written for another deck than '//deck_path// &
+                          ': their namelist values differ (comments, spacing and letter '// &
+                          'case outside quotes do not count)')
   end subroutine open_restart_checkpoint
+
+  !> The refusal of a restart, and why.
+  subroutine refuse_restart(err, text)
+    type(error_t), allocatable, intent(inout) :: err
+    character(len=*), intent(in) :: text
+    call new_error(err, status_invalid, 'restart', text)
+  end subroutine refuse_restart
 
 end module wellposed_mpm_checkpoints
