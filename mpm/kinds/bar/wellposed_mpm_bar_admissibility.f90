@@ -1,6 +1,6 @@
 !> The summary keys of eqs. 2.1-2.2 at a bar's stations: per station the
 !> largest fall of sigma_xx against the load's sign inside the region of
-!> nonuniqueness and the peak's speed (wellposed_mpm_admissibility
+!> nonuniqueness (its middle half, and the whole) and the peak's speed (wellposed_mpm_admissibility
 !> measures them); docs/research/waves.md, "Eqs. 2.1-2.2 at the stations".
 module wellposed_mpm_bar_admissibility
   use wellposed_kinds, only: dp
@@ -33,9 +33,10 @@ contains
       return
     end if
     call sm%add('eq2_definition', 'eq. 2.1: largest fall of sigma_xx against the load''s '// &
-      'sign over t_s + tau/2 + x/C_P <= t <= t_s + tau/2 + x/C_E (0: sigma-dot keeps the '// &
-      'load''s sign there), over the station''s peak; eq. 2.2: the peak''s speed x/(t_peak '// &
-      '- t_s - tau/2) between C_E and C_P')
+      'sign over the middle half of t_s + tau/2 + x/C_P <= t <= t_s + tau/2 + x/C_E (0: '// &
+      'sigma-dot keeps the load''s sign there; _region: the whole interval, fronts '// &
+      'included), over the station''s peak; eq. 2.2: the peak''s speed x/(t_peak - t_s - '// &
+      'tau/2) between C_E and C_P')
     worst = 0.0_dp
     iworst = 0
     within = .true.
@@ -48,8 +49,10 @@ contains
         within = .false.
         cycle
       end if
-      call sm%add(tag//'_eq2_1_fall', a%fall, 'Pa, inside the region of nonuniqueness')
+      call sm%add(tag//'_eq2_1_fall', a%fall, 'Pa, in the middle half of the region')
       call sm%add(tag//'_eq2_1_fall_ratio', a%fall/a%peak, 'of the station''s peak')
+      call sm%add(tag//'_eq2_1_region_fall_ratio', a%fall_region/a%peak, &
+                  'over the whole region, the fronts'' numerical spread included')
       call sm%add(tag//'_eq2_2_peak_speed', a%peak_speed, 'm/s; eq. 2.2: C_E < v < C_P')
       if (a%fall/a%peak > worst .or. iworst == 0) then
         worst = a%fall/a%peak
