@@ -38,6 +38,7 @@ module wellposed_mpm_bar_run
   use wellposed_mpm_run_loop, only: checkpoint_every, run_steps, loop_end_t
   use wellposed_mpm_bar_outputs, only: bar_stations_t, bar_energy_t, bar_nonlocal_t, &
                                        bar_snapshots_t, bar_progress_t
+  use wellposed_mpm_bar_dissipation, only: bar_dissipation_t
   implicit none
   private
   public :: run_bar
@@ -54,6 +55,7 @@ module wellposed_mpm_bar_run
     type(summary_t) :: sm
     type(bar_stations_t) :: stations
     type(bar_energy_t) :: energy
+    type(bar_dissipation_t) :: dissipation
     type(bar_snapshots_t) :: snaps
     type(bar_nonlocal_t) :: nonlocal
     type(bar_progress_t) :: progress
@@ -134,6 +136,7 @@ contains
     r%stations%c_p = sqrt(bar_modulus_plastic(r%scene)/r%cfg%density)
     r%stations%head = head_speed(r%cfg, r%scene%nl%active, r%stations%c_p)
     call r%energy%setup(r%stations, r%scene)
+    call r%dissipation%setup(r%energy, r%scene)
     r%snaps%name = 'snapshots'
     r%snaps%h5 => r%h5
     r%snaps%interval = r%cfg%snapshot_dt
@@ -145,6 +148,7 @@ contains
     r%progress%t_end = r%cfg%t_end
     call r%outs%add(r%stations)
     call r%outs%add(r%energy)
+    call r%outs%add(r%dissipation)
     call r%outs%add(r%snaps)
     call r%outs%add(r%nonlocal)
     call r%outs%add(r%progress)
