@@ -8,12 +8,13 @@
 module wellposed_mpm_exchange
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_text, only: int_text
   use wellposed_mpm_grid, only: grid_t
   use wellposed_mpm_particles, only: particles_t, first_outside
   use wellposed_mpm_nonlocal, only: nonlocal_ranks_t
   implicit none
   private
-  public :: mpm_exchange_t, mpm_serial_t, left_grid_error
+  public :: mpm_exchange_t, mpm_serial_t, left_grid_error, check_patch_support
 
   !> The exchanges of a decomposed scene (collective where it says so).
   type, abstract, extends(nonlocal_ranks_t) :: mpm_exchange_t
@@ -151,6 +152,29 @@ contains
       '(grid%pad_cells) or shorten the run')
   end subroutine left_grid_error
 
+  !> The first particle whose support nodes (parts%node) lie outside the
+  !> patch [grid%glo, grid%ghi] of rank `rank`: outside the grid, the error
+  !> that it left the grid; inside, that the `ghost` layers are too narrow
+  !> (a defect, named as such). Nothing when every support is inside.
+  subroutine check_patch_support(parts, grid, rank, ghost, err)
+    type(particles_t), intent(in) :: parts
+    type(grid_t), intent(in) :: grid
+    integer, intent(in) :: rank, ghost
+    type(error_t), allocatable, intent(out) :: err
+    integer :: p
+    p = first_outside(parts%node, parts%n, grid%glo, grid%ghi)
+    if (p == 0) return
+    if (minval(parts%node(:, p)) < 0 .or. maxval(parts%node(:, p)) > grid%nnodes - 1) then
+      call left_grid_error(parts%gid(p), parts%x(:, p), grid%origin, &
+                           grid%origin + (grid%nnodes - 1)*grid%dx, err)
+    else
+      call new_error(err, status_invalid, 'ghost', 'particle '//int_text(parts%gid(p))// &
+        ' reaches nodes outside the patch ['//int_text(grid%glo)//', '// &
+        int_text(grid%ghi)//'] of rank '//int_text(rank)//': ghost width '// &
+        int_text(ghost)//' is below the shape support')
+    end if
+  end subroutine check_patch_support
+
   ! The serial stand-in: every argument it does not need is unused on
   ! purpose (this file is compiled with -Wno-unused-dummy-argument).
 
@@ -195,18 +219,14 @@ contains
     counts = [size(mine)]
   end subroutine serial_gather_root
 
-  !> A particle whose support nodes lie outside [glo, ghi]: an error
-  !> naming the first of them.
+  !> A particle whose support nodes lie outside the grid (the whole grid
+  !> is the patch): an error naming the first of them.
   subroutine serial_check(self, parts, grid, err)
     class(mpm_serial_t), intent(inout) :: self
     type(particles_t), intent(in) :: parts
     type(grid_t), intent(in) :: grid
     type(error_t), allocatable, intent(out) :: err
-    integer :: p
-    p = first_outside(parts%node, parts%n, grid%glo, grid%ghi)
-    if (p == 0) return
-    call left_grid_error(parts%gid(p), parts%x(:, p), grid%origin + grid%glo*grid%dx, &
-                         grid%origin + grid%ghi*grid%dx, err)
+    call check_patch_support(parts, grid, 0, 0, err)
   end subroutine serial_check
 
   subroutine serial_sum_grid(self, grid, momentum_only)

@@ -7,13 +7,13 @@
 !> are intervals of node layers in rank order). Design: docs/guide/parallel.md.
 module wellposed_mpm_ranks
   use wellposed_kinds, only: dp
-  use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_error, only: error_t
   use wellposed_text, only: int_text
   use wellposed_mpi, only: comm_t, allreduce_sum, allreduce_max, allreduce_any, gatherv_real, &
                            broadcast, sendrecv_real, allreduce_min
   use wellposed_mpm_grid, only: grid_t
-  use wellposed_mpm_particles, only: particles_t, first_outside
-  use wellposed_mpm_exchange, only: mpm_exchange_t, left_grid_error
+  use wellposed_mpm_particles, only: particles_t
+  use wellposed_mpm_exchange, only: mpm_exchange_t, check_patch_support
   use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, restrict_grid, &
                                          hand_off_particles_with, sum_ghost_grid, &
                                          sum_ghost_values, &
@@ -160,18 +160,7 @@ contains
     type(particles_t), intent(in) :: parts
     type(grid_t), intent(in) :: grid
     type(error_t), allocatable, intent(out) :: err
-    integer :: p
-    p = first_outside(parts%node, parts%n, grid%glo, grid%ghi)
-    if (p == 0) return
-    if (minval(parts%node(:, p)) < 0 .or. maxval(parts%node(:, p)) > grid%nnodes - 1) then
-      call left_grid_error(parts%gid(p), parts%x(:, p), grid%origin, &
-                           grid%origin + (grid%nnodes - 1)*grid%dx, err)
-    else
-      call new_error(err, status_invalid, 'ghost', 'particle '//int_text(parts%gid(p))// &
-        ' reaches nodes outside the patch ['//int_text(grid%glo)//', '// &
-        int_text(grid%ghi)//'] of rank '//int_text(self%comm%rank)//': ghost width '// &
-        int_text(self%dec%ghost)//' is below the shape support')
-    end if
+    call check_patch_support(parts, grid, self%comm%rank, self%dec%ghost, err)
   end subroutine ranks_check
 
   subroutine ranks_sum_grid(self, grid, momentum_only)

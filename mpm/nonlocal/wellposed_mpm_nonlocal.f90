@@ -1,5 +1,6 @@
 !> The MPM's nonlocal package in one `use`: the &nonlocal settings
-!> (wellposed_mpm_nonlocal_settings), the grid-based average and its state
+!> (wellposed_mpm_nonlocal_settings), the state Algorithm 1 keeps between
+!> steps (wellposed_mpm_nonlocal_state), the grid-based average
 !> (wellposed_mpm_nonlocal_grid), Algorithm 1 (wellposed_mpm_algorithm1)
 !> and its sweep order (wellposed_mpm_sweep_order). The dissertation's
 !> eq. 4.46-4.50; docs/guide/mpm.md, docs/research/theory.md.
@@ -8,9 +9,9 @@ module wellposed_mpm_nonlocal
                                              nl_scheme_names, nl_scheme_id, ours_bounds, &
                                              nl_sweep_auto, nl_gauss_seidel, nl_jacobi, &
                                              nl_coloured, nl_sweep_names
-  use wellposed_mpm_nonlocal_grid, only: nonlocal_t, nonlocal_step_stats_t, new_nonlocal, &
-                                         nonlocal_ghost_nodes, nonlocal_project, &
-                                         nonlocal_average, support_mass
+  use wellposed_mpm_nonlocal_state, only: nonlocal_t, nonlocal_step_stats_t, new_nonlocal, &
+                                          nonlocal_ghost_nodes
+  use wellposed_mpm_nonlocal_grid, only: nonlocal_project, nonlocal_average, support_mass
   use wellposed_mpm_algorithm1, only: nonlocal_host_t, nonlocal_solve
   use wellposed_mpm_nonlocal_ranks, only: nonlocal_ranks_t
   use wellposed_mpm_sweep_order, only: sweep_key
