@@ -13,7 +13,7 @@ module wellposed_mpm_bar_run
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_bar_config
   use wellposed_mpm_bar_deck, only: read_bar_deck, bar_options_t
-  use wellposed_mpm_deck_checks, only: check_bar_deck
+  use wellposed_mpm_bar_checks, only: check_bar_deck
   use wellposed_mpm_bar_station_summary, only: head_speed
   use wellposed_mpm_nonlocal_summary, only: add_nonlocal_summary
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, timer_umat, timer_transfer, timer_grid

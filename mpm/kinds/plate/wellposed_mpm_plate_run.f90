@@ -15,16 +15,16 @@ module wellposed_mpm_plate_run
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, max_substeps
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpm_shape_2d, only: shape2d_names
-  use wellposed_mpm_bar_config, only: scheme_names
+  use wellposed_mpm_method, only: scheme_names
   use wellposed_mpm_nonlocal, only: nl_scheme_names
   use wellposed_mpm_plate_deck, only: read_plate_deck, plate_study_t
-  use wellposed_mpm_deck_checks, only: check_plate_deck
+  use wellposed_mpm_plate_checks, only: check_plate_deck
   use wellposed_mpm_paths, only: find_data, plate_plot_name
   use wellposed_mpm_plate_cases, only: case_out_t, case_tag, case_config, curve_difference, &
                                        write_csv_curve, write_csv_iterations
   use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_mpm_nonlocal_summary, only: add_nonlocal_summary, bound_text
-  use wellposed_mpm_band_watch, only: new_band_watch
+  use wellposed_mpm_plate_band_watch, only: new_band_watch
   use wellposed_mpm_statev_outputs, only: plate_field_names, plate_field_widths, &
                                           slot_plastic_strain
   use wellposed_mpm_plate_stations, only: new_plate_stations
