@@ -29,8 +29,9 @@ module wellposed_mpm_plate_run
                                           slot_plastic_strain
   use wellposed_mpm_plate_stations, only: new_plate_stations
   use wellposed_mpm_stop, only: stop_alone, stop_all
+  use wellposed_mpm_run_files, only: open_run_files
   use wellposed_mpm_snapshots, only: new_snapshot_store
-  use wellposed_mpi, only: comm_t, allreduce_sum, broadcast
+  use wellposed_mpi, only: comm_t, allreduce_sum
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
   use wellposed_h5_parallel, only: h5_parallel_file_t, h5_writer_name
@@ -104,7 +105,6 @@ contains
     type(mpm_cli_t), intent(in) :: cli
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable :: err
-    character(len=:), allocatable :: h5_path
     logical :: root
     root = comm%rank == 0
     call new_mpm_ranks(r%ranks, comm)
@@ -129,15 +129,7 @@ contains
       r%done%current = r%ic0
     end if
     ! rank 0 makes the run folder; run.h5 in it is written by every rank
-    h5_path = ''
-    if (root) then
-      call r%rd%create(cli%out_root, r%cfg0%name, cli%deck_path, err)
-      if (allocated(err)) call stop_alone(comm, r%rd, err%message)
-      h5_path = r%rd%path('run.h5')
-    end if
-    call broadcast(comm, h5_path, 0)
-    call r%h5%create(comm, h5_path, err)
-    if (allocated(err)) call stop_all(comm, r%rd, err)
+    call open_run_files(r%rd, r%h5, comm, cli%out_root, r%cfg0%name, cli%deck_path)
     call r%h5%write_attr('wellposed_version', wellposed_version)
     call r%h5%write_attr('git_revision', wellposed_git_revision)
     call r%h5%write_attr('deck', r%deck_text)
