@@ -13,6 +13,7 @@ module wellposed_point_deck
   use wellposed_point_material, only: material_t, ntens
   use wellposed_point_path, only: leg_t, solver_t
   use wellposed_point_chapter3, only: ch3_config_t
+  use wellposed_point_deck_studies, only: probe_config_t, read_probe, read_chapter3
   use wellposed_point_checks, only: check_point_materials
   use wellposed_fs, only: int_text
   implicit none
@@ -21,21 +22,6 @@ module wellposed_point_deck
 
   integer, parameter :: max_props = 64, max_statev = 256, max_materials = 16, max_legs = 1000
 
-  !> Probe settings (&probe).
-  type :: probe_config_t
-    logical :: enabled = .false.
-    integer :: at_leg = -1             !< state probed: end of this leg (0: initial; -1: last)
-    logical :: rtheta = .true.
-    integer :: n_theta = 360
-    logical :: acoustic = .true.
-    integer :: n_polar = 91, n_azimuth = 90
-    logical :: wave = .true.
-    real(dp) :: wave_sign = 1.0_dp
-    logical :: gudehus = .false.
-    real(dp) :: gudehus_size = 0.0_dp
-    integer :: n_gudehus = 72
-    integer :: n_sub = 10
-  end type probe_config_t
 
   !> Everything a deck says.
   type :: point_deck_t
@@ -78,8 +64,10 @@ contains
     if (.not. allocated(err)) call read_materials(deck, unit, err)
     if (.not. allocated(err)) call read_initial(deck, unit, err)
     if (.not. allocated(err)) call read_legs(deck, unit, err)
-    if (.not. allocated(err)) call read_probe(deck, unit, err)
-    if (.not. allocated(err)) call read_chapter3(deck, unit, err)
+    if (.not. allocated(err)) &
+      call read_probe(path, deck%text, size(deck%legs), unit, deck%probe, err)
+    if (.not. allocated(err)) &
+      call read_chapter3(path, deck%text, unit, deck%chapter3, deck%ch3, err)
     close (unit)
     if (.not. allocated(err)) call check_point_materials(path, deck%materials, deck%stress0, &
                                                          deck%statev0, deck%legs, err)
@@ -417,95 +405,5 @@ contains
     end do
     deck%legs = legs(1:n)
   end subroutine read_legs
-
-  subroutine read_probe(deck, unit, err)
-    type(point_deck_t), intent(inout) :: deck
-    integer, intent(in) :: unit
-    type(error_t), allocatable, intent(out) :: err
-    integer :: at_leg, n_theta, n_polar, n_azimuth, n_gudehus, n_sub, ios
-    logical :: rtheta, acoustic, wave, gudehus
-    real(dp) :: wave_sign, gudehus_size
-    character(len=512) :: msg
-    namelist /probe/ at_leg, rtheta, n_theta, acoustic, n_polar, n_azimuth, wave, wave_sign, &
-      gudehus, gudehus_size, n_gudehus, n_sub
-    if (.not. has_group(deck%text, 'probe')) return
-    at_leg = -1; rtheta = .true.; n_theta = 360; acoustic = .true.; n_polar = 91
-    n_azimuth = 90; wave = .true.; wave_sign = 1.0_dp; gudehus = .false.
-    gudehus_size = unset; n_gudehus = 72; n_sub = 10
-    rewind (unit)
-    read (unit, nml=probe, iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      err = namelist_error(deck%path, 'probe', ios, msg, deck%text); return
-    end if
-    if (at_leg == -1) at_leg = size(deck%legs)
-    call check_range(deck%path, 'probe', 'at_leg', at_leg, 0, size(deck%legs), err)
-    if (allocated(err)) return
-    call check_range(deck%path, 'probe', 'n_theta', n_theta, 8, 100000, err)
-    if (allocated(err)) return
-    call check_range(deck%path, 'probe', 'n_polar', n_polar, 2, 10000, err)
-    if (allocated(err)) return
-    call check_range(deck%path, 'probe', 'n_azimuth', n_azimuth, 1, 10000, err)
-    if (allocated(err)) return
-    if (wave_sign /= 1.0_dp .and. wave_sign /= -1.0_dp) then
-      call new_error(err, status_invalid, 'wave_sign', deck%path//': &probe: wave_sign = '// &
-        real_str(wave_sign)//' must be 1 (extension) or -1 (compression)'); return
-    end if
-    if (gudehus) then
-      call check_required(deck%path, 'probe', 'gudehus_size', is_set(gudehus_size), err)
-      if (allocated(err)) return
-      call check_range(deck%path, 'probe', 'gudehus_size', gudehus_size, tiny(1.0_dp), &
-                       huge(1.0_dp), err)
-      if (allocated(err)) return
-    end if
-    call check_range(deck%path, 'probe', 'n_gudehus', n_gudehus, 4, 10000, err)
-    if (allocated(err)) return
-    call check_range(deck%path, 'probe', 'n_sub', n_sub, 1, 10000, err)
-    if (allocated(err)) return
-    if (acoustic .and. at_leg == 0) then
-      call new_error(err, status_invalid, 'at_leg', deck%path//': &probe: acoustic = .true. '// &
-        'needs at_leg >= 1 (the tangent is that of continued loading along the leg)'); return
-    end if
-    deck%probe = probe_config_t(.true., at_leg, rtheta, n_theta, acoustic, n_polar, n_azimuth, &
-      wave, wave_sign, gudehus, gudehus_size, n_gudehus, n_sub)
-  end subroutine read_probe
-
-  subroutine read_chapter3(deck, unit, err)
-    type(point_deck_t), intent(inout) :: deck
-    integer, intent(in) :: unit
-    type(error_t), allocatable, intent(out) :: err
-    real(dp) :: magnitude, phi(4), drift_axial
-    integer :: n_cycles, analysis_cycle, n_sub, ios
-    character(len=512) :: msg
-    namelist /chapter3/ magnitude, phi, n_cycles, analysis_cycle, drift_axial, n_sub
-    if (.not. has_group(deck%text, 'chapter3')) return
-    magnitude = unset
-    phi = [90.0_dp, 180.0_dp, 35.0_dp, 125.0_dp]
-    n_cycles = 3
-    analysis_cycle = 2
-    drift_axial = unset
-    n_sub = 10
-    rewind (unit)
-    read (unit, nml=chapter3, iostat=ios, iomsg=msg)
-    if (ios /= 0) then
-      err = namelist_error(deck%path, 'chapter3', ios, msg, deck%text); return
-    end if
-    call check_required(deck%path, 'chapter3', 'magnitude', is_set(magnitude), err)
-    if (allocated(err)) return
-    call check_range(deck%path, 'chapter3', 'magnitude', magnitude, tiny(1.0_dp), huge(1.0_dp), err)
-    if (allocated(err)) return
-    call check_finite(deck%path, 'chapter3', 'phi', phi, err)
-    if (allocated(err)) return
-    if (.not. is_set(drift_axial)) drift_axial = -4.0_dp*magnitude
-    call check_finite(deck%path, 'chapter3', 'drift_axial', drift_axial, err)
-    if (allocated(err)) return
-    call check_range(deck%path, 'chapter3', 'n_cycles', n_cycles, 3, 1000, err)
-    if (allocated(err)) return
-    call check_range(deck%path, 'chapter3', 'analysis_cycle', analysis_cycle, 2, n_cycles - 1, err)
-    if (allocated(err)) return
-    call check_range(deck%path, 'chapter3', 'n_sub', n_sub, 1, 10000, err)
-    if (allocated(err)) return
-    deck%chapter3 = .true.
-    deck%ch3 = ch3_config_t(magnitude, phi, n_cycles, analysis_cycle, drift_axial, n_sub)
-  end subroutine read_chapter3
 
 end module wellposed_point_deck

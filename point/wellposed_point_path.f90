@@ -48,6 +48,28 @@ module wellposed_point_path
     procedure :: push => history_push
   end type history_t
 
+  !> One increment's problem for solve_increment: the stress targets,
+  !> the stress-controlled components u(1:nu), the time increment.
+  type :: increment_t
+    real(dp) :: sig_t(ntens) = 0.0_dp, dtime = 0.0_dp
+    integer :: u(ntens) = 0, nu = 0
+  end type increment_t
+
+  !> A Newton iterate: the strain increment, the UMAT's state and DDSDDE
+  !> after it, the residual of the stress-controlled components, its
+  !> largest component and its sum of squares (the line search's merit).
+  type :: iterate_t
+    real(dp) :: de(ntens) = 0.0_dp
+    type(point_state_t) :: s
+    real(dp) :: dd(ntens, ntens) = 0.0_dp, r(ntens) = 0.0_dp
+    real(dp) :: rnorm = 0.0_dp, merit = 0.0_dp
+  end type iterate_t
+
+  !> The Jacobians of a Newton step, in the order tried.
+  integer, parameter :: mode_tangent = 1, mode_elastic = 2, mode_fd = 3
+  !> What a Newton step or line search gave.
+  integer, parameter :: step_ok = 0, step_retry = 1, step_stop = 2
+
 contains
 
   subroutine history_push(self, s, leg, inc)
@@ -220,40 +242,41 @@ contains
     integer, intent(out) :: iters
     character(len=:), allocatable, intent(out) :: why
     type(error_t), allocatable, intent(out) :: err
-    real(dp) :: de(ntens), r(ntens), tol, tol0, jac(ntens, ntens), x(ntens, 1), rnorm
-    real(dp) :: ddn(ntens, ntens), hstep, de_try(ntens), dd_try(ntens, ntens), r_try(ntens)
-    real(dp) :: rnorm_try, alpha, merit, merit_try
-    type(point_state_t) :: sp
-    integer :: u(ntens), nu, i, j, ls, mode
-    logical :: solved, improved, tried_elastic, from_rest
-    integer, parameter :: mode_tangent = 1, mode_elastic = 2, mode_fd = 3
-    nu = 0
+    type(increment_t) :: inc
+    type(iterate_t) :: it, try
+    real(dp) :: tol, tol0, x(ntens)
+    integer :: i, mode, outcome
+    logical :: tried_elastic, from_rest
+    inc%sig_t = sig_t
+    inc%dtime = dtime
     do i = 1, ntens
       if (mask(i)) then
-        nu = nu + 1
-        u(nu) = i
+        inc%nu = inc%nu + 1
+        inc%u(inc%nu) = i
       end if
     end do
-    de = eps_t - s0%strain
-    used_fd = .false.
-    iters = 0
-    ok = .false.
-    why = 'no convergence'
-    ! the stress scale of the residual: the controlled targets, the stress at
-    ! the start of the increment and (below, per iterate) the current stress,
-    ! whose round-off bounds how well the controlled components can be met
-    tol0 = solver%stress_floor
-    if (nu > 0) tol0 = max(tol0, maxval(abs(sig_t(u(1:nu)))))
-    tol0 = solver%stress_tol*max(tol0, maxval(abs(s0%stress)))
-    ! first guess of the unknown strains: elastic-like prediction with the
-    ! last tangent when it is usable, else the previous increment's rate
-    if (nu > 0) then
-      de(u(1:nu)) = 0.0_dp
-      de(u(1:nu)) = guess(u(1:nu))
-    end if
-    tried_elastic = .false.
-    mode = mode_tangent
-    if (all(guess(u(1:nu)) == 0.0_dp)) mode = mode_elastic
+    associate (u => inc%u, nu => inc%nu)
+      it%de = eps_t - s0%strain
+      used_fd = .false.
+      iters = 0
+      ok = .false.
+      why = 'no convergence'
+      ! the stress scale of the residual: the controlled targets, the stress at
+      ! the start of the increment and (below, per iterate) the current stress,
+      ! whose round-off bounds how well the controlled components can be met
+      tol0 = solver%stress_floor
+      if (nu > 0) tol0 = max(tol0, maxval(abs(sig_t(u(1:nu)))))
+      tol0 = solver%stress_tol*max(tol0, maxval(abs(s0%stress)))
+      ! first guess of the unknown strains: elastic-like prediction with the
+      ! last tangent when it is usable, else the previous increment's rate
+      if (nu > 0) then
+        it%de(u(1:nu)) = 0.0_dp
+        it%de(u(1:nu)) = guess(u(1:nu))
+      end if
+      tried_elastic = .false.
+      mode = mode_tangent
+      if (all(guess(u(1:nu)) == 0.0_dp)) mode = mode_elastic
+    end associate
     ! Starting from a zero increment of the unknown strains, the elastic
     ! predictor step is taken whole: a rate-independent response is
     ! positively homogeneous of degree one in the increment, so at zero it
@@ -261,135 +284,199 @@ contains
     ! direction), and along any ray the residual is linear in the step,
     ! which a line search from zero cannot shorten into a decrease.
     from_rest = mode == mode_elastic
-    call trial(de, s1, ddn, r, rnorm, merit)
+    call trial(mat, s0, inc, it, pnewdt, why, err)
+    s1 = it%s             ! the current iterate's state, also on a cut-back
     if (pnewdt < 1.0_dp) return
     do
-      tol = max(tol0, solver%stress_tol*maxval(abs(s1%stress)))
-      if (nu == 0 .or. rnorm <= tol) then
+      tol = max(tol0, solver%stress_tol*maxval(abs(it%s%stress)))
+      if (inc%nu == 0 .or. it%rnorm <= tol) then
         ok = .true.
-        dd = ddn
+        dd = it%dd
         return
       end if
       iters = iters + 1
       if (iters > solver%max_iter) then
         why = 'the stress-controlled components did not converge in '// &
-          int_text(solver%max_iter)//' Newton iterations (residual '//real_str(rnorm)// &
+          int_text(solver%max_iter)//' Newton iterations (residual '//real_str(it%rnorm)// &
           ', tolerance '//real_str(tol)//')'
         pnewdt = 0.5_dp
         return
       end if
-      ! Jacobian: the elastic stiffness for an elastic predictor (first
-      ! iteration of a leg, or after a failed DDSDDE step), DDSDDE, or
-      ! finite differences once both fail to lower the residual
+      call newton_direction(mat, s0, inc, c_el, it, mode, tried_elastic, used_fd, x, outcome, &
+                            pnewdt, why, err)
+      if (outcome == step_retry) then
+        mode = next_mode(mode, tried_elastic, it%rnorm, tol, why, pnewdt)
+        if (mode < 0) return
+        cycle
+      end if
+      if (outcome == step_stop) return
+      call line_search(mat, s0, inc, it, x, from_rest, try, outcome, pnewdt, why, err)
+      if (outcome == step_stop) return
+      from_rest = .false.
+      if (outcome == step_retry) then
+        mode = next_mode(mode, tried_elastic, it%rnorm, tol, why, pnewdt)
+        if (mode < 0) return
+        cycle
+      end if
+      if (mode == mode_elastic) mode = mode_tangent
+      it = try
+      s1 = it%s
+    end do
+  end subroutine solve_increment
+
+  !> The Newton step x(1:nu) of the stress-controlled strains from iterate
+  !> `it`: the Jacobian of `mode` (the elastic stiffness for an elastic
+  !> predictor (first iteration of a leg, or after a failed DDSDDE step),
+  !> DDSDDE, or finite differences once both fail to lower the residual).
+  !> `outcome`: step_ok, step_retry (this Jacobian gave no step: try the
+  !> next) or step_stop (cut back, `why`; or err).
+  subroutine newton_direction(mat, s0, inc, c_el, it, mode, tried_elastic, used_fd, x, &
+                              outcome, pnewdt, why, err)
+    type(material_t), intent(in) :: mat
+    type(point_state_t), intent(in) :: s0
+    type(increment_t), intent(in) :: inc
+    real(dp), intent(in) :: c_el(ntens, ntens)
+    type(iterate_t), intent(in) :: it
+    integer, intent(in) :: mode
+    logical, intent(inout) :: tried_elastic, used_fd
+    real(dp), intent(out) :: x(ntens)
+    integer, intent(out) :: outcome
+    real(dp), intent(inout) :: pnewdt
+    character(len=:), allocatable, intent(inout) :: why
+    type(error_t), allocatable, intent(inout) :: err
+    real(dp) :: jac(ntens, ntens), b(ntens, 1), hstep, de_try(ntens), dd_try(ntens, ntens)
+    type(point_state_t) :: sp
+    integer :: j
+    logical :: solved
+    associate (u => inc%u, nu => inc%nu)
+      outcome = step_ok
       solved = .false.
       if (mode == mode_elastic) then
         jac(1:nu, 1:nu) = c_el(u(1:nu), u(1:nu))
         tried_elastic = .true.
       else if (mode == mode_tangent) then
-        jac(1:nu, 1:nu) = ddn(u(1:nu), u(1:nu))
+        jac(1:nu, 1:nu) = it%dd(u(1:nu), u(1:nu))
       end if
       if (mode /= mode_fd) then
         if (all(ieee_is_finite(jac(1:nu, 1:nu)))) then
-          x(1:nu, 1) = r(1:nu)
-          call solve_dense(jac(1:nu, 1:nu), x(1:nu, :), solved)
+          b(1:nu, 1) = it%r(1:nu)
+          call solve_dense(jac(1:nu, 1:nu), b(1:nu, :), solved)
         end if
-        if (.not. solved) then
-          mode = next_mode()
-          if (mode < 0) return
-          cycle
-        end if
-      else
-        used_fd = .true.
-        hstep = 1.0e-7_dp*max(maxval(abs(de)), 1.0e-6_dp)
-        do j = 1, nu
-          de_try = de
-          de_try(u(j)) = de_try(u(j)) + hstep
-          call umat_increment(mat, s0, de_try, dtime, sp, dd_try, pnewdt, err)
-          if (allocated(err)) return
-          jac(1:nu, j) = (sp%stress(u(1:nu)) - s1%stress(u(1:nu)))/hstep
-        end do
-        pnewdt = 1.0_dp
-        x(1:nu, 1) = r(1:nu)
-        call solve_dense(jac(1:nu, 1:nu), x(1:nu, :), solved)
-        if (.not. solved) then
-          why = 'the tangent of the stress-controlled components is singular (the '// &
-            'material offers no resistance in a controlled direction)'
-          pnewdt = 0.5_dp
-          return
-        end if
-      end if
-      ! backtracking line search on the sum of squared residuals (the
-      ! Newton direction is a descent direction for it, not necessarily for
-      ! the largest component), except for the predictor step from rest
-      alpha = 1.0_dp
-      improved = .false.
-      do ls = 1, 12
-        de_try = de
-        de_try(u(1:nu)) = de_try(u(1:nu)) - alpha*x(1:nu, 1)
-        call trial(de_try, sp, dd_try, r_try, rnorm_try, merit_try)
-        if (pnewdt < 1.0_dp) return
-        if (merit_try < merit .or. from_rest) then
-          improved = .true.
-          exit
-        end if
-        alpha = 0.5_dp*alpha
-      end do
-      from_rest = .false.
-      if (.not. improved) then
-        mode = next_mode()
-        if (mode < 0) return
-        cycle
-      end if
-      if (mode == mode_elastic) mode = mode_tangent
-      de = de_try
-      s1 = sp
-      ddn = dd_try
-      r = r_try
-      rnorm = rnorm_try
-      merit = merit_try
-    end do
-
-  contains
-
-    !> The next Jacobian to try after a failed step; -1 (and `why`) when
-    !> none is left.
-    integer function next_mode() result(m)
-      if (.not. tried_elastic) then
-        m = mode_elastic
-      else if (mode /= mode_fd) then
-        m = mode_fd
-      else
-        m = -1
-        why = 'no step along the Newton direction lowers the stress residual (residual '// &
-          real_str(rnorm)//', tolerance '//real_str(tol)//')'
-        pnewdt = 0.5_dp
-      end if
-    end function next_mode
-
-    !> One UMAT call with the strain increment `d`, its residual `rt`, the
-    !> largest residual component `rn` and the sum of squares `rm`.
-    subroutine trial(d, st, ddt, rt, rn, rm)
-      real(dp), intent(in) :: d(ntens)
-      type(point_state_t), intent(out) :: st
-      real(dp), intent(out) :: ddt(ntens, ntens), rt(ntens), rn, rm
-      call umat_increment(mat, s0, d, dtime, st, ddt, pnewdt, err)
-      rt = 0.0_dp
-      rn = huge(1.0_dp)
-      rm = huge(1.0_dp)
-      if (pnewdt < 1.0_dp) then
-        why = 'the UMAT asked for a smaller increment (PNEWDT = '//real_str(pnewdt)//')'
+        if (.not. solved) outcome = step_retry
+        if (solved) x(1:nu) = b(1:nu, 1)
         return
       end if
-      if (nu > 0) then
-        rt(1:nu) = st%stress(u(1:nu)) - sig_t(u(1:nu))
-        rn = maxval(abs(rt(1:nu)))
-        rm = sum(rt(1:nu)**2)
-      else
-        rn = 0.0_dp
-        rm = 0.0_dp
+      used_fd = .true.
+      hstep = 1.0e-7_dp*max(maxval(abs(it%de)), 1.0e-6_dp)
+      do j = 1, nu
+        de_try = it%de
+        de_try(u(j)) = de_try(u(j)) + hstep
+        call umat_increment(mat, s0, de_try, inc%dtime, sp, dd_try, pnewdt, err)
+        if (allocated(err)) then
+          outcome = step_stop
+          return
+        end if
+        jac(1:nu, j) = (sp%stress(u(1:nu)) - it%s%stress(u(1:nu)))/hstep
+      end do
+      pnewdt = 1.0_dp
+      b(1:nu, 1) = it%r(1:nu)
+      call solve_dense(jac(1:nu, 1:nu), b(1:nu, :), solved)
+      if (solved) x(1:nu) = b(1:nu, 1)
+      if (.not. solved) then
+        why = 'the tangent of the stress-controlled components is singular (the '// &
+          'material offers no resistance in a controlled direction)'
+        pnewdt = 0.5_dp
+        outcome = step_stop
       end if
-    end subroutine trial
+    end associate
+  end subroutine newton_direction
 
-  end subroutine solve_increment
+  !> Backtracking line search from `it` along -x on the sum of squared
+  !> residuals (the Newton direction is a descent direction for it, not
+  !> necessarily for the largest component), except for the predictor
+  !> step from rest (`from_rest`): the accepted iterate `try`, or
+  !> `outcome` step_retry (no step lowered it) or step_stop (cut back).
+  subroutine line_search(mat, s0, inc, it, x, from_rest, try, outcome, pnewdt, why, err)
+    type(material_t), intent(in) :: mat
+    type(point_state_t), intent(in) :: s0
+    type(increment_t), intent(in) :: inc
+    type(iterate_t), intent(in) :: it
+    real(dp), intent(in) :: x(ntens)
+    logical, intent(in) :: from_rest
+    type(iterate_t), intent(out) :: try
+    integer, intent(out) :: outcome
+    real(dp), intent(inout) :: pnewdt
+    character(len=:), allocatable, intent(inout) :: why
+    type(error_t), allocatable, intent(inout) :: err
+    real(dp) :: alpha
+    integer :: ls
+    alpha = 1.0_dp
+    outcome = step_retry
+    do ls = 1, 12
+      try%de = it%de
+      try%de(inc%u(1:inc%nu)) = try%de(inc%u(1:inc%nu)) - alpha*x(1:inc%nu)
+      call trial(mat, s0, inc, try, pnewdt, why, err)
+      if (pnewdt < 1.0_dp) then
+        outcome = step_stop
+        return
+      end if
+      if (try%merit < it%merit .or. from_rest) then
+        outcome = step_ok
+        return
+      end if
+      alpha = 0.5_dp*alpha
+    end do
+  end subroutine line_search
+
+  !> The next Jacobian to try after a failed step with `mode`; -1 (and
+  !> `why`, a cut-back) when none is left.
+  integer function next_mode(mode, tried_elastic, rnorm, tol, why, pnewdt) result(m)
+    integer, intent(in) :: mode
+    logical, intent(in) :: tried_elastic
+    real(dp), intent(in) :: rnorm, tol
+    character(len=:), allocatable, intent(inout) :: why
+    real(dp), intent(inout) :: pnewdt
+    if (.not. tried_elastic) then
+      m = mode_elastic
+    else if (mode /= mode_fd) then
+      m = mode_fd
+    else
+      m = -1
+      why = 'no step along the Newton direction lowers the stress residual (residual '// &
+        real_str(rnorm)//', tolerance '//real_str(tol)//')'
+      pnewdt = 0.5_dp
+    end if
+  end function next_mode
+
+  !> One UMAT call with the strain increment it%de from s0 into `it`: its
+  !> state, DDSDDE, residual, largest residual component rnorm and sum of
+  !> squares merit (huge when the UMAT cuts back: `why`).
+  subroutine trial(mat, s0, inc, it, pnewdt, why, err)
+    type(material_t), intent(in) :: mat
+    type(point_state_t), intent(in) :: s0
+    type(increment_t), intent(in) :: inc
+    type(iterate_t), intent(inout) :: it
+    real(dp), intent(out) :: pnewdt
+    character(len=:), allocatable, intent(inout) :: why
+    type(error_t), allocatable, intent(inout) :: err
+    call umat_increment(mat, s0, it%de, inc%dtime, it%s, it%dd, pnewdt, err)
+    it%r = 0.0_dp
+    it%rnorm = huge(1.0_dp)
+    it%merit = huge(1.0_dp)
+    if (pnewdt < 1.0_dp) then
+      why = 'the UMAT asked for a smaller increment (PNEWDT = '//real_str(pnewdt)//')'
+      return
+    end if
+    associate (u => inc%u, nu => inc%nu)
+      if (nu > 0) then
+        it%r(1:nu) = it%s%stress(u(1:nu)) - inc%sig_t(u(1:nu))
+        it%rnorm = maxval(abs(it%r(1:nu)))
+        it%merit = sum(it%r(1:nu)**2)
+      else
+        it%rnorm = 0.0_dp
+        it%merit = 0.0_dp
+      end if
+    end associate
+  end subroutine trial
 
 end module wellposed_point_path

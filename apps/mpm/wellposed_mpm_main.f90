@@ -1,7 +1,8 @@
 !> wellposed-mpm: the explicit material point method of section 4.3 for
 !> every MPM deck, the 1D bars of chapter 2 and the plane-strain plates of
-!> chapter 4; the deck's &scene kind picks the scene, the command line is
-!> wellposed_mpm_cli's. Without DECK: inputs/sandler_rubin_default.nml.
+!> chapter 4; the deck's &scene kind picks the scene (its entry of
+!> wellposed_mpm_kind_table), the command line is wellposed_mpm_cli's.
+!> Without DECK: inputs/sandler_rubin_default.nml.
 !> Results go to ROOT/NAME/ (renamed from ROOT/NAME.partial when done);
 !> errors to standard error, exit status 1. `wellposed-mpm2d` is an alias.
 !> Usage: docs/guide/mpm.md.
@@ -10,17 +11,15 @@ program wellposed_mpm
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop
   use wellposed_mpm_cli, only: mpm_cli_t, read_mpm_cli, write_mpm_usage
-  use wellposed_mpm_scene_kind, only: deck_scene_kind, scene_kind_plate
+  use wellposed_mpm_scene_kind, only: deck_scene_kind
+  use wellposed_mpm_kind_table, only: mpm_kind_entry_t, kind_entry
   use wellposed_mpm_paths, only: find_data, default_deck_name
-  use wellposed_mpm_bar_run, only: run_bar
-  use wellposed_mpm_deck_verify, only: verify_mpm_deck
-  use wellposed_mpm_plate_run, only: run_plate
   use wellposed_batch_run, only: run_batch, default_figures
   use wellposed_fs, only: shell_quote
   use wellposed_checked_io, only: say_error
   use wellposed_kinds, only: dp
   use wellposed_out_of_memory, only: set_run_label
-  use wellposed_mpm_memory, only: deck_memory, resident_start
+  use wellposed_mpm_memory, only: resident_start
   use wellposed_memory, only: check_memory, parse_memory
   implicit none
 
@@ -28,6 +27,7 @@ program wellposed_mpm
   type(mpm_cli_t) :: cli
   type(error_t), allocatable :: err
   integer :: kind
+  type(mpm_kind_entry_t) :: entry
 
   call comm_start(comm, err)
   if (allocated(err)) call die(err%message)
@@ -43,9 +43,10 @@ program wellposed_mpm
   call set_run_label('wellposed-mpm', cli%deck_path)
   call deck_scene_kind(cli%deck_path, cli%overrides, kind, err)
   if (allocated(err)) call die(err%message)
+  entry = kind_entry(kind)
   call memory_check()
   if (cli%check) then
-    call verify_mpm_deck(cli%deck_path, cli%overrides, kind, cli%force, err)
+    call entry%verify(cli%deck_path, cli%overrides, cli%force, err)
     if (allocated(err)) call die(err%message)
     if (comm%rank == 0) write (output_unit, '(a)') cli%deck_path//': read and checked '// &
       '(--check: nothing run)'
@@ -53,11 +54,7 @@ program wellposed_mpm
     stop
   end if
   call resident_start()
-  if (kind == scene_kind_plate) then
-    call run_plate(cli, comm)
-  else
-    call run_bar(cli, comm)
-  end if
+  call entry%run(cli, comm)
   call comm_stop(comm)
 
 contains
@@ -93,8 +90,7 @@ contains
       call parse_memory(cli%max_memory, limit, err)
       if (allocated(err)) call die(err%message)
     end if
-    call deck_memory(cli%deck_path, cli%overrides, kind, cli%ck_every /= 0, bytes, nparticles, &
-                     err)
+    call entry%memory(cli%deck_path, cli%overrides, cli%ck_every /= 0, bytes, nparticles, err)
     if (allocated(err)) call die(err%message)
     call check_memory(cli%deck_path, bytes, nparticles, 'particles', limit, err)
     if (allocated(err)) call die(err%message)

@@ -9,15 +9,15 @@ module wellposed_mpm_deck_file
   use wellposed_deck, only: read_deck_text, has_group, namelist_error, lower
   implicit none
   private
-  public :: open_deck, override_line, start_sources, next_source, read_failed, sets_list
+  public :: open_deck, override_line, start_sources, next_source, read_failed, sets_list, &
+            read_sources
 
   !> Where a reader's groups come from, in turn (start_sources, then
   !> next_source until false): each of its groups the deck holds (`unit`,
   !> the deck rewound), then each override of one of them (`line`, a
   !> one-line namelist); the one not current is unallocated, so passed on
-  !> it is absent. The reader makes each READ itself: a callback would be
-  !> an internal procedure of the reader, and passing one needs an
-  !> executable stack (a trampoline).
+  !> it is absent. read_sources makes the READs through the reader's
+  !> deck_groups_t.
   type, public :: deck_sources_t
     character(len=:), allocatable :: path, text
     character(len=:), allocatable :: groups(:), overrides(:), known(:)
@@ -28,7 +28,24 @@ module wellposed_mpm_deck_file
     character(len=:), allocatable :: line !< the current override's namelist
   end type deck_sources_t
 
+  !> A reader's values of its groups: read_group makes one READ of group
+  !> `grp` (a namelist of its own: a namelist group cannot be an argument)
+  !> from the deck (`unit`) or an override `line`, iostat ios, iomsg msg.
+  type, abstract, public :: deck_groups_t
+  contains
+    procedure(read_group_i), deferred :: read_group
+  end type deck_groups_t
+
   abstract interface
+    subroutine read_group_i(self, grp, ios, msg, unit, line)
+      import :: deck_groups_t
+      class(deck_groups_t), intent(inout) :: self
+      character(len=*), intent(in) :: grp
+      integer, intent(out) :: ios
+      character(len=*), intent(inout) :: msg
+      integer, intent(in), optional :: unit
+      character(len=*), intent(in), optional :: line
+    end subroutine read_group_i
     !> True for a group another reader takes (a &material occurrence).
     pure logical function group_test(group)
       character(len=*), intent(in) :: group
@@ -145,6 +162,25 @@ contains
       call new_error(err, status_invalid, path, 'cannot open "'//path//'": '//trim(msg))
     end if
   end subroutine start_sources
+
+  !> Every source of `groups` (start_sources' arguments) in turn into
+  !> `keys`; err names the source, the group and the READ's message.
+  subroutine read_sources(keys, path, text, overrides, groups, err, known, is_other)
+    class(deck_groups_t), intent(inout) :: keys
+    character(len=*), intent(in) :: path, text, overrides(:), groups(:)
+    type(error_t), allocatable, intent(out) :: err
+    character(len=*), intent(in), optional :: known(:)
+    procedure(group_test), optional :: is_other
+    type(deck_sources_t) :: src
+    character(len=:), allocatable :: grp
+    character(len=512) :: msg
+    integer :: ios
+    call start_sources(src, path, text, overrides, groups, err, known, is_other)
+    do while (next_source(src, grp, err))
+      call keys%read_group(grp, ios, msg, src%unit, src%line)
+      if (read_failed(src, grp, ios, msg, err)) return
+    end do
+  end subroutine read_sources
 
   !> The next source, its group in `group`: false at the end (the deck
   !> closed) or with err set (the deck could not be opened, a malformed or

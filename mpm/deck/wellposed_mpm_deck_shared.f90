@@ -10,8 +10,7 @@ module wellposed_mpm_deck_shared
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: check_finite, check_word, unset, is_set, lower, real_str, &
                             check_group_names
-  use wellposed_mpm_deck_file, only: open_deck, deck_sources_t, start_sources, next_source, &
-                                     read_failed
+  use wellposed_mpm_deck_file, only: open_deck, deck_groups_t, read_sources
   use wellposed_mpm_scene_kind, only: check_scene_name, scene_kind_bar, scene_kind_names
   use wellposed_mpm_material_deck, only: read_materials, material_defaults_t, &
                                          is_material_group
@@ -19,7 +18,7 @@ module wellposed_mpm_deck_shared
   use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_scheme_names, &
                                              nl_scheme_id, nl_sweep_names, nl_sweep_id
   use wellposed_mpm_nonlocal_deck, only: resolve_nonlocal
-  use wellposed_mpm_bar_config, only: scheme_names, mass_names
+  use wellposed_mpm_method, only: scheme_names, mass_names
   use wellposed_text, only: real_text
   implicit none
   private
@@ -33,6 +32,7 @@ module wellposed_mpm_deck_shared
   !> The shared groups' values: the kind's defaults before reading, the
   !> deck's after (words also as ids into the kind's name lists).
   type :: shared_deck_t
+    integer :: ndim = 1                         !< of the material regions
     character(len=64) :: name = ''
     character(len=200) :: title = ''
     real(dp) :: length = 0.0_dp                 !< bar length (m)
@@ -61,6 +61,20 @@ module wellposed_mpm_deck_shared
     character(len=:), allocatable :: group, key
   end type foreign_t
 
+  !> The shared groups as read: the values given (sentinels elsewhere,
+  !> blank), the first key of the other scene kind given, and &nonlocal's
+  !> words and lengths.
+  type, extends(deck_groups_t) :: shared_keys_t
+    integer :: kind = 0
+    type(shared_deck_t) :: given
+    type(foreign_t) :: foreign
+    type(nonlocal_settings_t) :: nonlocal
+    character(len=16) :: nl_word = '', nl_sweep = ''
+    real(dp) :: nl_length = 0.0_dp, nl_h_zeta = 0.0_dp
+  contains
+    procedure :: read_group => read_shared_group
+  end type shared_keys_t
+
 contains
 
   !> Read the shared groups of deck `path` and the overrides into `sh` (its
@@ -73,116 +87,127 @@ contains
     type(shared_deck_t), intent(inout) :: sh
     character(len=:), allocatable, intent(out) :: text
     type(error_t), allocatable, intent(out) :: err
-    type(shared_deck_t) :: given
-    type(foreign_t) :: foreign
-    real(dp) :: nl_length, nl_h_zeta
-    character(len=16) :: nl_word, nl_sweep
+    type(shared_keys_t) :: k
     integer :: unit, i
-    type(deck_sources_t) :: src
-    character(len=:), allocatable :: grp
-    character(len=512) :: rd_msg
-    integer :: rd_ios
-
-    call blank(given)
-    given%stop_on_cutback = sh%stop_on_cutback
-    given%progress = sh%progress
-    given%plot = sh%plot
-    nl_length = unset; nl_h_zeta = unset
-    nl_word = nl_scheme_names(sh%nonlocal%scheme)
-    nl_sweep = nl_sweep_names(sh%nonlocal%sweep)
+    call blank(k%given)
+    k%kind = kind
+    k%given%stop_on_cutback = sh%stop_on_cutback
+    k%given%progress = sh%progress
+    k%given%plot = sh%plot
+    k%nonlocal = sh%nonlocal
+    k%nl_length = unset; k%nl_h_zeta = unset
+    k%nl_word = nl_scheme_names(sh%nonlocal%scheme)
+    k%nl_sweep = nl_sweep_names(sh%nonlocal%sweep)
     call open_deck(path, text, unit, err)
     if (allocated(err)) return
     close (unit)
     call check_group_names(path, text, [character(len=32) :: shared_groups, own, 'material'], &
                            [character(len=32) :: 'material'], err)
     if (allocated(err)) return
-    call start_sources(src, path, text, overrides, shared_groups, err, own, is_material_group)
-    do while (next_source(src, grp, err))
-      call read_group(grp, rd_ios, rd_msg, src%unit, src%line)
-      if (read_failed(src, grp, rd_ios, rd_msg, err)) return
-    end do
+    call read_sources(k, path, text, overrides, shared_groups, err, own, is_material_group)
     if (allocated(err)) return
-    if (allocated(foreign%key)) then
-      call new_error(err, status_invalid, foreign%key, path//': &'//foreign%group//': '// &
-        foreign%key//' is a key of '//trim(scene_kind_names(3 - kind))//' scenes; this '// &
+    if (allocated(k%foreign%key)) then
+      call new_error(err, status_invalid, k%foreign%key, path//': &'//k%foreign%group//': '// &
+        k%foreign%key//' is a key of '//trim(scene_kind_names(3 - kind))//' scenes; this '// &
         'deck''s scene is a '//trim(scene_kind_names(kind))//' (docs/guide/decks.md)'); return
     end if
-    call merge_given(given, sh)
+    sh%nonlocal = k%nonlocal
+    call merge_given(k%given, sh)
     call check_shared(path, kind, shapes, far_ends, sh, err); if (allocated(err)) return
-    call read_materials(path, text, overrides, kind, sh%mdef, sh%materials, sh%density, err)
+    call read_materials(path, text, overrides, sh%ndim, sh%mdef, sh%materials, sh%density, err)
     if (allocated(err)) return
-    call check_word(path, 'nonlocal', 'scheme', nl_word, nl_scheme_names, i, err)
+    call check_word(path, 'nonlocal', 'scheme', k%nl_word, nl_scheme_names, i, err)
     if (allocated(err)) return
-    sh%nonlocal%scheme = nl_scheme_id(lower(trim(nl_word)))
-    call check_word(path, 'nonlocal', 'sweep', nl_sweep, nl_sweep_names, i, err)
+    sh%nonlocal%scheme = nl_scheme_id(lower(trim(k%nl_word)))
+    call check_word(path, 'nonlocal', 'sweep', k%nl_sweep, nl_sweep_names, i, err)
     if (allocated(err)) return
-    sh%nonlocal%sweep = nl_sweep_id(lower(trim(nl_sweep)))
-    call resolve_nonlocal(path, sh%materials, nl_length, nl_h_zeta, sh%nonlocal, err)
-
-  contains
-
-    !> One READ of group `grp` from the deck (`unit`) or an override `text`
-    !> into `given`, and the kind-foreign keys it gave.
-    subroutine read_group(grp, ios, msg, unit, line)
-      character(len=*), intent(in) :: grp
-      integer, intent(out) :: ios
-      character(len=*), intent(inout) :: msg
-      integer, intent(in), optional :: unit
-      character(len=*), intent(in), optional :: line
-      logical :: soc
-      ios = 0
-      select case (grp)
-      case ('scene')
-        call read_scene(given, ios, msg, unit, line)
-      case ('grid')
-        call read_grid(given, ios, msg, unit, line)
-        if (kind /= scene_kind_bar .and. is_set(given%length)) call note('grid', 'length')
-        if (kind /= scene_kind_bar .and. given%far_end /= achar(0)) &
-          call note('grid', 'far_end')
-      case ('time')
-        call read_time(given, ios, msg, unit, line)
-        if (ios /= 0) return
-        if (kind /= scene_kind_bar) then
-          if (given%mass /= achar(0)) call note('time', 'mass')
-          return
-        end if
-        ! a logical has no unset value: read again from the opposite value;
-        ! the key was given when both reads agree
-        soc = given%stop_on_cutback
-        given%stop_on_cutback = .not. soc
-        if (present(unit)) rewind (unit)
-        call read_time(given, ios, msg, unit, line)
-        if (given%stop_on_cutback .eqv. soc) call note('time', 'stop_on_cutback')
-        given%stop_on_cutback = soc
-      case ('viscosity')
-        call read_viscosity(given, ios, msg, unit, line)
-      case ('nonlocal')
-        call read_nonlocal(sh%nonlocal, nl_word, nl_sweep, nl_length, nl_h_zeta, ios, msg, &
-                           unit, line)
-      case ('output')
-        call read_output(given, ios, msg, unit, line)
-        if (kind /= scene_kind_bar) then
-          if (len_trim(given%reference) > 0) call note('output', 'reference')
-          if (len_trim(given%reference_label) > 0) call note('output', 'reference_label')
-          return
-        end if
-        if (is_set(given%band_y)) call note('output', 'band_y')
-        if (is_set(given%band_x)) call note('output', 'band_x')
-        if (is_set(given%band_time)) call note('output', 'band_time')
-        if (is_set(given%band_drop)) call note('output', 'band_drop')
-        if (is_set(given%band_onset_strain)) call note('output', 'band_onset_strain')
-        if (given%band_axis /= achar(0)) call note('output', 'band_axis')
-      end select
-    end subroutine read_group
-
-    subroutine note(grp, key)
-      character(len=*), intent(in) :: grp, key
-      if (allocated(foreign%key)) return
-      foreign%group = grp
-      foreign%key = key
-    end subroutine note
-
+    sh%nonlocal%sweep = nl_sweep_id(lower(trim(k%nl_sweep)))
+    call resolve_nonlocal(path, sh%materials, k%nl_length, k%nl_h_zeta, sh%nonlocal, err)
   end subroutine read_shared_deck
+
+  !> One READ of group `grp` from the deck (`unit`) or an override `line`
+  !> into the given values, and the kind-foreign keys it gave.
+  subroutine read_shared_group(self, grp, ios, msg, unit, line)
+    class(shared_keys_t), intent(inout) :: self
+    character(len=*), intent(in) :: grp
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    integer, intent(in), optional :: unit
+    character(len=*), intent(in), optional :: line
+    ios = 0
+    select case (grp)
+    case ('scene')
+      call read_scene(self%given, ios, msg, unit, line)
+    case ('grid')
+      call read_grid(self%given, ios, msg, unit, line)
+      if (self%kind /= scene_kind_bar .and. is_set(self%given%length)) &
+        call note(self%foreign, 'grid', 'length')
+      if (self%kind /= scene_kind_bar .and. self%given%far_end /= achar(0)) &
+        call note(self%foreign, 'grid', 'far_end')
+    case ('time')
+      call read_time_keys(self, ios, msg, unit, line)
+    case ('viscosity')
+      call read_viscosity(self%given, ios, msg, unit, line)
+    case ('nonlocal')
+      call read_nonlocal(self%nonlocal, self%nl_word, self%nl_sweep, self%nl_length, &
+                         self%nl_h_zeta, ios, msg, unit, line)
+    case ('output')
+      call read_output(self%given, ios, msg, unit, line)
+      call note_output(self%kind, self%given, self%foreign)
+    end select
+  end subroutine read_shared_group
+
+  !> &time, and its keys a plate takes only: mass; stop_on_cutback for a
+  !> bar (a logical has no unset value: read again from the opposite
+  !> value; the key was given when both reads agree).
+  subroutine read_time_keys(self, ios, msg, unit, line)
+    type(shared_keys_t), intent(inout) :: self
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    integer, intent(in), optional :: unit
+    character(len=*), intent(in), optional :: line
+    logical :: soc
+    call read_time(self%given, ios, msg, unit, line)
+    if (ios /= 0) return
+    if (self%kind /= scene_kind_bar) then
+      if (self%given%mass /= achar(0)) call note(self%foreign, 'time', 'mass')
+      return
+    end if
+    soc = self%given%stop_on_cutback
+    self%given%stop_on_cutback = .not. soc
+    if (present(unit)) rewind (unit)
+    call read_time(self%given, ios, msg, unit, line)
+    if (self%given%stop_on_cutback .eqv. soc) call note(self%foreign, 'time', 'stop_on_cutback')
+    self%given%stop_on_cutback = soc
+  end subroutine read_time_keys
+
+  !> The &output keys given of the other kind: a plate's reference keys,
+  !> a bar's band keys.
+  subroutine note_output(kind, given, foreign)
+    integer, intent(in) :: kind
+    type(shared_deck_t), intent(in) :: given
+    type(foreign_t), intent(inout) :: foreign
+    if (kind /= scene_kind_bar) then
+      if (len_trim(given%reference) > 0) call note(foreign, 'output', 'reference')
+      if (len_trim(given%reference_label) > 0) call note(foreign, 'output', 'reference_label')
+      return
+    end if
+    if (is_set(given%band_y)) call note(foreign, 'output', 'band_y')
+    if (is_set(given%band_x)) call note(foreign, 'output', 'band_x')
+    if (is_set(given%band_time)) call note(foreign, 'output', 'band_time')
+    if (is_set(given%band_drop)) call note(foreign, 'output', 'band_drop')
+    if (is_set(given%band_onset_strain)) call note(foreign, 'output', 'band_onset_strain')
+    if (given%band_axis /= achar(0)) call note(foreign, 'output', 'band_axis')
+  end subroutine note_output
+
+  !> The first foreign key given: `grp`, `key`.
+  subroutine note(foreign, grp, key)
+    type(foreign_t), intent(inout) :: foreign
+    character(len=*), intent(in) :: grp, key
+    if (allocated(foreign%key)) return
+    foreign%group = grp
+    foreign%key = key
+  end subroutine note
 
   !> `sh` with every sentinel: nothing given yet.
   subroutine blank(sh)

@@ -53,16 +53,17 @@ contains
       return
     end if
     call check_scene_kind(path, word, which, err)
-  contains
-    function unquote(v) result(u)
-      character(len=*), intent(in) :: v
-      character(len=:), allocatable :: u
-      u = v
-      if (len(u) >= 2) then
-        if (scan(u(1:1), '''"') == 1) u = u(2:len(u) - 1)
-      end if
-    end function unquote
   end subroutine deck_scene_kind
+
+  !> `v` without the quotes around it, if any.
+  pure function unquote(v) result(u)
+    character(len=*), intent(in) :: v
+    character(len=:), allocatable :: u
+    u = v
+    if (len(u) >= 2) then
+      if (scan(u(1:1), '''"') == 1) u = u(2:len(u) - 1)
+    end if
+  end function unquote
 
   !> The kind named `word` ('bar' or 'plate'), or a clear error.
   subroutine check_scene_kind(path, word, kind, err)

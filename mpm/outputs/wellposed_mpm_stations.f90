@@ -10,7 +10,6 @@ module wellposed_mpm_stations
   use wellposed_kinds, only: dp
   use wellposed_out_of_memory, only: out_of_memory
   use wellposed_dense, only: solve_dense
-  use wellposed_mpm_bar_config, only: bar_config_t
   use wellposed_mpm_particles, only: particles_t
   implicit none
   private
@@ -59,19 +58,20 @@ module wellposed_mpm_stations
 
 contains
 
-  !> Stations of `cfg` on the particles `parts` (reference positions x0).
-  subroutine new_stations(self, cfg, parts, t_end)
+  !> `nstations` stations of a bar at x = first + (s - 1) spacing (m) on the
+  !> particles `parts` (reference positions x0), sampled every sample_dt.
+  subroutine new_stations(self, first, spacing, nstations, parts, sample_dt, t_end)
     type(stations_t), intent(out) :: self
-    type(bar_config_t), intent(in) :: cfg
+    real(dp), intent(in) :: first, spacing, sample_dt, t_end
+    integer, intent(in) :: nstations
     type(particles_t), intent(in) :: parts
-    real(dp), intent(in) :: t_end
     integer :: s, p
-    self%n = cfg%nstations
+    self%n = nstations
     allocate (self%x(self%n), self%y(self%n), self%pa(self%n), self%pb(self%n), &
               self%wb(self%n))
     self%y = 0.0_dp
     do s = 1, self%n
-      self%x(s) = cfg%station_first + (s - 1)*cfg%station_spacing
+      self%x(s) = first + (s - 1)*spacing
       ! particles are laid out in order of x0 (1D): find the bracketing pair
       p = count(parts%x0(1, 1:parts%n) <= self%x(s))
       p = max(1, min(parts%n - 1, p))
@@ -80,7 +80,7 @@ contains
       self%wb(s) = (self%x(s) - parts%x0(1, p))/(parts%x0(1, p + 1) - parts%x0(1, p))
       self%wb(s) = max(0.0_dp, min(1.0_dp, self%wb(s)))
     end do
-    call start_stations(self, parts, cfg%sample_dt, t_end)
+    call start_stations(self, parts, sample_dt, t_end)
   end subroutine new_stations
 
   !> Stations of a plate at the reference points (xs(s), ys(s)) (m), each

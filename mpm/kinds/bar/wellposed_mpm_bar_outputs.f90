@@ -115,7 +115,8 @@ contains
     self%cfg = cfg
     call gather_particles(comm, sc%parts, 0, everyone)
     if (comm%rank == 0) then
-      call new_stations(self%st, cfg, everyone, cfg%t_end)
+      call new_stations(self%st, cfg%station_first, cfg%station_spacing, cfg%nstations, &
+                        everyone, cfg%sample_dt, cfg%t_end)
     else
       allocate (self%st%x(0), self%st%time(0), self%st%hist(nfields, 0, 0))
     end if

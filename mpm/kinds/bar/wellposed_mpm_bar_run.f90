@@ -13,7 +13,7 @@ module wellposed_mpm_bar_run
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_bar_config
   use wellposed_mpm_bar_deck, only: read_bar_deck, bar_options_t
-  use wellposed_mpm_deck_checks, only: check_bar_deck
+  use wellposed_mpm_bar_checks, only: check_bar_deck
   use wellposed_mpm_bar_station_summary, only: head_speed
   use wellposed_mpm_nonlocal_summary, only: add_nonlocal_summary
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, timer_umat, timer_transfer, timer_grid
@@ -22,7 +22,7 @@ module wellposed_mpm_bar_run
   use wellposed_mpm_bar_reference, only: reference_plot_args
   use wellposed_mpm_memory, only: resident_bytes_per_particle
   use wellposed_mpm_nonlocal, only: nl_scheme_names
-  use wellposed_mpi, only: comm_t, allreduce_sum, allreduce_max, broadcast
+  use wellposed_mpi, only: comm_t, allreduce_sum, allreduce_max
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
@@ -32,6 +32,7 @@ module wellposed_mpm_bar_run
   use wellposed_fs, only: shell_quote
   use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_mpm_stop, only: stop_alone, stop_all
+  use wellposed_mpm_run_files, only: open_run_files
   use wellposed_mpm_output, only: output_list_t, stage_start, stage_finish
   use wellposed_mpm_snapshots, only: new_snapshot_store
   use wellposed_mpm_checkpoints, only: run_checkpoints_t, new_run_checkpoints
@@ -94,7 +95,6 @@ contains
     type(mpm_cli_t), intent(in) :: cli
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable :: err
-    character(len=:), allocatable :: h5_path
     logical :: root
     root = comm%rank == 0
     call read_bar_deck(cli%deck_path, cli%overrides, r%cfg, r%opts, r%deck_text, err)
@@ -107,15 +107,7 @@ contains
     if (allocated(err)) call stop_all(comm, r%rd, cli%deck_path//': '//err%message)
     r%ghost = r%scene%exchange%ghost_layers()
     ! rank 0 makes the run folder; run.h5 in it is written by every rank
-    h5_path = ''
-    if (root) then
-      call r%rd%create(cli%out_root, r%cfg%name, cli%deck_path, err)
-      if (allocated(err)) call stop_alone(comm, r%rd, err)
-      h5_path = r%rd%path('run.h5')
-    end if
-    call broadcast(comm, h5_path, 0)
-    call r%h5%create(comm, h5_path, err)
-    if (allocated(err)) call stop_all(comm, r%rd, err)
+    call open_run_files(r%rd, r%h5, comm, cli%out_root, r%cfg%name, cli%deck_path)
     r%ntotal = r%scene%parts%n
     call allreduce_sum(comm, r%ntotal)
     call add_outputs(r, comm)

@@ -9,7 +9,8 @@ module wellposed_mpm_plate_kind
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: real_text
-  use wellposed_umat_host, only: host_call, host_error, verdict_ok, verdict_cutback
+  use wellposed_umat_host, only: umat_host_t, host_call, host_error, verdict_ok, verdict_cutback
+  use wellposed_mpm_materials, only: mpm_materials_t
   use wellposed_mpm_particles, only: particles_t
   use wellposed_mpm_shape_2d, only: shape_2d, shape2d_linear
   use wellposed_mpm_particle_umat, only: strain_increment
@@ -20,7 +21,7 @@ module wellposed_mpm_plate_kind
   implicit none
   private
   public :: plate_kind_t, platen_nodes, applied_stress, platen_base, apparent_strain, &
-            platen_velocity, plate_config
+            platen_velocity, plate_config, probe_stress
 
   !> A plate: its deck's configuration, the top's vertical displacement
   !> (m), the platen's lowest node row (none yet: -huge) and the probed
@@ -52,10 +53,12 @@ contains
     real(dp) :: ds(4), m_k
     integer :: k
     do k = 1, sc%mats%n
-      ds = probe_stress(sc, k, [-1.0e-7_dp, 0.0_dp, 0.0_dp, 0.0_dp], self%cfg%nstatv, err)
+      ds = probe_stress(sc%host, sc%mats, k, [-1.0e-7_dp, 0.0_dp, 0.0_dp, 0.0_dp], &
+                        self%cfg%nstatv, 'probing the moduli', err)
       if (allocated(err)) return
       m_k = -ds(1)/1.0e-7_dp
-      ds = probe_stress(sc, k, [-1.0e-7_dp, -1.0e-7_dp, -1.0e-7_dp, 0.0_dp], self%cfg%nstatv, err)
+      ds = probe_stress(sc%host, sc%mats, k, [-1.0e-7_dp, -1.0e-7_dp, -1.0e-7_dp, 0.0_dp], &
+                        self%cfg%nstatv, 'probing the moduli', err)
       if (allocated(err)) return
       if (.not. (m_k > 0.0_dp .and. -ds(1)/3.0e-7_dp > 0.0_dp)) then
         call new_error(err, status_invalid, 'material', 'the UMAT answers no positive '// &
@@ -71,36 +74,40 @@ contains
     sc%c_visc = sqrt(self%bulk/self%cfg%density)
   end subroutine plate_probe
 
-  !> The stress of one UMAT call of material m from the natural state over
-  !> d (0 when the UMAT asks to cut back; a refusal or a non-finite answer
-  !> is the error err), or of the VUMAT's for a material called through it.
-  function probe_stress(sc, m, d, nstatv, err) result(dsig)
-    class(mpm_scene_t), intent(inout) :: sc
+  !> The stress of one call of material m of `mats` through `host` from the
+  !> natural state over d (0 when the UMAT asks to cut back; a refusal or a
+  !> non-finite answer is the error err, its context `what`), or of the
+  !> VUMAT's for a material called through it. The scene's probe and the
+  !> deck's step check (wellposed_mpm_plate_checks) both call it.
+  function probe_stress(host, mats, m, d, nstatv, what, err) result(dsig)
+    type(umat_host_t), intent(inout) :: host
+    type(mpm_materials_t), intent(in) :: mats
     integer, intent(in) :: m, nstatv
     real(dp), intent(in) :: d(4)
+    character(len=*), intent(in) :: what
     type(error_t), allocatable, intent(inout) :: err
     real(dp) :: dsig(4), s(4), sv(nstatv), e(4)
     integer :: verdict, nsub
     s = 0.0_dp
     sv = 0.0_dp
     e = 0.0_dp
-    sc%host%time = 0.0_dp
-    sc%host%dtime = 1.0e-6_dp
-    sc%host%noel = 1
-    sc%host%coords = 0.0_dp
-    if (sc%mats%vumat(m)) then
+    host%time = 0.0_dp
+    host%dtime = 1.0e-6_dp
+    host%noel = 1
+    host%coords = 0.0_dp
+    if (mats%vumat(m)) then
       ! through the VUMAT its particles are called through
-      call material_update(sc%host, sc%mats%props(1:sc%mats%nprops(m), m), .true., s, sv, e, d, &
+      call material_update(host, mats%props(1:mats%nprops(m), m), .true., s, sv, e, d, &
                            nsub, err)
       dsig = s
-      if (allocated(err)) err%message = err%message//' (probing the moduli)'
+      if (allocated(err)) err%message = err%message//' ('//what//')'
       return
     end if
-    call host_call(sc%host, sc%mats%props(1:sc%mats%nprops(m), m), s, sv, e, d, verdict)
+    call host_call(host, mats%props(1:mats%nprops(m), m), s, sv, e, d, verdict)
     dsig = s
     if (verdict /= verdict_ok) dsig = 0.0_dp
     if (verdict /= verdict_ok .and. verdict /= verdict_cutback) &
-      call host_error(sc%host, verdict, err, 'probing the moduli')
+      call host_error(host, verdict, err, what)
   end function probe_stress
 
   !> The platen's node conditions of the step (platen_nodes) and its

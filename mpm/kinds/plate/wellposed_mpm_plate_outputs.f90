@@ -16,7 +16,7 @@ module wellposed_mpm_plate_outputs
   use wellposed_mpm_plate_build, only: apparent_strain
   use wellposed_mpm_decomposition, only: gather_by_gid
   use wellposed_mpm_plate_cases, only: band_width
-  use wellposed_mpm_band_watch, only: band_watch_t
+  use wellposed_mpm_plate_band_watch, only: band_watch_t
   use wellposed_mpm_plate_stations, only: plate_stations_t
   use wellposed_mpm_statev_outputs, only: plate_field_rows, add_plate_band, no_slot_why, &
                                           slot_plastic_strain
@@ -66,7 +66,7 @@ module wellposed_mpm_plate_outputs
     procedure :: get => band_get
   end type plate_band_t
 
-  !> The band watch (wellposed_mpm_band_watch) on the case's curve.
+  !> The band watch (wellposed_mpm_plate_band_watch) on the case's curve.
   type, extends(mpm_output_t) :: plate_watch_t
     character(len=:), allocatable :: tag
     type(band_watch_t) :: bw

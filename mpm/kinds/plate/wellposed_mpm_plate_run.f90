@@ -15,22 +15,23 @@ module wellposed_mpm_plate_run
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, max_substeps
   use wellposed_mpm_ranks, only: mpm_ranks_t, new_mpm_ranks
   use wellposed_mpm_shape_2d, only: shape2d_names
-  use wellposed_mpm_bar_config, only: scheme_names
+  use wellposed_mpm_method, only: scheme_names
   use wellposed_mpm_nonlocal, only: nl_scheme_names
   use wellposed_mpm_plate_deck, only: read_plate_deck, plate_study_t
-  use wellposed_mpm_deck_checks, only: check_plate_deck
+  use wellposed_mpm_plate_checks, only: check_plate_deck
   use wellposed_mpm_paths, only: find_data, plate_plot_name
   use wellposed_mpm_plate_cases, only: case_out_t, case_tag, case_config, curve_difference, &
                                        write_csv_curve, write_csv_iterations
   use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_mpm_nonlocal_summary, only: add_nonlocal_summary, bound_text
-  use wellposed_mpm_band_watch, only: new_band_watch
+  use wellposed_mpm_plate_band_watch, only: new_band_watch
   use wellposed_mpm_statev_outputs, only: plate_field_names, plate_field_widths, &
                                           slot_plastic_strain
   use wellposed_mpm_plate_stations, only: new_plate_stations
   use wellposed_mpm_stop, only: stop_alone, stop_all
+  use wellposed_mpm_run_files, only: open_run_files
   use wellposed_mpm_snapshots, only: new_snapshot_store
-  use wellposed_mpi, only: comm_t, allreduce_sum, broadcast
+  use wellposed_mpi, only: comm_t, allreduce_sum
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
   use wellposed_h5_parallel, only: h5_parallel_file_t, h5_writer_name
@@ -104,7 +105,6 @@ contains
     type(mpm_cli_t), intent(in) :: cli
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable :: err
-    character(len=:), allocatable :: h5_path
     logical :: root
     root = comm%rank == 0
     call new_mpm_ranks(r%ranks, comm)
@@ -129,15 +129,7 @@ contains
       r%done%current = r%ic0
     end if
     ! rank 0 makes the run folder; run.h5 in it is written by every rank
-    h5_path = ''
-    if (root) then
-      call r%rd%create(cli%out_root, r%cfg0%name, cli%deck_path, err)
-      if (allocated(err)) call stop_alone(comm, r%rd, err%message)
-      h5_path = r%rd%path('run.h5')
-    end if
-    call broadcast(comm, h5_path, 0)
-    call r%h5%create(comm, h5_path, err)
-    if (allocated(err)) call stop_all(comm, r%rd, err)
+    call open_run_files(r%rd, r%h5, comm, cli%out_root, r%cfg0%name, cli%deck_path)
     call r%h5%write_attr('wellposed_version', wellposed_version)
     call r%h5%write_attr('git_revision', wellposed_git_revision)
     call r%h5%write_attr('deck', r%deck_text)

@@ -52,11 +52,13 @@ program parallel_io_main
   call new_decomposition(dec, comm, ref%grid%nnodes - 1, 1, 1, 1, ref%grid%origin, &
                          ref%grid%dx, err)
   call stop_on(err)
-  call new_stations(st_ref, cfg, ref%parts, cfg%t_end)
+  call new_stations(st_ref, cfg%station_first, cfg%station_spacing, cfg%nstations, ref%parts, &
+                    cfg%sample_dt, cfg%t_end)
   ! the decomposed view: stations set up on rank 0 over the gathered particles
   call distribute()
   call gather_particles(comm, mine, 0, gathered)
-  if (comm%rank == 0) call new_stations(st, cfg, gathered, cfg%t_end)
+  if (comm%rank == 0) call new_stations(st, cfg%station_first, cfg%station_spacing, &
+                                        cfg%nstations, gathered, cfg%sample_dt, cfg%t_end)
   call make_station_proxy(st, comm, n, mine, proxy)
   do k = 1, nsteps
     call advance(ref, err)
@@ -80,7 +82,8 @@ program parallel_io_main
                all(gathered%gid(1:n) == ref%parts%gid(1:n)), &
                'gather_particles: bitwise the serial particles, in id order')
     call put_stations(ckpt, 'stations/', st_ref)
-    call new_stations(st2, cfg, ref%parts, cfg%t_end)
+    call new_stations(st2, cfg%station_first, cfg%station_spacing, cfg%nstations, ref%parts, &
+                      cfg%sample_dt, cfg%t_end)
     call get_stations(ckpt, 'stations/', st2, err)
     call check(.not. allocated(err), 'stations read back from a checkpoint')
     call check(st2%ns == st_ref%ns .and. st2%t_prev == st_ref%t_prev .and. &

@@ -6,7 +6,7 @@
 !> normal to itself in the middle 60 % of the height; and the platen's
 !> layer stress after the last step (docs/research/bands.md, "The platen").
 !> Collective: every rank calls `step` each step with the same curve.
-module wellposed_mpm_band_watch
+module wellposed_mpm_plate_band_watch
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_text, only: real_text
@@ -301,4 +301,4 @@ contains
     end subroutine get_flag
   end subroutine watch_get
 
-end module wellposed_mpm_band_watch
+end module wellposed_mpm_plate_band_watch
