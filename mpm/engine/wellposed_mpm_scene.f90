@@ -20,7 +20,7 @@ module wellposed_mpm_scene
   use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t
   implicit none
   private
-  public :: mpm_scene_t, scene_kind_t, size_workspace, max_substeps, timer_transfer, &
+  public :: mpm_scene_t, scene_kind_t, probe_kind, size_workspace, max_substeps, timer_transfer, &
             timer_grid, timer_umat, ntimers
 
   integer, parameter :: timer_transfer = 1, timer_grid = 2, timer_umat = 3, ntimers = 3
@@ -141,6 +141,17 @@ module wellposed_mpm_scene
   end interface
 
 contains
+
+  !> The kind's moduli probe (kind_probe) on the scene: the kind leaves the
+  !> scene for the call, as in the step, so it is changed through one name.
+  subroutine probe_kind(self, err)
+    type(mpm_scene_t), intent(inout) :: self
+    type(error_t), allocatable, intent(out) :: err
+    class(scene_kind_t), allocatable :: kind
+    call move_alloc(self%kind, kind)
+    call kind%probe(self, err)
+    call move_alloc(kind, self%kind)
+  end subroutine probe_kind
 
   !> Per-particle arrays beside particles_t for as many particles as the
   !> set can hold (a rank's count changes as particles cross; a restart

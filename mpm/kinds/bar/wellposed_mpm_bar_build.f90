@@ -12,7 +12,7 @@ module wellposed_mpm_bar_build
   use wellposed_mpm_shape, only: support_size
   use wellposed_mpm_exchange, only: mpm_exchange_t
   use wellposed_mpm_materials, only: single_material
-  use wellposed_mpm_scene, only: mpm_scene_t
+  use wellposed_mpm_scene, only: mpm_scene_t, probe_kind
   use wellposed_mpm_scene_build, only: start_scene, setup_ranks, scene_particles, &
                                        assign_materials, init_particles
   use wellposed_mpm_scene_sums, only: kinetic_energy, total_momentum
@@ -106,7 +106,7 @@ contains
     end do
 
     ! the stiffest material's moduli (the time step), the start's sums
-    call self%kind%probe(self, err)
+    call probe_kind(self, err)
     if (allocated(err)) return
     select type (bk => self%kind)
     type is (bar_kind_t)

@@ -11,8 +11,9 @@ module wellposed_mpm_plate_build
   use wellposed_mpm_exchange, only: mpm_exchange_t
   use wellposed_mpm_shape_2d, only: support_size_2d, shape2d_reach
   use wellposed_mpm_plate_config, only: plate_config_t, check_plate_config, bc_roller, &
-                                        bc_plate_fixed, bc_plate_free, bc_velocity, plate_bc_names, platen_names
-  use wellposed_mpm_scene, only: mpm_scene_t
+                                        bc_plate_fixed, bc_plate_free, bc_velocity, &
+                                        plate_bc_names, platen_names
+  use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t, probe_kind
   use wellposed_mpm_scene_build, only: start_scene, setup_ranks, scene_particles, &
                                        assign_materials, init_particles
   use wellposed_mpm_plate_kind, only: plate_kind_t, platen_nodes, platen_velocity, &
@@ -36,6 +37,7 @@ contains
     integer :: ncx, ncy, np, p, a, b, g, nlocal, cap, rank
     real(dp) :: lp, xy(2)
     type(plate_kind_t) :: plate
+    class(scene_kind_t), allocatable :: kind
 
     call check_plate_config(cfg, err)
     if (allocated(err)) return
@@ -53,10 +55,13 @@ contains
     call setup_ranks(self, cfg%nonlocal, self%nx*self%ny, &
                      shape2d_reach(cfg%shape), err, exchange)
     if (allocated(err)) return
-    select type (pk => self%kind)
+    ! the kind out of the scene for the call (no alias of it through self)
+    call move_alloc(self%kind, kind)
+    select type (kind)
     type is (plate_kind_t)
-      call platen_nodes(pk, self)
+      call platen_nodes(kind, self)
     end select
+    call move_alloc(kind, self%kind)
 
     np = ncx*ncy*cfg%ppc**2
     self%ntotal = np
@@ -94,7 +99,7 @@ contains
     self%parts%stress(:, 1:nlocal) = 0.0_dp
 
     ! the stiffest material's moduli (the time step)
-    call self%kind%probe(self, err)
+    call probe_kind(self, err)
 
   end subroutine new_plate_scene
 
