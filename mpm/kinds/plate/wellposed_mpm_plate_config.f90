@@ -11,13 +11,14 @@ module wellposed_mpm_plate_config
   use wellposed_mpm_nonlocal, only: nonlocal_settings_t
   implicit none
   private
-  public :: plate_config_t, check_plate_config, bc_roller, bc_plate_fixed, bc_plate_free, bc_velocity, plate_bc_names
+  public :: plate_config_t, check_plate_config, bc_roller, bc_plate_fixed, bc_plate_free, &
+            bc_velocity, plate_bc_names
   public :: platen_surface, platen_grid, platen_contact, platen_names
 
   !> Boundary kinds in 2D.
   integer, parameter :: bc_roller = 1, bc_plate_fixed = 2, bc_plate_free = 3, bc_velocity = 4
-  character(len=8), parameter :: plate_bc_names(4) = [character(len=8) :: 'roller', 'fixed', 'free', &
-                                                 'velocity']
+  character(len=8), parameter :: plate_bc_names(4) = [character(len=8) :: 'roller', 'fixed', &
+                                                      'free', 'velocity']
   integer, parameter :: max_props2 = 40
   !> Where the platen acts (docs/research/bands.md, "The platen"): 'surface', on the
   !> nodes at and above the highest node row at or below the body's current

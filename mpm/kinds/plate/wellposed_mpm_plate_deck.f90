@@ -17,8 +17,8 @@ module wellposed_mpm_plate_deck
   use wellposed_umat_layout, only: prop_k0
   use wellposed_mpm_deck_file, only: deck_groups_t, read_sources, sets_list
   use wellposed_mpm_scene_kind, only: scene_kind_plate
-  use wellposed_mpm_plate_build, only: plate_config_t, plate_bc_names, bc_roller, bc_plate_fixed, bc_plate_free, &
-                                        bc_velocity, platen_names
+  use wellposed_mpm_plate_build, only: plate_config_t, plate_bc_names, bc_roller, &
+                                       bc_plate_fixed, bc_plate_free, bc_velocity, platen_names
   use wellposed_mpm_shape_2d, only: shape2d_names
   implicit none
   private
