@@ -12,7 +12,7 @@ module wellposed_batch
   use wellposed_text, only: int_text
   use wellposed_fs, only: make_dirs, path_exists, shell_quote
   use wellposed_checked_io, only: out_file_t
-  use wellposed_deck, only: read_text_file
+  use wellposed_deck, only: read_text_file, lower
   implicit none
   private
   public :: batch_job_t, read_batch, run_batch_jobs, run_one_job, write_batch_summary, &
@@ -273,16 +273,6 @@ contains
     if (len(line) == 0) line = last_any
     if (len(line) > 400) line = line(1:400)//' ...'
   end function last_error_line
-
-  pure function lower(s) result(r)
-    character(len=*), intent(in) :: s
-    character(len=len(s)) :: r
-    integer :: i
-    r = s
-    do i = 1, len(r)
-      if (r(i:i) >= 'A' .and. r(i:i) <= 'Z') r(i:i) = achar(iachar(r(i:i)) + 32)
-    end do
-  end function lower
 
   !> The `key = value` lines of a summary.txt or job record: keys(i) and
   !> values(i) (value without its `# comment`; keys up to 256 characters,

@@ -17,7 +17,7 @@ module wellposed_deck
   implicit none
   private
   public :: read_text_file, read_deck_text, check_deck_text, namelist_error, check_required, &
-            check_finite, check_range, unset, is_set, real_str, has_group, lower, check_word, &
+            check_finite, check_range, unset, is_set, value_text, has_group, lower, check_word, &
             deck_essence, check_group_names, unheld_stress_note
 
   !> Sentinel for "not given in the deck": a required real key is set to
@@ -61,7 +61,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     if (.not. ieee_is_finite(value)) then
       call new_error(err, status_invalid, key, path//': &'//group//': '//key//' = '// &
-        real_str(value)//' is not a finite number')
+        value_text(value)//' is not a finite number')
     end if
   end subroutine check_finite_scalar
 
@@ -76,7 +76,7 @@ contains
       if (.not. ieee_is_finite(value(i))) then
         write (idx, '(i0)') i
         call new_error(err, status_invalid, key, path//': &'//group//': '//key//'('// &
-          trim(idx)//') = '//real_str(value(i))//' is not a finite number')
+          trim(idx)//') = '//value_text(value(i))//' is not a finite number')
         return
       end if
     end do
@@ -91,7 +91,7 @@ contains
     if (allocated(err)) return
     if (value < lo .or. value > hi) then
       call new_error(err, status_invalid, key, path//': &'//group//': '//key//' = '// &
-        real_str(value)//' is out of range: valid is '//range_text(lo, hi))
+        value_text(value)//' is out of range: valid is '//range_text(lo, hi))
     end if
   end subroutine check_range_real
 
@@ -104,12 +104,12 @@ contains
       if (lo == tiny(1.0_dp)) then
         text = '> 0'
       else
-        text = '>= '//real_str(lo)
+        text = '>= '//value_text(lo)
       end if
     else if (lo <= -huge(1.0_dp)) then
-      text = '<= '//real_str(hi)
+      text = '<= '//value_text(hi)
     else
-      text = '['//real_str(lo)//', '//real_str(hi)//']'
+      text = '['//value_text(lo)//', '//value_text(hi)//']'
     end if
   end function range_text
 
@@ -128,8 +128,9 @@ contains
     end if
   end subroutine check_range_int
 
-  !> A real as short text (ES format; NaN, Inf and `unset` spelled out).
-  pure function real_str(x) result(text)
+  !> A deck value as the messages show it: plain decimals from 0.1 to 1e6,
+  !> else real_text's short ES form; NaN, Inf and `unset` spelled out.
+  pure function value_text(x) result(text)
     real(dp), intent(in) :: x
     character(len=:), allocatable :: text
     character(len=32) :: buffer
@@ -157,7 +158,7 @@ contains
     else
       text = real_text(x)
     end if
-  end function real_str
+  end function value_text
 
   !> `id` is the index of the word `value` (case-insensitive, trailing
   !> blanks ignored) in `names` (lower case); when it is none of them, id = 0

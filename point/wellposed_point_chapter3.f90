@@ -12,7 +12,7 @@ module wellposed_point_chapter3
   use wellposed_point_path, only: leg_t, solver_t, run_leg
   use wellposed_point_probes, only: lode2, from_lode2, pi
   use wellposed_fs, only: int_text
-  use wellposed_deck, only: real_str
+  use wellposed_deck, only: value_text
   implicit none
   private
   public :: ch3_config_t, ch3_result_t, run_chapter3, polar_directions

@@ -8,7 +8,7 @@ module wellposed_point_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: read_deck_text, namelist_error, check_required, check_finite, &
-                            check_range, unset, is_set, has_group, real_str, lower, &
+                            check_range, unset, is_set, has_group, value_text, lower, &
                             check_group_names
   use wellposed_point_material, only: material_t, ntens
   use wellposed_point_path, only: leg_t, solver_t
@@ -338,7 +338,7 @@ contains
       do k = reach + 1, max_statev
         if (statev(k) /= 0.0_dp) then
           call new_error(err, status_invalid, 'statev', deck%path//': &initial: statev('// &
-            int_text(k)//') = '//real_str(statev(k))//' lies past every material''s '// &
+            int_text(k)//') = '//value_text(statev(k))//' lies past every material''s '// &
             'NSTATV (the largest is '//int_text(reach)//'): no UMAT would read it')
           return
         end if

@@ -6,7 +6,7 @@ module wellposed_point_deck_studies
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: namelist_error, check_required, check_finite, check_range, unset, &
-                            is_set, has_group, real_str
+                            is_set, has_group, value_text
   use wellposed_point_chapter3, only: ch3_config_t
   implicit none
   private
@@ -63,7 +63,7 @@ contains
     if (allocated(err)) return
     if (wave_sign /= 1.0_dp .and. wave_sign /= -1.0_dp) then
       call new_error(err, status_invalid, 'wave_sign', path//': &probe: wave_sign = '// &
-        real_str(wave_sign)//' must be 1 (extension) or -1 (compression)'); return
+        value_text(wave_sign)//' must be 1 (extension) or -1 (compression)'); return
     end if
     if (gudehus) then
       call check_required(path, 'probe', 'gudehus_size', is_set(gudehus_size), err)

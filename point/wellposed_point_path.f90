@@ -14,7 +14,7 @@ module wellposed_point_path
   use wellposed_dense, only: solve_dense
   use wellposed_point_material, only: material_t, point_state_t, umat_increment, ntens
   use wellposed_fs, only: int_text
-  use wellposed_deck, only: real_str
+  use wellposed_deck, only: value_text
   implicit none
   private
   public :: leg_t, solver_t, history_t, run_leg, solve_increment, virgin_stiffness
@@ -168,13 +168,13 @@ contains
         ! they allow (successes with ever smaller increments must not loop)
         if (ncut > solver%max_cutbacks .or. dfrac < step*0.5_dp**solver%max_cutbacks) then
           call new_error(err, status_cutback, 'leg', 'leg '//int_text(ileg)//' cannot be '// &
-            'followed: at time '//real_str(s%time)//' (fraction '//real_str(frac)// &
+            'followed: at time '//value_text(s%time)//' (fraction '//value_text(frac)// &
             ' of the leg) '//why//' even after '//int_text(solver%max_cutbacks)// &
-            ' cut-backs to an increment of '//real_str(dfrac)//' of the leg. A stress '// &
+            ' cut-backs to an increment of '//value_text(dfrac)//' of the leg. A stress '// &
             'target beyond what the material can carry (perfect plasticity, softening) '// &
             'cannot be reached under stress control; use strain control there. A UMAT whose '// &
             'stress is not smooth or not converged to better than stress_tol = '// &
-            real_str(solver%stress_tol)//' (relative) needs a larger stress_tol in &run.')
+            value_text(solver%stress_tol)//' (relative) needs a larger stress_tol in &run.')
           return
         end if
         dfrac = dfrac*max(0.1_dp, min(0.5_dp, pnewdt))
@@ -192,7 +192,7 @@ contains
     end do
     if (present(label) .and. solver%verbose) then
       write (*, '(a)') '  ['//label//'] leg '//int_text(ileg)//' done: '// &
-        int_text(leg%n_inc)//' increments, time '//real_str(s%time)
+        int_text(leg%n_inc)//' increments, time '//value_text(s%time)
     end if
 
   contains
@@ -297,8 +297,8 @@ contains
       iters = iters + 1
       if (iters > solver%max_iter) then
         why = 'the stress-controlled components did not converge in '// &
-          int_text(solver%max_iter)//' Newton iterations (residual '//real_str(it%rnorm)// &
-          ', tolerance '//real_str(tol)//')'
+          int_text(solver%max_iter)//' Newton iterations (residual '//value_text(it%rnorm)// &
+          ', tolerance '//value_text(tol)//')'
         pnewdt = 0.5_dp
         return
       end if
@@ -443,7 +443,7 @@ contains
     else
       m = -1
       why = 'no step along the Newton direction lowers the stress residual (residual '// &
-        real_str(rnorm)//', tolerance '//real_str(tol)//')'
+        value_text(rnorm)//', tolerance '//value_text(tol)//')'
       pnewdt = 0.5_dp
     end if
   end function next_mode
@@ -464,7 +464,7 @@ contains
     it%rnorm = huge(1.0_dp)
     it%merit = huge(1.0_dp)
     if (pnewdt < 1.0_dp) then
-      why = 'the UMAT asked for a smaller increment (PNEWDT = '//real_str(pnewdt)//')'
+      why = 'the UMAT asked for a smaller increment (PNEWDT = '//value_text(pnewdt)//')'
       return
     end if
     associate (u => inc%u, nu => inc%nu)

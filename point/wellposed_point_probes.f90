@@ -12,7 +12,7 @@ module wellposed_point_probes
   use wellposed_lapack, only: sym_eigen, general_eigenvalues
   use wellposed_point_material, only: material_t, point_state_t, umat_increment, ntens
   use wellposed_point_path, only: leg_t, solver_t, run_leg
-  use wellposed_deck, only: real_str
+  use wellposed_deck, only: value_text
   implicit none
   private
   public :: elastic_stiffness, lode_frame_t, find_lode_frame, rtheta_probe, acoustic_t, &
@@ -62,7 +62,7 @@ contains
     end if
     if (pnewdt <= 0.0_dp .or. .not. all(ieee_is_finite(c))) then
       call new_error(err, status_invalid, 'props', 'material "'//mat%label//'": no '// &
-        'elastic stiffness from the UMAT at the virgin state (PNEWDT = '//real_str(pnewdt)//')')
+        'elastic stiffness from the UMAT at the virgin state (PNEWDT = '//value_text(pnewdt)//')')
     end if
   end subroutine elastic_stiffness
 
@@ -83,8 +83,8 @@ contains
     end if
     if (pnewdt < 1.0_dp) then
       call new_error(err, status_invalid, 'probe_strain', 'material "'//mat%label// &
-        '": the UMAT refused a probe increment of size probe_strain = '//real_str(eps)// &
-        ' (PNEWDT = '//real_str(pnewdt)//')')
+        '": the UMAT refused a probe increment of size probe_strain = '//value_text(eps)// &
+        ' (PNEWDT = '//value_text(pnewdt)//')')
       return
     end if
     dsig = (s1%stress - s%stress)/eps
@@ -333,14 +333,14 @@ contains
       leg%target = s%stress + from_lode2(dsig2(i, :))
       call run_leg(mat, sp, leg, i, quiet, err)
       if (allocated(err)) then
-        err%message = 'Gudehus probe at phi = '//real_str(phi_deg(i))//' deg: '//err%message
+        err%message = 'Gudehus probe at phi = '//value_text(phi_deg(i))//' deg: '//err%message
         return
       end if
       deps2(i, :) = lode2(sp%strain - s%strain)
       leg%target = s%stress
       call run_leg(mat, sp, leg, i, quiet, err)
       if (allocated(err)) then
-        err%message = 'Gudehus unloading at phi = '//real_str(phi_deg(i))//' deg: '//err%message
+        err%message = 'Gudehus unloading at phi = '//value_text(phi_deg(i))//' deg: '//err%message
         return
       end if
       depsp2(i, :) = lode2(sp%strain - s%strain)

@@ -10,7 +10,7 @@ program wellposed_point
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_fs, only: int_text, shell_quote
-  use wellposed_deck, only: real_str
+  use wellposed_deck, only: value_text
   use wellposed_run_dir, only: run_dir_t
   use wellposed_summary, only: summary_t
   use wellposed_h5, only: h5_file_t
@@ -146,7 +146,7 @@ program wellposed_point
   call run%commit(err)
   call check(err)
   call system_clock(t1)
-  write (output_unit, '(a)') 'done in '//real_str(real(t1 - t0, dp)/real(rate, dp))// &
+  write (output_unit, '(a)') 'done in '//value_text(real(t1 - t0, dp)/real(rate, dp))// &
     ' s: '//run%final
 
 contains

@@ -8,7 +8,7 @@
 module wellposed_mpm_deck_shared
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: check_finite, check_word, unset, is_set, lower, real_str, &
+  use wellposed_deck, only: check_finite, check_word, unset, is_set, lower, value_text, &
                             check_group_names
   use wellposed_mpm_deck_file, only: open_deck, deck_groups_t, read_sources
   use wellposed_mpm_scene_kind, only: check_scene_name, scene_kind_bar, scene_kind_names
@@ -300,7 +300,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     call check_finite(path, 'viscosity', key, a, err); if (allocated(err)) return
     if (a < 0.0_dp) call new_error(err, status_invalid, key, path//': &viscosity: '//key// &
-      ' = '//real_str(a)//' must be >= 0 (the coefficient of a bulk artificial viscosity; '// &
+      ' = '//value_text(a)//' must be >= 0 (the coefficient of a bulk artificial viscosity; '// &
       '0 switches its term off)')
   end subroutine check_viscosity
 

@@ -9,7 +9,7 @@ module wellposed_mpm_bar_deck
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_deck, only: check_range, check_finite, unset, is_set, real_str, check_word
+  use wellposed_deck, only: check_range, check_finite, unset, is_set, value_text, check_word
   use wellposed_mpm_deck_file, only: deck_groups_t, read_sources
   use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck
   use wellposed_mpm_scene_kind, only: scene_kind_bar
@@ -207,14 +207,14 @@ contains
     end do
     if (.not. k%frequency > 0.0_dp) then
       call new_error(err, status_invalid, 'frequency', path//': &load: frequency = '// &
-        real_str(k%frequency)//' must be > 0 Hz'); return
+        value_text(k%frequency)//' must be > 0 Hz'); return
     end if
     if (.not. two_pi*k%frequency*abs(k%amplitude) < abs(k%rate)) then
       call new_error(err, status_invalid, 'amplitude', path//': &load: amplitude = '// &
-        real_str(k%amplitude)//' Pa at frequency = '//real_str(k%frequency)//' Hz changes '// &
+        value_text(k%amplitude)//' Pa at frequency = '//value_text(k%frequency)//' Hz changes '// &
         'the surface stress at up to 2 pi frequency |amplitude| = '// &
-        real_str(two_pi*k%frequency*abs(k%amplitude))//' Pa/s, which must stay below |rate| '// &
-        '= '//real_str(abs(k%rate))//" Pa/s: with pulse = 'ramp_sine' the surface must "// &
+        value_text(two_pi*k%frequency*abs(k%amplitude))//' Pa/s, which must stay below |rate| '// &
+        '= '//value_text(abs(k%rate))//" Pa/s: with pulse = 'ramp_sine' the surface must "// &
         'never unload'); return
     end if
     cfg%load_rate = k%rate; cfg%load_amplitude = k%amplitude; cfg%load_frequency = k%frequency
