@@ -14,7 +14,7 @@ module wellposed_vumat_adapter
   use wellposed_tensor, only: ntens6
   use wellposed_dp_params, only: dp_params_t
   use wellposed_dp_point, only: point_update, has_closed_form
-  use wellposed_dp_block, only: closed_form_block, block_chunk, deferred_points
+  use wellposed_dp_closed_form, only: closed_form_block, block_chunk, deferred_points
   use wellposed_hardening, only: hardening_t
   use wellposed_generalized_dl, only: gdl_update
   use wellposed_umat_adapter, only: check_props, explain, fault_non_finite, state_carry, &
