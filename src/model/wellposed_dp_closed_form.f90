@@ -1,14 +1,10 @@
-!> The closed-form Drucker-Prager update (regular flow rule, linear
-!> hardening; eq. 4.36-4.39, the apex return, Duvaut-Lions eq. 2.10), written
-!> once as branch-free per-point kernels in tensor components [11, 22, 33,
-!> 12, 13, 23]: cf_trial, cf_cone, cf_apex, cf_relax. point_closed_form (the
-!> UMAT's path, through point_update) calls them on one point; the block
-!> loops (closed_form_block, the VUMAT's path) call them on every point of
-!> a chunk, arrays (block_chunk, 6), and vectorise (-fno-trapping-math:
-!> every divisor is kept >= `floor`, so no lane traps). Points the guards
-!> would change are deferred to point_update. One file, so that the
-!> kernels inline into both without link-time optimisation; they are the
-!> only arithmetic: both paths are bitwise the same.
+!> The closed-form Drucker-Prager update (linear hardening; eq. 4.36-4.39,
+!> apex return, Duvaut-Lions eq. 2.10) written once, as branch-free kernels
+!> per point (tensor components 11, 22, 33, 12, 13, 23): cf_trial, cf_cone,
+!> cf_apex, cf_relax, divisors kept >= `floor`. point_closed_form (the
+!> UMAT's path) calls them on one point, closed_form_block (the VUMAT's) on
+!> chunks, vectorised. One file, so they inline into both: bitwise the same
+!> (docs/guide/performance.md, "The VUMAT").
 module wellposed_dp_closed_form
   use wellposed_kinds, only: dp
   use wellposed_error, only: status_cutback
@@ -146,10 +142,10 @@ contains
 
   !> The closed-form increment (regular flow rule, linear hardening, eq.
   !> 4.36-4.39; apex return; Duvaut-Lions eq. 2.10 by backward Euler), in
-  !> tensor components: the kernels on one point. `status` is 0 elastic, 1 cone, 2 apex, or status_cutback where
-  !> no closed-form answer exists (a cylinder softened below any admissible
-  !> stress, or an apex equation without a root): the arguments are then
-  !> untouched. `tangent(n, n)` (n = 4 or 6), when present, receives the
+  !> tensor components: the kernels on one point. `status` is 0 elastic, 1
+  !> cone, 2 apex, or status_cutback where no closed-form answer exists (a
+  !> cylinder softened below any admissible stress, or an apex equation
+  !> without a root): the arguments are then untouched. `tangent(n, n)` (n = 4 or 6), when present, receives the
   !> leading n x n block of d sigma/d eps (Voigt).
   pure subroutine point_closed_form(p, sig, eps_p, z, zeta, avg_dlambda, de, dtime, dlambda, &
                                     f, status, n, tangent)
