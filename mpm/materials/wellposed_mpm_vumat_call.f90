@@ -84,14 +84,19 @@ contains
       n = min(vumat_block, size(idx) - k0 + 1)
       do i = 1, n
         p = idx(k0 - 1 + i)
-        call point_in(w, n, i, mat, stress(:, p), de(:, p), statev(:, p))
+        call point_in(n, i, nt, nv, mat%ours, stress(:, p), de(:, p), statev(:, p), w%s_old, &
+                      w%de, w%sv_old)
         if (mat%contract) then
           w%sv_old(i + (sv_avg_dlambda - 1)*n) = 0.0_dp
           if (present(avg)) w%sv_old(i + (sv_avg_dlambda - 1)*n) = avg(k0 - 1 + i)
         end if
       end do
-      w%s_new(1:n*nt) = w%s_old(1:n*nt)
-      w%sv_new(1:n*nv) = w%sv_old(1:n*nv)
+      ! ours writes every New entry of a block it answers (a refused block
+      ! is dropped); a user's VUMAT may leave some as they came
+      if (.not. mat%ours) then
+        w%s_new(1:n*nt) = w%s_old(1:n*nt)
+        w%sv_new(1:n*nv) = w%sv_old(1:n*nv)
+      end if
       call call_vumat(w, mat, n, t, dt, ok, bad, err)
       ! STRAN, which the VUMAT does not read, finite as the UMAT wants it
       do i = 1, n
@@ -111,7 +116,7 @@ contains
       end if
       do i = 1, n
         p = idx(k0 - 1 + i)
-        call point_out(w, n, i, mat%ours, stress(:, p), statev(:, p))
+        call point_out(n, i, nt, nv, mat%ours, w%s_new, w%sv_new, stress(:, p), statev(:, p))
         stran(1:nt, p) = stran(1:nt, p) + de(1:nt, p)
         if (mat%contract) dl(k0 - 1 + i) = statev(sv_dlambda, p)
         done(k0 - 1 + i) = .true.
@@ -242,55 +247,57 @@ contains
     w%field = 0.0_dp
   end subroutine size_work
 
-  !> A particle's STRESS, increment and STATEV into row i of the block of n
-  !> points: VUMAT order, tensor shears in the increment; the STATEV as is
-  !> for a user's VUMAT, for ours the plastic strain (5-10) in the VUMAT's
-  !> order with tensor shears (halved, as our UMAT halves them) and the
-  !> overstress (13-18) in its order.
-  pure subroutine point_in(w, n, i, mat, s, d, sv)
-    type(vumat_work_t), intent(inout) :: w
-    integer, intent(in) :: n, i
-    type(vumat_material_t), intent(in) :: mat
-    real(dp), intent(in) :: s(:), d(:), sv(:)
-    integer :: j
-    do j = 1, w%ntens
-      w%s_old(i + (vcol(j) - 1)*n) = s(j)
-      w%de(i + (vcol(j) - 1)*n) = merge(0.5_dp, 1.0_dp, j > 3)*d(j)
-    end do
-    do j = 1, w%nstatv
-      w%sv_old(i + (j - 1)*n) = sv(j)
-    end do
-    if (.not. mat%ours) return
-    do j = 1, 6
-      w%sv_old(i + (sv_eps_p - 2 + vcol(j))*n) = merge(0.5_dp, 1.0_dp, j > 3)*sv(sv_eps_p - 1 + j)
-    end do
-    if (w%nstatv < nstatv_gdl) return
-    do j = 1, 6
-      w%sv_old(i + (sv_over - 2 + vcol(j))*n) = sv(sv_over - 1 + j)
-    end do
-  end subroutine point_in
-
-  !> Row i's answer into a particle's STRESS and STATEV (the inverse of
-  !> point_in; engineering shears doubled, as our UMAT doubles them).
-  pure subroutine point_out(w, n, i, ours, s, sv)
-    type(vumat_work_t), intent(in) :: w
-    integer, intent(in) :: n, i
+  !> A particle's STRESS s, increment d and STATEV sv (NTENS nt, NSTATV nv)
+  !> into row i of the block's (n, columns) arrays s_old, de, sv_old: VUMAT
+  !> order, tensor shears in the increment; the STATEV as is for a user's
+  !> VUMAT, for ours the plastic strain (5-10) in the VUMAT's order with
+  !> tensor shears (halved, as our UMAT halves them) and the overstress
+  !> (13-18) in its order. Explicit-shape arrays: plain indexing.
+  pure subroutine point_in(n, i, nt, nv, ours, s, d, sv, s_old, de, sv_old)
+    integer, intent(in) :: n, i, nt, nv
     logical, intent(in) :: ours
-    real(dp), intent(inout) :: s(:), sv(:)
+    real(dp), intent(in) :: s(:), d(:), sv(:)
+    real(dp), intent(inout) :: s_old(n, nt), de(n, nt), sv_old(n, nv)
     integer :: j
-    do j = 1, w%ntens
-      s(j) = w%s_new(i + (vcol(j) - 1)*n)
+    do j = 1, nt
+      s_old(i, vcol(j)) = s(j)
+      de(i, vcol(j)) = merge(0.5_dp, 1.0_dp, j > 3)*d(j)
     end do
-    do j = 1, w%nstatv
-      sv(j) = w%sv_new(i + (j - 1)*n)
+    do j = 1, nv
+      sv_old(i, j) = sv(j)
     end do
     if (.not. ours) return
     do j = 1, 6
-      sv(sv_eps_p - 1 + j) = merge(2.0_dp, 1.0_dp, j > 3)*w%sv_new(i + (sv_eps_p - 2 + vcol(j))*n)
+      sv_old(i, sv_eps_p - 1 + vcol(j)) = merge(0.5_dp, 1.0_dp, j > 3)*sv(sv_eps_p - 1 + j)
     end do
-    if (w%nstatv < nstatv_gdl) return
+    if (nv < nstatv_gdl) return
     do j = 1, 6
-      sv(sv_over - 1 + j) = w%sv_new(i + (sv_over - 2 + vcol(j))*n)
+      sv_old(i, sv_over - 1 + vcol(j)) = sv(sv_over - 1 + j)
+    end do
+  end subroutine point_in
+
+  !> Row i's answer (of the block's s_new, sv_new) into a particle's STRESS
+  !> and STATEV (the inverse of point_in; engineering shears doubled, as our
+  !> UMAT doubles them).
+  pure subroutine point_out(n, i, nt, nv, ours, s_new, sv_new, s, sv)
+    integer, intent(in) :: n, i, nt, nv
+    logical, intent(in) :: ours
+    real(dp), intent(in) :: s_new(n, nt), sv_new(n, nv)
+    real(dp), intent(inout) :: s(:), sv(:)
+    integer :: j
+    do j = 1, nt
+      s(j) = s_new(i, vcol(j))
+    end do
+    do j = 1, nv
+      sv(j) = sv_new(i, j)
+    end do
+    if (.not. ours) return
+    do j = 1, 6
+      sv(sv_eps_p - 1 + j) = merge(2.0_dp, 1.0_dp, j > 3)*sv_new(i, sv_eps_p - 1 + vcol(j))
+    end do
+    if (nv < nstatv_gdl) return
+    do j = 1, 6
+      sv(sv_over - 1 + j) = sv_new(i, sv_over - 1 + vcol(j))
     end do
   end subroutine point_out
 
