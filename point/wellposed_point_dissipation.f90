@@ -1,12 +1,10 @@
-!> The plastic dissipation along a point path and the work of the load,
-!> from the path's stress and its plastic strain eps^p = eps - C^-1 sigma
-!> (wellposed-point's write_plastic_strain): per increment the trapezoid
-!> D = (sigma_n + sigma_n+1)/2 . (eps^p_n+1 - eps^p_n) and W likewise with
-!> d eps (Voigt, engineering shears: the work-conjugate pairs). The second
-!> law asks D >= 0 of every plastic increment; an associative
-!> Drucker-Prager model has sigma : df/dsigma = sqrt(J2) + beta I1 = k > 0
-!> on its surface (eq. 2.3), the EFR (eq. 2.7) need not. docs/research/
-!> theory.md, "The extended flow rule and the second law".
+!> The plastic dissipation along a point path and the load's work, from the
+!> path's stress and plastic strain eps^p = eps - C^-1 sigma: per increment
+!> D = (sigma_n + sigma_n+1)/2 . d eps^p and W likewise with d eps (Voigt,
+!> engineering shears). The second law asks D >= 0 of every plastic
+!> increment: the associative cone has sigma : df/dsigma = k > 0 (eq. 2.3),
+!> the EFR (eq. 2.7) need not (docs/research/theory.md, "The extended flow
+!> rule and the second law").
 module wellposed_point_dissipation
   use wellposed_kinds, only: dp
   use wellposed_summary, only: summary_t

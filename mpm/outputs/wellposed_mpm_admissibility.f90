@@ -1,13 +1,9 @@
-!> The admissibility conditions of the Sandler-Rubin pulse at a bar's
-!> stations (section 2.2, eqs. 2.1-2.2): where the top of the load's
-!> triangle opens into the region of nonuniqueness, between the plastic
-!> head at C_P and the elastic tail at C_E, the stress rate keeps the sign
-!> of the load (eq. 2.1, 0 <= sigma-dot for the tensile pulse) and the
-!> region travels at speeds C_E < v < C_P (eq. 2.2). At a station x the
-!> region passes over t_s + tau/2 + x/C_P <= t <= t_s + tau/2 + x/C_E
-!> (load start t_s, duration tau); its middle half, a quarter trimmed at
-!> either end, leaves out the fronts' numerical spread. docs/research/
-!> waves.md, "Eqs. 2.1-2.2 at the stations".
+!> Eqs. 2.1-2.2 at a bar's station (section 2.2): in the region of
+!> nonuniqueness between the plastic head at C_P and the elastic tail at
+!> C_E the stress rate keeps the load's sign (eq. 2.1) and the region moves
+!> at C_E < v < C_P (eq. 2.2). At x it passes over t_s + tau/2 + x/C_P <= t
+!> <= t_s + tau/2 + x/C_E; its middle half leaves out the fronts' numerical
+!> spread (docs/research/waves.md, "Eqs. 2.1-2.2 at the stations").
 module wellposed_mpm_admissibility
   use wellposed_kinds, only: dp
   implicit none

@@ -1,12 +1,10 @@
-!> The plastic work of a bar run, as a component of the run loop: at every
-!> station sample and at the end, D = W_int - (E - E0), the internal work
-!> (the energy balance's, viscous pressure excluded) less the change of the
-!> stored elastic energy E = sum_p V0_p e(sigma_p), e = sigma : C^-1 :
-!> sigma / 2 (eq. 1.5, our model's K = PROPS(1), G = PROPS(2)); on an
-!> elastic bar D stays within the energy balance's own error (measured in
-!> docs/research/waves.md). The second law asks D never to fall; the EFR's can
-!> (docs/research/waves.md, "The plastic work of the waves"). A user's UMAT:
-!> its elasticity is not known, not reported.
+!> The plastic work of a bar run, a component of the run loop: at every
+!> station sample and at the end D = W_int - (E - E0), the internal work
+!> (viscous pressure excluded) less the change of the stored elastic energy
+!> E = sum_p V0_p sigma : C^-1 : sigma / 2 (eq. 1.5; our model's K, G in
+!> PROPS(1:2); a user's UMAT: not reported). The second law asks D never to
+!> fall; the EFR's does (docs/research/waves.md, "The plastic work of the
+!> waves").
 module wellposed_mpm_bar_dissipation
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
