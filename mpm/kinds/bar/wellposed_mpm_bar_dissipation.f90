@@ -29,7 +29,7 @@ module wellposed_mpm_bar_dissipation
   !> Sampled after `energy` in the run loop's list.
   type, extends(mpm_output_t) :: bar_dissipation_t
     type(bar_energy_t), pointer :: energy => null()
-    real(dp), allocatable :: rows(:, :)   !< (t, D, W_int)
+    real(dp), allocatable :: d(:)         !< D at the energy balance's samples
     integer :: n = 0
     logical :: known = .false.            !< our UMAT: K and G known
     real(dp) :: e0 = 0.0_dp               !< E at the start (every rank: the total)
@@ -85,9 +85,9 @@ contains
     self%name = 'dissipation'
     self%energy => energy
     self%known = umat_is_ours()
-    allocate (self%rows(3, size(energy%rows, 2)))
+    allocate (self%d(size(energy%rows, 2)))
     self%n = 1
-    self%rows(:, 1) = 0.0_dp
+    self%d(1) = 0.0_dp
     if (self%known) self%e0 = elastic_change(sc, 0.0_dp)
   end subroutine dissipation_setup
 
@@ -116,9 +116,7 @@ contains
     e = elastic_change(sc, self%e0)
     if (comm%rank /= 0) return
     self%n = self%energy%n
-    associate (w => self%energy%rows(3, self%n))
-      self%rows(:, self%n) = [sc%t, w - e, w]
-    end associate
+    self%d(self%n) = self%energy%rows(3, self%n) - e
   end subroutine dissipation_sample
 
   subroutine dissipation_finish(self, sc, comm, err)
@@ -141,11 +139,11 @@ contains
       call sm%not_applicable('plastic_work', why)
       return
     end if
-    wmax = max(maxval(abs(self%rows(3, 1:self%n))), abs(self%w_end), tiny(1.0_dp))
+    wmax = max(maxval(abs(self%energy%rows(3, 1:self%n))), abs(self%w_end), tiny(1.0_dp))
     tol = fall_share*wmax
     falls = 0
     do k = 2, self%n
-      if (self%rows(2, k) < self%rows(2, k - 1) - tol) falls = falls + 1
+      if (self%d(k) < self%d(k - 1) - tol) falls = falls + 1
     end do
     call sm%add('plastic_work', self%d_end, 'J/m^2, W_int - (E - E0) at the end, E = sum V0 '// &
                 'sigma : C^-1 : sigma / 2; the second law asks it never to fall')
@@ -154,7 +152,7 @@ contains
     else
       call sm%not_applicable('plastic_work_to_internal_work', 'no internal work')
     end if
-    call sm%add('plastic_work_least', minval(self%rows(2, 1:self%n)), &
+    call sm%add('plastic_work_least', minval(self%d(1:self%n)), &
                 'J/m^2, the least over the samples (from 0 at the start)')
     call sm%add('plastic_work_falls', falls, 'sample intervals over which it fell by more '// &
                 'than 1e-4 of max |W_int|')
@@ -164,7 +162,7 @@ contains
     class(bar_dissipation_t), intent(inout) :: self
     type(h5_parallel_file_t), intent(inout) :: h5
     if (.not. self%known) return
-    call h5%write('energy/plastic_work', self%rows(2, 1:self%n))
+    call h5%write('energy/plastic_work', self%d(1:self%n))
   end subroutine dissipation_write_h5
 
   subroutine dissipation_put(self, ck, comm)
@@ -172,31 +170,29 @@ contains
     type(checkpoint_t), intent(inout) :: ck
     type(comm_t), intent(inout) :: comm
     if (.not. self%known .or. comm%rank /= 0) return
-    call ck%put(self%name//'/plastic_work', self%rows(2, 1:self%n))
-    call ck%put(self%name//'/internal_work', self%rows(3, 1:self%n))
+    call ck%put(self%name//'/plastic_work', self%d(1:self%n))
     call ck%put(self%name//'/elastic_energy0', self%e0)
   end subroutine dissipation_put
 
   !> Every rank holds the whole checkpoint: all take E0 (the run's start),
-  !> rank 0 the rows.
+  !> rank 0 its D per sample.
   subroutine dissipation_get(self, ck, comm, err)
     class(bar_dissipation_t), intent(inout) :: self
     type(checkpoint_t), intent(in) :: ck
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
-    real(dp), allocatable :: d(:), w(:)
+    real(dp), allocatable :: d(:)
     if (.not. self%known) return
     call ck%get(self%name//'/elastic_energy0', self%e0, err); if (allocated(err)) return
     if (comm%rank /= 0) return
     call ck%get(self%name//'/plastic_work', d, err); if (allocated(err)) return
-    call ck%get(self%name//'/internal_work', w, err); if (allocated(err)) return
-    if (size(d) /= size(w) .or. size(d) > size(self%rows, 2)) then
+    ! one D per sample of the energy balance, restored before this component
+    if (size(d) /= self%energy%n .or. size(d) > size(self%d)) then
       call new_error(err, status_invalid, 'checkpoint', 'its plastic work rows do not '// &
                      'fit this deck'); return
     end if
     self%n = size(d)
-    self%rows(2, 1:self%n) = d
-    self%rows(3, 1:self%n) = w
+    self%d(1:self%n) = d
   end subroutine dissipation_get
 
 end module wellposed_mpm_bar_dissipation
