@@ -12,7 +12,7 @@ program wellposed_mpm
   use wellposed_mpi, only: comm_t, comm_start, comm_stop
   use wellposed_mpm_cli, only: mpm_cli_t, read_mpm_cli, write_mpm_usage
   use wellposed_mpm_scene_kind, only: deck_scene_kind
-  use wellposed_mpm_kind_table, only: mpm_kind_entry_t, kind_entry
+  use wellposed_mpm_kind_table, only: mpm_kind_entry_t, scene_kinds
   use wellposed_mpm_paths, only: find_data, default_deck_name
   use wellposed_batch_run, only: run_batch, default_figures
   use wellposed_fs, only: shell_quote
@@ -26,7 +26,8 @@ program wellposed_mpm
   type(comm_t) :: comm
   type(mpm_cli_t) :: cli
   type(error_t), allocatable :: err
-  integer :: kind
+  integer :: kind, i
+  type(mpm_kind_entry_t), allocatable :: kinds(:)
   type(mpm_kind_entry_t) :: entry
 
   call comm_start(comm, err)
@@ -41,12 +42,14 @@ program wellposed_mpm
   if (len(cli%batch_file) > 0) call batch()
   if (len(cli%deck_path) == 0) cli%deck_path = find_data(default_deck_name)
   call set_run_label('wellposed-mpm', cli%deck_path)
-  call deck_scene_kind(cli%deck_path, cli%overrides, kind, err)
+  kinds = scene_kinds()
+  cli%kinds = [(kinds(i)%words(), i = 1, size(kinds))]
+  call deck_scene_kind(cli%deck_path, cli%overrides, cli%kinds, kind, err)
   if (allocated(err)) call die(err%message)
-  entry = kind_entry(kind)
+  entry = kinds(kind)
   call memory_check()
   if (cli%check) then
-    call entry%verify(cli%deck_path, cli%overrides, cli%force, err)
+    call entry%verify(cli, err)
     if (allocated(err)) call die(err%message)
     if (comm%rank == 0) write (output_unit, '(a)') cli%deck_path//': read and checked '// &
       '(--check: nothing run)'
@@ -90,7 +93,7 @@ contains
       call parse_memory(cli%max_memory, limit, err)
       if (allocated(err)) call die(err%message)
     end if
-    call entry%memory(cli%deck_path, cli%overrides, cli%ck_every /= 0, bytes, nparticles, err)
+    call entry%memory(cli, bytes, nparticles, err)
     if (allocated(err)) call die(err%message)
     call check_memory(cli%deck_path, bytes, nparticles, 'particles', limit, err)
     if (allocated(err)) call die(err%message)

@@ -1,17 +1,17 @@
 !> The groups every MPM deck shares (&scene, &grid, &time, &material,
 !> &viscosity, &nonlocal, &output), read once for every scene kind with the
 !> wellposed_deck conventions. The viscosity is q = rho (a1 c |D_kk| dx +
-!> a2 D_kk^2 dx^2) for D_kk < 0. A key of another scene kind is refused,
-!> naming its kind. A scene's reader puts its defaults into a shared_deck_t,
-!> calls read_shared_deck and reads its own groups; overrides come after
-!> the deck. Keys and defaults: docs/guide/decks.md.
+!> a2 D_kk^2 dx^2) for D_kk < 0. Keys only some kinds take (kind_keys,
+!> kind_words_t%keys) are refused for another kind, naming one that takes
+!> them. A kind's reader puts its defaults into a shared_deck_t, calls
+!> read_shared_deck, then reads its own groups. Keys: docs/guide/decks.md.
 module wellposed_mpm_deck_shared
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: check_finite, check_word, unset, is_set, lower, value_text, &
                             check_group_names
   use wellposed_mpm_deck_file, only: open_deck, deck_groups_t, read_sources
-  use wellposed_mpm_scene_kind, only: check_scene_name, scene_kind_bar, scene_kind_names
+  use wellposed_mpm_scene_kind, only: check_scene_name, kind_words_t, takes_key, key_owner
   use wellposed_mpm_material_deck, only: read_materials, material_defaults_t, &
                                          is_material_group
   use wellposed_mpm_materials, only: mpm_materials_t
@@ -22,12 +22,17 @@ module wellposed_mpm_deck_shared
   use wellposed_text, only: real_text
   implicit none
   private
-  public :: shared_deck_t, read_shared_deck, max_cases, shared_groups
+  public :: shared_deck_t, read_shared_deck, max_cases, shared_groups, kind_keys
 
   !> Cases of a plate deck's &study.
   integer, parameter :: max_cases = 16
   character(len=9), parameter :: shared_groups(6) = [character(len=9) :: 'scene', 'grid', &
     'time', 'viscosity', 'nonlocal', 'output']
+  !> The keys of the shared groups that only the kinds taking them accept.
+  character(len=24), parameter :: kind_keys(12) = [character(len=24) :: 'grid.length', &
+    'grid.far_end', 'time.mass', 'time.stop_on_cutback', 'output.reference', &
+    'output.reference_label', 'output.band_y', 'output.band_x', 'output.band_time', &
+    'output.band_drop', 'output.band_onset_strain', 'output.band_axis']
 
   !> The shared groups' values: the kind's defaults before reading, the
   !> deck's after (words also as ids into the kind's name lists).
@@ -55,17 +60,18 @@ module wellposed_mpm_deck_shared
     real(dp) :: density = 0.0_dp
   end type shared_deck_t
 
-  !> A given key of the other scene kind (sentinel: unset, '' or a
+  !> A given key the deck's kind does not take (sentinel: unset, '' or a
   !> logical read both ways).
   type :: foreign_t
     character(len=:), allocatable :: group, key
   end type foreign_t
 
-  !> The shared groups as read: the values given (sentinels elsewhere,
-  !> blank), the first key of the other scene kind given, and &nonlocal's
-  !> words and lengths.
+  !> The shared groups as read for kind `kind` of `kinds`: the values given
+  !> (sentinels elsewhere, blank), the first given key it does not take,
+  !> and &nonlocal's words and lengths.
   type, extends(deck_groups_t) :: shared_keys_t
     integer :: kind = 0
+    type(kind_words_t), allocatable :: kinds(:)
     type(shared_deck_t) :: given
     type(foreign_t) :: foreign
     type(nonlocal_settings_t) :: nonlocal
@@ -78,19 +84,25 @@ module wellposed_mpm_deck_shared
 contains
 
   !> Read the shared groups of deck `path` and the overrides into `sh` (its
-  !> defaults set by the caller) for scene kind `kind`, whose own groups
-  !> `own(:)` are left to its reader; shapes(:) are the kind's shape words,
-  !> far_ends(:) a bar's far-end words. `text` is the deck's text.
-  subroutine read_shared_deck(path, overrides, kind, own, shapes, far_ends, sh, text, err)
-    character(len=*), intent(in) :: path, overrides(:), own(:), shapes(:), far_ends(:)
-    integer, intent(in) :: kind
+  !> defaults set by the caller) for the scene kind named `name` of the
+  !> registered `kinds`, whose own groups are left to its reader; shapes(:)
+  !> are the kind's shape words, far_ends(:) its far-end words (when it
+  !> takes grid.far_end). `text` is the deck's text.
+  subroutine read_shared_deck(path, overrides, kinds, name, shapes, far_ends, sh, text, err)
+    character(len=*), intent(in) :: path, overrides(:), name, shapes(:), far_ends(:)
+    type(kind_words_t), intent(in) :: kinds(:)
     type(shared_deck_t), intent(inout) :: sh
     character(len=:), allocatable, intent(out) :: text
     type(error_t), allocatable, intent(out) :: err
     type(shared_keys_t) :: k
-    integer :: unit, i
+    integer :: unit, i, owner
     call blank(k%given)
-    k%kind = kind
+    k%kinds = kinds
+    k%kind = findloc(kinds%name, name, dim=1)
+    if (k%kind == 0) then
+      call new_error(err, status_invalid, 'kind', path//': the scene kind '''//name// &
+        ''' is not registered with the program (apps/mpm/wellposed_mpm_kind_table)'); return
+    end if
     k%given%stop_on_cutback = sh%stop_on_cutback
     k%given%progress = sh%progress
     k%given%plot = sh%plot
@@ -101,19 +113,29 @@ contains
     call open_deck(path, text, unit, err)
     if (allocated(err)) return
     close (unit)
-    call check_group_names(path, text, [character(len=32) :: shared_groups, own, 'material'], &
-                           [character(len=32) :: 'material'], err)
-    if (allocated(err)) return
-    call read_sources(k, path, text, overrides, shared_groups, err, own, is_material_group)
-    if (allocated(err)) return
+    associate (own => kinds(k%kind)%groups)
+      call check_group_names(path, text, [character(len=32) :: shared_groups, own, &
+                             'material'], [character(len=32) :: 'material'], err)
+      if (allocated(err)) return
+      call read_sources(k, path, text, overrides, shared_groups, err, own, is_material_group)
+      if (allocated(err)) return
+    end associate
     if (allocated(k%foreign%key)) then
-      call new_error(err, status_invalid, k%foreign%key, path//': &'//k%foreign%group//': '// &
-        k%foreign%key//' is a key of '//trim(scene_kind_names(3 - kind))//' scenes; this '// &
-        'deck''s scene is a '//trim(scene_kind_names(kind))//' (docs/guide/decks.md)'); return
+      owner = key_owner(kinds, k%foreign%group//'.'//k%foreign%key)
+      if (owner == 0) then     ! a key of kind_keys no registered kind takes
+        call new_error(err, status_invalid, k%foreign%key, path//': &'//k%foreign%group// &
+          ': '//k%foreign%key//' is not a key of '//name//' scenes (docs/guide/decks.md)')
+      else
+        call new_error(err, status_invalid, k%foreign%key, path//': &'//k%foreign%group// &
+          ': '//k%foreign%key//' is a key of '//trim(kinds(owner)%name)//' scenes; this '// &
+          'deck''s scene is a '//name//' (docs/guide/decks.md)')
+      end if
+      return
     end if
     sh%nonlocal = k%nonlocal
     call merge_given(k%given, sh)
-    call check_shared(path, kind, shapes, far_ends, sh, err); if (allocated(err)) return
+    call check_shared(path, kinds(k%kind), shapes, far_ends, sh, err)
+    if (allocated(err)) return
     call read_materials(path, text, overrides, sh%ndim, sh%mdef, sh%materials, sh%density, err)
     if (allocated(err)) return
     call check_word(path, 'nonlocal', 'scheme', k%nl_word, nl_scheme_names, i, err)
@@ -140,10 +162,6 @@ contains
       call read_scene(self%given, ios, msg, unit, line)
     case ('grid')
       call read_grid(self%given, ios, msg, unit, line)
-      if (self%kind /= scene_kind_bar .and. is_set(self%given%length)) &
-        call note(self%foreign, 'grid', 'length')
-      if (self%kind /= scene_kind_bar .and. self%given%far_end /= achar(0)) &
-        call note(self%foreign, 'grid', 'far_end')
     case ('time')
       call read_time_keys(self, ios, msg, unit, line)
     case ('viscosity')
@@ -153,13 +171,13 @@ contains
                          self%nl_h_zeta, ios, msg, unit, line)
     case ('output')
       call read_output(self%given, ios, msg, unit, line)
-      call note_output(self%kind, self%given, self%foreign)
     end select
+    if (ios == 0) call note_foreign(self, grp)
   end subroutine read_shared_group
 
-  !> &time, and its keys a plate takes only: mass; stop_on_cutback for a
-  !> bar (a logical has no unset value: read again from the opposite
-  !> value; the key was given when both reads agree).
+  !> &time. stop_on_cutback, a logical, has no unset value: when the kind
+  !> does not take it, &time is read again from the opposite value, and the
+  !> key was given when both reads agree.
   subroutine read_time_keys(self, ios, msg, unit, line)
     type(shared_keys_t), intent(inout) :: self
     integer, intent(out) :: ios
@@ -168,11 +186,7 @@ contains
     character(len=*), intent(in), optional :: line
     logical :: soc
     call read_time(self%given, ios, msg, unit, line)
-    if (ios /= 0) return
-    if (self%kind /= scene_kind_bar) then
-      if (self%given%mass /= achar(0)) call note(self%foreign, 'time', 'mass')
-      return
-    end if
+    if (ios /= 0 .or. takes_key(self%kinds(self%kind), 'time.stop_on_cutback')) return
     soc = self%given%stop_on_cutback
     self%given%stop_on_cutback = .not. soc
     if (present(unit)) rewind (unit)
@@ -181,24 +195,40 @@ contains
     self%given%stop_on_cutback = soc
   end subroutine read_time_keys
 
-  !> The &output keys given of the other kind: a plate's reference keys,
-  !> a bar's band keys.
-  subroutine note_output(kind, given, foreign)
-    integer, intent(in) :: kind
-    type(shared_deck_t), intent(in) :: given
-    type(foreign_t), intent(inout) :: foreign
-    if (kind /= scene_kind_bar) then
-      if (len_trim(given%reference) > 0) call note(foreign, 'output', 'reference')
-      if (len_trim(given%reference_label) > 0) call note(foreign, 'output', 'reference_label')
-      return
-    end if
-    if (is_set(given%band_y)) call note(foreign, 'output', 'band_y')
-    if (is_set(given%band_x)) call note(foreign, 'output', 'band_x')
-    if (is_set(given%band_time)) call note(foreign, 'output', 'band_time')
-    if (is_set(given%band_drop)) call note(foreign, 'output', 'band_drop')
-    if (is_set(given%band_onset_strain)) call note(foreign, 'output', 'band_onset_strain')
-    if (given%band_axis /= achar(0)) call note(foreign, 'output', 'band_axis')
-  end subroutine note_output
+  !> The keys of group `grp` in kind_keys given and not taken by the kind.
+  subroutine note_foreign(self, grp)
+    type(shared_keys_t), intent(inout) :: self
+    character(len=*), intent(in) :: grp
+    integer :: i, dot
+    do i = 1, size(kind_keys)
+      dot = index(kind_keys(i), '.')
+      if (kind_keys(i)(1:dot - 1) /= grp) cycle
+      if (takes_key(self%kinds(self%kind), trim(kind_keys(i)))) cycle
+      if (is_given(self%given, trim(kind_keys(i)))) &
+        call note(self%foreign, grp, trim(kind_keys(i)(dot + 1:)))
+    end do
+  end subroutine note_foreign
+
+  !> Whether the kind key `key` ('group.key' of kind_keys) was given: not
+  !> its sentinel. time.stop_on_cutback: read_time_keys tells.
+  pure logical function is_given(g, key)
+    type(shared_deck_t), intent(in) :: g
+    character(len=*), intent(in) :: key
+    select case (key)
+    case ('grid.length'); is_given = is_set(g%length)
+    case ('grid.far_end'); is_given = g%far_end /= achar(0)
+    case ('time.mass'); is_given = g%mass /= achar(0)
+    case ('output.reference'); is_given = len_trim(g%reference) > 0
+    case ('output.reference_label'); is_given = len_trim(g%reference_label) > 0
+    case ('output.band_y'); is_given = is_set(g%band_y)
+    case ('output.band_x'); is_given = is_set(g%band_x)
+    case ('output.band_time'); is_given = is_set(g%band_time)
+    case ('output.band_drop'); is_given = is_set(g%band_drop)
+    case ('output.band_onset_strain'); is_given = is_set(g%band_onset_strain)
+    case ('output.band_axis'); is_given = g%band_axis /= achar(0)
+    case default; is_given = .false.
+    end select
+  end function is_given
 
   !> The first foreign key given: `grp`, `key`.
   subroutine note(foreign, grp, key)
@@ -257,17 +287,19 @@ contains
   end subroutine merge_given
 
   !> The words as ids of the kind's lists, the name, the finite numbers.
-  subroutine check_shared(path, kind, shapes, far_ends, sh, err)
+  subroutine check_shared(path, words, shapes, far_ends, sh, err)
     character(len=*), intent(in) :: path, shapes(:), far_ends(:)
-    integer, intent(in) :: kind
+    type(kind_words_t), intent(in) :: words
     type(shared_deck_t), intent(inout) :: sh
     type(error_t), allocatable, intent(out) :: err
     call check_scene_name(path, trim(sh%name), err); if (allocated(err)) return
     call check_word(path, 'grid', 'shape', sh%shape, shapes, sh%shape_id, err)
     if (allocated(err)) return
-    if (kind == scene_kind_bar) then
+    if (takes_key(words, 'grid.far_end')) then
       call check_word(path, 'grid', 'far_end', sh%far_end, far_ends, sh%far_end_id, err)
       if (allocated(err)) return
+    end if
+    if (takes_key(words, 'time.mass')) then
       call check_word(path, 'time', 'mass', sh%mass, mass_names, sh%mass_id, err)
       if (allocated(err)) return
     end if

@@ -1,25 +1,36 @@
-!> Which scene a deck describes: &scene kind = 'bar' (the 1D uniaxial-strain
-!> bar of the dissertation's chapter 2) or 'plate' (the plane-strain plate of
-!> chapter 4). Without the key, a deck with a group only plates have
-!> (&plate, &boundary, &study) is a plate and any other a bar.
-!> An override scene.kind=... on the command line wins. Also the check of
-!> &scene name, which every kind's reader makes.
+!> Which scene a deck describes, among the kinds the program registers
+!> (kind_words_t, one per kind: apps/mpm/wellposed_mpm_kind_table): &scene
+!> kind = '<word>'; without the key, the first kind one of whose marking
+!> groups the deck has, else the first kind (the default). An override
+!> scene.kind=... on the command line wins. Also the check of &scene name,
+!> which every kind's reader makes.
 module wellposed_mpm_scene_kind
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_deck, only: read_text_file, has_group, lower
   implicit none
   private
-  public :: scene_kind_bar, scene_kind_plate, scene_kind_names, deck_scene_kind, &
-            check_scene_kind, check_scene_name
+  public :: kind_words_t, deck_scene_kind, check_scene_kind, check_scene_name, takes_key, &
+            key_owner
 
-  integer, parameter :: scene_kind_bar = 1, scene_kind_plate = 2
-  character(len=5), parameter :: scene_kind_names(2) = [character(len=5) :: 'bar', 'plate']
+  !> What decks say of one scene kind: its &scene kind word, a few words on
+  !> it for messages, its own groups, the groups that mark a deck as this
+  !> kind when &scene gives none, and the keys of the shared groups that
+  !> not every kind takes ('group.key', wellposed_mpm_deck_shared's
+  !> kind_keys) that this kind takes.
+  type :: kind_words_t
+    character(len=16) :: name = ''
+    character(len=64) :: what = ''
+    character(len=16), allocatable :: groups(:), marks(:)
+    character(len=32), allocatable :: keys(:)
+  end type kind_words_t
 
 contains
 
-  !> The scene kind of deck `path` with its command-line overrides.
-  subroutine deck_scene_kind(path, overrides, which, err)
+  !> The scene kind (index into `kinds`) of deck `path` with its
+  !> command-line overrides.
+  subroutine deck_scene_kind(path, overrides, kinds, which, err)
     character(len=*), intent(in) :: path, overrides(:)
+    type(kind_words_t), intent(in) :: kinds(:)
     integer, intent(out) :: which
     type(error_t), allocatable, intent(out) :: err
     character(len=:), allocatable :: text, word
@@ -46,13 +57,15 @@ contains
       if (lower(trim(adjustl(overrides(i)(1:eq - 1)))) == 'scene.kind') &
         word = unquote(trim(adjustl(overrides(i)(eq + 1:))))
     end do
-    if (len(word) == 0) then
-      which = scene_kind_bar
-      if (has_group(text, 'plate') .or. has_group(text, 'boundary') .or. &
-          has_group(text, 'study')) which = scene_kind_plate
+    if (len(word) > 0) then
+      call check_scene_kind(path, word, kinds, which, err)
       return
     end if
-    call check_scene_kind(path, word, which, err)
+    which = 1
+    do i = size(kinds), 1, -1
+      if (any([(has_group(text, trim(kinds(i)%marks(eq))), eq = 1, size(kinds(i)%marks))])) &
+        which = i
+    end do
   end subroutine deck_scene_kind
 
   !> `v` without the quotes around it, if any.
@@ -65,15 +78,46 @@ contains
     end if
   end function unquote
 
-  !> The kind named `word` ('bar' or 'plate'), or a clear error.
-  subroutine check_scene_kind(path, word, kind, err)
+  !> The kind named `word` (its index into `kinds`), or a clear error that
+  !> lists them.
+  subroutine check_scene_kind(path, word, kinds, kind, err)
     character(len=*), intent(in) :: path, word
+    type(kind_words_t), intent(in) :: kinds(:)
     integer, intent(out) :: kind
     type(error_t), allocatable, intent(out) :: err
-    kind = findloc(scene_kind_names, lower(trim(word)), dim=1)
-    if (kind == 0) call new_error(err, status_invalid, 'kind', path//': &scene: kind = '''// &
-      trim(word)//''' is not one of ''bar'' (the 1D bar) or ''plate'' (the plane-strain plate)')
+    character(len=:), allocatable :: list
+    integer :: i
+    kind = findloc(kinds%name, lower(trim(word)), dim=1)
+    if (kind /= 0) return
+    list = ''
+    do i = 1, size(kinds)
+      if (i > 1 .and. i == size(kinds)) then
+        list = list//' or '
+      else if (i > 1) then
+        list = list//', '
+      end if
+      list = list//''''//trim(kinds(i)%name)//''' ('//trim(kinds(i)%what)//')'
+    end do
+    call new_error(err, status_invalid, 'kind', path//': &scene: kind = '''//trim(word)// &
+      ''' is not one of '//list)
   end subroutine check_scene_kind
+
+  !> Whether `words` takes the shared key `key` ('group.key').
+  pure logical function takes_key(words, key)
+    type(kind_words_t), intent(in) :: words
+    character(len=*), intent(in) :: key
+    takes_key = any(words%keys == key)
+  end function takes_key
+
+  !> The first kind of `kinds` that takes `key` (0: none).
+  pure integer function key_owner(kinds, key)
+    type(kind_words_t), intent(in) :: kinds(:)
+    character(len=*), intent(in) :: key
+    do key_owner = 1, size(kinds)
+      if (takes_key(kinds(key_owner), key)) return
+    end do
+    key_owner = 0
+  end function key_owner
 
   !> &scene name of deck `path`: it names the output folder, so letters,
   !> digits, '_', '.' or '-' only, and not empty.

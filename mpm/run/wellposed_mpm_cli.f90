@@ -9,6 +9,7 @@
 module wellposed_mpm_cli
   use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_mpm_scene_kind, only: kind_words_t
   implicit none
   private
   public :: mpm_cli_t, read_mpm_cli, write_mpm_usage
@@ -31,6 +32,8 @@ module wellposed_mpm_cli
     logical :: help = .false.
     logical :: force = .false.       !< --force: run past the deck's step limit
     logical :: check = .false.       !< --check: read and check the deck, run nothing
+    !> The scene kinds the program registers (set by it, not read here).
+    type(kind_words_t), allocatable :: kinds(:)
   end type mpm_cli_t
 
 contains

@@ -9,6 +9,7 @@ module wellposed_mpm_bar_checks
   use wellposed_kinds, only: dp
   use wellposed_finite, only: all_finite
   use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_text, only: int_text, real_text
   use wellposed_deck, only: unheld_stress_note
   use wellposed_mpm_deck_checks, only: check_times, step_inputs, check_steps
@@ -36,17 +37,17 @@ module wellposed_mpm_bar_checks
 
 contains
 
-  !> wellposed-mpm --check for a bar: deck `path` with `overrides` read and
-  !> checked as a run reads and checks it (`force`: past the step limit).
-  subroutine verify_bar_deck(path, overrides, force, err)
-    character(len=*), intent(in) :: path, overrides(:)
-    logical, intent(in) :: force
+  !> wellposed-mpm --check for a bar: the deck of `cli` with its overrides
+  !> read and checked as a run reads and checks it (--force: past the step
+  !> limit).
+  subroutine verify_bar_deck(cli, err)
+    type(mpm_cli_t), intent(in) :: cli
     type(error_t), allocatable, intent(out) :: err
     type(bar_config_t) :: cfg
     type(bar_options_t) :: opts
     character(len=:), allocatable :: text
-    call read_bar_deck(path, overrides, cfg, opts, text, err)
-    if (.not. allocated(err)) call check_bar_deck(path, cfg, err, force)
+    call read_bar_deck(cli%deck_path, cli%overrides, cli%kinds, cfg, opts, text, err)
+    if (.not. allocated(err)) call check_bar_deck(cli%deck_path, cfg, err, cli%force)
   end subroutine verify_bar_deck
 
   !> The bar deck `path` read into cfg: err when it is not physically

@@ -12,7 +12,7 @@ module wellposed_mpm_bar_deck
   use wellposed_deck, only: check_range, check_finite, unset, is_set, value_text, check_word
   use wellposed_mpm_deck_file, only: deck_groups_t, read_sources
   use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck
-  use wellposed_mpm_scene_kind, only: scene_kind_bar
+  use wellposed_mpm_scene_kind, only: kind_words_t
   use wellposed_mpm_materials, only: first_material
   use wellposed_mpm_material_deck, only: check_boxes
   use wellposed_mpm_bar_config
@@ -20,7 +20,7 @@ module wellposed_mpm_bar_deck
   use wellposed_text, only: int_text, real_text
   implicit none
   private
-  public :: read_bar_deck, bar_options_t
+  public :: read_bar_deck, bar_options_t, bar_words
 
   !> Driver options that are not part of the physics.
   type :: bar_options_t
@@ -47,10 +47,24 @@ module wellposed_mpm_bar_deck
 
 contains
 
-  !> Read `path` (and then the overrides, each "group.key=value") into cfg.
-  subroutine read_bar_deck(path, overrides, cfg, opts, text, err)
+  !> What decks say of the bar: &scene kind = 'bar', the default kind
+  !> (no marking group), and its keys of the shared groups.
+  pure function bar_words() result(words)
+    type(kind_words_t) :: words
+    words%name = 'bar'
+    words%what = 'the 1D bar'
+    words%groups = bar_groups
+    words%marks = [character(len=16) ::]
+    words%keys = [character(len=32) :: 'grid.length', 'grid.far_end', 'time.mass', &
+                  'output.reference', 'output.reference_label']
+  end function bar_words
+
+  !> Read `path` (and then the overrides, each "group.key=value") into cfg;
+  !> `kinds`: the program's scene kinds (for messages on their keys).
+  subroutine read_bar_deck(path, overrides, kinds, cfg, opts, text, err)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: overrides(:)
+    type(kind_words_t), intent(in) :: kinds(:)
     type(bar_config_t), intent(out) :: cfg
     type(bar_options_t), intent(out) :: opts
     character(len=:), allocatable, intent(out) :: text
@@ -58,7 +72,7 @@ contains
     type(shared_deck_t) :: sh
     type(bar_keys_t) :: k
     call bar_defaults(cfg, sh)
-    call read_shared_deck(path, overrides, scene_kind_bar, bar_groups, shape_names, bc_names, &
+    call read_shared_deck(path, overrides, kinds, 'bar', shape_names, bc_names, &
                           sh, text, err)
     if (allocated(err)) return
     call shared_into_config(sh, cfg)

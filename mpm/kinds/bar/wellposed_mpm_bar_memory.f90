@@ -5,6 +5,7 @@
 module wellposed_mpm_bar_memory
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
+  use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_mpm_memory, only: deck_bytes
   use wellposed_mpm_bar_config, only: bar_config_t
   use wellposed_mpm_bar_deck, only: read_bar_deck, bar_options_t
@@ -16,11 +17,10 @@ module wellposed_mpm_bar_memory
 
 contains
 
-  !> The estimate (bytes) and particle count of the bar deck at `path` with
-  !> `overrides`, with checkpoints on or off.
-  subroutine bar_deck_memory(path, overrides, checkpoints, bytes, nparticles, err)
-    character(len=*), intent(in) :: path, overrides(:)
-    logical, intent(in) :: checkpoints
+  !> The estimate (bytes) and particle count of the bar deck of `cli` with
+  !> its overrides, with checkpoints on or off.
+  subroutine bar_deck_memory(cli, bytes, nparticles, err)
+    type(mpm_cli_t), intent(in) :: cli
     real(dp), intent(out) :: bytes, nparticles
     type(error_t), allocatable, intent(out) :: err
     type(bar_config_t) :: cfg
@@ -28,10 +28,11 @@ contains
     character(len=:), allocatable :: text
     bytes = 0.0_dp
     nparticles = 0.0_dp
-    call read_bar_deck(path, overrides, cfg, opts, text, err)
+    call read_bar_deck(cli%deck_path, cli%overrides, cli%kinds, cfg, opts, text, err)
     if (allocated(err)) return
     nparticles = anint(cfg%length/cfg%dx)*real(cfg%ppc, dp)
-    bytes = deck_bytes(nparticles, bar_out, bar_quiet, checkpoints .or. cfg%snapshot_dt > 0.0_dp)
+    bytes = deck_bytes(nparticles, bar_out, bar_quiet, &
+                       cli%ck_every /= 0 .or. cfg%snapshot_dt > 0.0_dp)
   end subroutine bar_deck_memory
 
 end module wellposed_mpm_bar_memory

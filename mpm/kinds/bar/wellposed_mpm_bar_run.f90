@@ -97,7 +97,7 @@ contains
     type(error_t), allocatable :: err
     logical :: root
     root = comm%rank == 0
-    call read_bar_deck(cli%deck_path, cli%overrides, r%cfg, r%opts, r%deck_text, err)
+    call read_bar_deck(cli%deck_path, cli%overrides, cli%kinds, r%cfg, r%opts, r%deck_text, err)
     if (.not. allocated(err)) call check_bar_deck(cli%deck_path, r%cfg, err, cli%force)
     if (allocated(err)) call stop_all(comm, r%rd, err)
     if (len(cli%run_name) > 0) r%cfg%name = cli%run_name

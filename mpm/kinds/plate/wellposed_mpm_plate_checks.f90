@@ -7,6 +7,7 @@ module wellposed_mpm_plate_checks
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
+  use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_text, only: int_text, real_text
   use wellposed_umat_host, only: umat_host_t, new_umat_host
   use wellposed_mpm_deck_checks, only: check_times, step_inputs, check_steps
@@ -19,17 +20,17 @@ module wellposed_mpm_plate_checks
 
 contains
 
-  !> wellposed-mpm --check for a plate: deck `path` with `overrides` read
-  !> and checked as a run reads and checks it (`force`: past the step limit).
-  subroutine verify_plate_deck(path, overrides, force, err)
-    character(len=*), intent(in) :: path, overrides(:)
-    logical, intent(in) :: force
+  !> wellposed-mpm --check for a plate: the deck of `cli` with its
+  !> overrides read and checked as a run reads and checks it (--force: past
+  !> the step limit).
+  subroutine verify_plate_deck(cli, err)
+    type(mpm_cli_t), intent(in) :: cli
     type(error_t), allocatable, intent(out) :: err
     type(plate_config_t) :: cfg
     type(plate_study_t) :: study
     character(len=:), allocatable :: text
-    call read_plate_deck(path, overrides, cfg, study, text, err)
-    if (.not. allocated(err)) call check_plate_deck(path, cfg, study, err, force)
+    call read_plate_deck(cli%deck_path, cli%overrides, cli%kinds, cfg, study, text, err)
+    if (.not. allocated(err)) call check_plate_deck(cli%deck_path, cfg, study, err, cli%force)
   end subroutine verify_plate_deck
 
   !> The plate deck `path` (cfg, study): samples and snapshots inside the

@@ -16,13 +16,13 @@ module wellposed_mpm_plate_deck
   use wellposed_mpm_material_deck, only: check_boxes
   use wellposed_umat_layout, only: prop_k0
   use wellposed_mpm_deck_file, only: deck_groups_t, read_sources, sets_list
-  use wellposed_mpm_scene_kind, only: scene_kind_plate
+  use wellposed_mpm_scene_kind, only: kind_words_t
   use wellposed_mpm_plate_build, only: plate_config_t, plate_bc_names, bc_roller, &
                                        bc_plate_fixed, bc_plate_free, bc_velocity, platen_names
   use wellposed_mpm_shape_2d, only: shape2d_names
   implicit none
   private
-  public :: read_plate_deck, plate_study_t, max_stations
+  public :: read_plate_deck, plate_study_t, max_stations, plate_words
 
   character(len=8), parameter :: plate_groups(4) = [character(len=8) :: 'plate', 'boundary', &
     'stations', 'study']
@@ -74,9 +74,24 @@ module wellposed_mpm_plate_deck
 
 contains
 
-  !> Read `path` and the overrides into cfg (the first case's config) and study.
-  subroutine read_plate_deck(path, overrides, cfg, cases, text, err)
+  !> What decks say of the plate: &scene kind = 'plate', or a deck with
+  !> &plate, &boundary or &study, and its keys of the shared groups.
+  pure function plate_words() result(words)
+    type(kind_words_t) :: words
+    words%name = 'plate'
+    words%what = 'the plane-strain plate'
+    words%groups = plate_groups
+    words%marks = [character(len=16) :: 'plate', 'boundary', 'study']
+    words%keys = [character(len=32) :: 'time.stop_on_cutback', 'output.band_y', &
+                  'output.band_x', 'output.band_time', 'output.band_drop', &
+                  'output.band_onset_strain', 'output.band_axis']
+  end function plate_words
+
+  !> Read `path` and the overrides into cfg (the first case's config) and
+  !> study; `kinds`: the program's scene kinds (for messages on their keys).
+  subroutine read_plate_deck(path, overrides, kinds, cfg, cases, text, err)
     character(len=*), intent(in) :: path, overrides(:)
+    type(kind_words_t), intent(in) :: kinds(:)
     type(plate_config_t), intent(out) :: cfg
     type(plate_study_t), intent(out) :: cases
     character(len=:), allocatable, intent(out) :: text
@@ -85,7 +100,7 @@ contains
     type(plate_keys_t) :: k
     real(dp) :: line_default(2)  !< band_x, band_y when the deck gives none
     call plate_defaults(cfg, sh, line_default)
-    call read_shared_deck(path, overrides, scene_kind_plate, plate_groups, shape2d_names, &
+    call read_shared_deck(path, overrides, kinds, 'plate', shape2d_names, &
                           [character(len=1) ::], sh, text, err)
     if (allocated(err)) return
     k%width = cfg%width; k%height = cfg%height

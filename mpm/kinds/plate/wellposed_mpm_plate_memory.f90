@@ -6,6 +6,7 @@
 module wellposed_mpm_plate_memory
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
+  use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_mpm_memory, only: deck_bytes
   use wellposed_mpm_plate_config, only: plate_config_t
   use wellposed_mpm_plate_deck, only: read_plate_deck, plate_study_t
@@ -17,11 +18,10 @@ module wellposed_mpm_plate_memory
 
 contains
 
-  !> The estimate (bytes) and particle count of the plate deck at `path`
-  !> with `overrides`, with checkpoints on or off.
-  subroutine plate_deck_memory(path, overrides, checkpoints, bytes, nparticles, err)
-    character(len=*), intent(in) :: path, overrides(:)
-    logical, intent(in) :: checkpoints
+  !> The estimate (bytes) and particle count of the plate deck of `cli`
+  !> with its overrides, with checkpoints on or off.
+  subroutine plate_deck_memory(cli, bytes, nparticles, err)
+    type(mpm_cli_t), intent(in) :: cli
     real(dp), intent(out) :: bytes, nparticles
     type(error_t), allocatable, intent(out) :: err
     type(plate_config_t) :: cfg
@@ -31,7 +31,7 @@ contains
     real(dp) :: n
     bytes = 0.0_dp
     nparticles = 0.0_dp
-    call read_plate_deck(path, overrides, cfg, study, text, err)
+    call read_plate_deck(cli%deck_path, cli%overrides, cli%kinds, cfg, study, text, err)
     if (allocated(err)) return
     do ic = 1, study%ncases
       n = anint(cfg%width*study%scale(ic)/study%dx(ic))* &
@@ -39,7 +39,7 @@ contains
       nparticles = max(nparticles, n)
     end do
     bytes = deck_bytes(nparticles, plate_out, plate_quiet, &
-                       checkpoints .or. study%snapshot_dt > 0.0_dp)
+                       cli%ck_every /= 0 .or. study%snapshot_dt > 0.0_dp)
   end subroutine plate_deck_memory
 
 end module wellposed_mpm_plate_memory

@@ -108,7 +108,8 @@ contains
     logical :: root
     root = comm%rank == 0
     call new_mpm_ranks(r%ranks, comm)
-    call read_plate_deck(cli%deck_path, cli%overrides, r%cfg0, r%study, r%deck_text, err)
+    call read_plate_deck(cli%deck_path, cli%overrides, cli%kinds, r%cfg0, r%study, &
+                         r%deck_text, err)
     if (.not. allocated(err)) &
       call check_plate_deck(cli%deck_path, r%cfg0, r%study, err, cli%force)
     if (allocated(err)) call stop_all(comm, r%rd, err)
