@@ -66,12 +66,11 @@ module wellposed_mpm_deck_shared
     character(len=:), allocatable :: group, key
   end type foreign_t
 
-  !> The shared groups as read for kind `kind` of `kinds`: the values given
-  !> (sentinels elsewhere, blank), the first given key it does not take,
-  !> and &nonlocal's words and lengths.
+  !> The shared groups as read for the deck's kind (`words`): the values
+  !> given (sentinels elsewhere, blank), the first given key it does not
+  !> take, and &nonlocal's words and lengths.
   type, extends(deck_groups_t) :: shared_keys_t
-    integer :: kind = 0
-    type(kind_words_t), allocatable :: kinds(:)
+    type(kind_words_t) :: words
     type(shared_deck_t) :: given
     type(foreign_t) :: foreign
     type(nonlocal_settings_t) :: nonlocal
@@ -95,14 +94,14 @@ contains
     character(len=:), allocatable, intent(out) :: text
     type(error_t), allocatable, intent(out) :: err
     type(shared_keys_t) :: k
-    integer :: unit, i, owner
+    integer :: unit, i, owner, this
     call blank(k%given)
-    k%kinds = kinds
-    k%kind = findloc(kinds%name, name, dim=1)
-    if (k%kind == 0) then
+    this = findloc(kinds%name, name, dim=1)
+    if (this == 0) then
       call new_error(err, status_invalid, 'kind', path//': the scene kind '''//name// &
         ''' is not registered with the program (apps/mpm/wellposed_mpm_kind_table)'); return
     end if
+    k%words = kinds(this)
     k%given%stop_on_cutback = sh%stop_on_cutback
     k%given%progress = sh%progress
     k%given%plot = sh%plot
@@ -113,7 +112,7 @@ contains
     call open_deck(path, text, unit, err)
     if (allocated(err)) return
     close (unit)
-    associate (own => kinds(k%kind)%groups)
+    associate (own => k%words%groups)
       call check_group_names(path, text, [character(len=32) :: shared_groups, own, &
                              'material'], [character(len=32) :: 'material'], err)
       if (allocated(err)) return
@@ -134,7 +133,7 @@ contains
     end if
     sh%nonlocal = k%nonlocal
     call merge_given(k%given, sh)
-    call check_shared(path, kinds(k%kind), shapes, far_ends, sh, err)
+    call check_shared(path, k%words, shapes, far_ends, sh, err)
     if (allocated(err)) return
     call read_materials(path, text, overrides, sh%ndim, sh%mdef, sh%materials, sh%density, err)
     if (allocated(err)) return
@@ -186,7 +185,7 @@ contains
     character(len=*), intent(in), optional :: line
     logical :: soc
     call read_time(self%given, ios, msg, unit, line)
-    if (ios /= 0 .or. takes_key(self%kinds(self%kind), 'time.stop_on_cutback')) return
+    if (ios /= 0 .or. takes_key(self%words, 'time.stop_on_cutback')) return
     soc = self%given%stop_on_cutback
     self%given%stop_on_cutback = .not. soc
     if (present(unit)) rewind (unit)
@@ -203,7 +202,7 @@ contains
     do i = 1, size(kind_keys)
       dot = index(kind_keys(i), '.')
       if (kind_keys(i)(1:dot - 1) /= grp) cycle
-      if (takes_key(self%kinds(self%kind), trim(kind_keys(i)))) cycle
+      if (takes_key(self%words, trim(kind_keys(i)))) cycle
       if (is_given(self%given, trim(kind_keys(i)))) &
         call note(self%foreign, grp, trim(kind_keys(i)(dot + 1:)))
     end do

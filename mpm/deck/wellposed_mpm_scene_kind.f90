@@ -38,7 +38,7 @@ contains
     character(len=200) :: title
     character(len=16) :: kind
     namelist /scene/ name, title, kind
-    integer :: unit, ios, i, eq
+    integer :: unit, ios, i, eq, m
     character(len=512) :: msg
     which = 0
     call read_text_file(path, text, err)
@@ -61,11 +61,11 @@ contains
       call check_scene_kind(path, word, kinds, which, err)
       return
     end if
-    which = 1
-    do i = size(kinds), 1, -1
-      if (any([(has_group(text, trim(kinds(i)%marks(eq))), eq = 1, size(kinds(i)%marks))])) &
-        which = i
+    do which = 1, size(kinds)
+      if (any([(has_group(text, trim(kinds(which)%marks(m))), m = 1, size(kinds(which)%marks))])) &
+        return
     end do
+    which = 1
   end subroutine deck_scene_kind
 
   !> `v` without the quotes around it, if any.
