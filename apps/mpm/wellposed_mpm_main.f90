@@ -34,16 +34,16 @@ program wellposed_mpm
   if (allocated(err)) call die(err%message)
   call read_mpm_cli(cli, err)
   if (allocated(err)) call die(err%message)
+  kinds = scene_kinds()
+  cli%kinds = [(kinds(i)%words(), i = 1, size(kinds))]
   if (cli%help) then
-    if (comm%rank == 0) call write_mpm_usage(default_deck_name)
+    if (comm%rank == 0) call write_mpm_usage(default_deck_name, cli%kinds)
     call comm_stop(comm)
     stop
   end if
   if (len(cli%batch_file) > 0) call batch()
   if (len(cli%deck_path) == 0) cli%deck_path = find_data(default_deck_name)
   call set_run_label('wellposed-mpm', cli%deck_path)
-  kinds = scene_kinds()
-  cli%kinds = [(kinds(i)%words(), i = 1, size(kinds))]
   call deck_scene_kind(cli%deck_path, cli%overrides, cli%kinds, kind, err)
   if (allocated(err)) call die(err%message)
   entry = kinds(kind)

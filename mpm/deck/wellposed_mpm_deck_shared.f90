@@ -127,7 +127,7 @@ contains
       else
         call new_error(err, status_invalid, k%foreign%key, path//': &'//k%foreign%group// &
           ': '//k%foreign%key//' is a key of '//trim(kinds(owner)%name)//' scenes; this '// &
-          'deck''s scene is a '//name//' (docs/guide/decks.md)')
+          'deck''s scene kind is '''//name//''' (docs/guide/decks.md)')
       end if
       return
     end if

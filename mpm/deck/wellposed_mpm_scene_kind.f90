@@ -10,7 +10,7 @@ module wellposed_mpm_scene_kind
   implicit none
   private
   public :: kind_words_t, deck_scene_kind, check_scene_kind, check_scene_name, takes_key, &
-            key_owner
+            key_owner, kinds_text, marks_text
 
   !> What decks say of one scene kind: its &scene kind word, a few words on
   !> it for messages, its own groups, the groups that mark a deck as this
@@ -85,10 +85,18 @@ contains
     type(kind_words_t), intent(in) :: kinds(:)
     integer, intent(out) :: kind
     type(error_t), allocatable, intent(out) :: err
-    character(len=:), allocatable :: list
-    integer :: i
     kind = findloc(kinds%name, lower(trim(word)), dim=1)
     if (kind /= 0) return
+    call new_error(err, status_invalid, 'kind', path//': &scene: kind = '''//trim(word)// &
+      ''' is not one of '//kinds_text(kinds))
+  end subroutine check_scene_kind
+
+  !> The kinds' words and what they are, for messages: 'bar' (the 1D
+  !> bar), 'plate' (...) or 'axisymmetric' (...).
+  pure function kinds_text(kinds) result(list)
+    type(kind_words_t), intent(in) :: kinds(:)
+    character(len=:), allocatable :: list
+    integer :: i
     list = ''
     do i = 1, size(kinds)
       if (i > 1 .and. i == size(kinds)) then
@@ -98,9 +106,30 @@ contains
       end if
       list = list//''''//trim(kinds(i)%name)//''' ('//trim(kinds(i)%what)//')'
     end do
-    call new_error(err, status_invalid, 'kind', path//': &scene: kind = '''//trim(word)// &
-      ''' is not one of '//list)
-  end subroutine check_scene_kind
+  end function kinds_text
+
+  !> The groups that mark a deck as each kind, for the usage text: &plate,
+  !> &boundary or &study: 'plate'; &cylinder: 'axisymmetric' (in the
+  !> table's order, the order they are tried in).
+  pure function marks_text(kinds) result(list)
+    type(kind_words_t), intent(in) :: kinds(:)
+    character(len=:), allocatable :: list
+    integer :: i, m
+    list = ''
+    do i = 1, size(kinds)
+      if (size(kinds(i)%marks) == 0) cycle
+      if (len(list) > 0) list = list//'; '
+      do m = 1, size(kinds(i)%marks)
+        if (m > 1 .and. m == size(kinds(i)%marks)) then
+          list = list//' or '
+        else if (m > 1) then
+          list = list//', '
+        end if
+        list = list//'&'//trim(kinds(i)%marks(m))
+      end do
+      list = list//': '''//trim(kinds(i)%name)//''''
+    end do
+  end function marks_text
 
   !> Whether `words` takes the shared key `key` ('group.key').
   pure logical function takes_key(words, key)

@@ -9,7 +9,7 @@
 module wellposed_mpm_cli
   use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_mpm_scene_kind, only: kind_words_t
+  use wellposed_mpm_scene_kind, only: kind_words_t, kinds_text, marks_text
   implicit none
   private
   public :: mpm_cli_t, read_mpm_cli, write_mpm_usage
@@ -142,18 +142,18 @@ contains
   end function argument
 
   !> The usage text, on standard output.
-  subroutine write_mpm_usage(default_deck)
+  subroutine write_mpm_usage(default_deck, kinds)
     character(len=*), intent(in) :: default_deck
+    type(kind_words_t), intent(in) :: kinds(:)
     write (output_unit, '(a)') 'usage: [mpirun -np N] wellposed-mpm [--out ROOT] '// &
       '[--name NAME] [--no-plot] [--force] [--check] [--checkpoint-every STEPS]'
     write (output_unit, '(a)') '         [--keep-checkpoints] [--restart | --restart-from FILE] '// &
       '[--max-memory SIZE] [DECK] [group.key=value ...]'
     write (output_unit, '(a)') '       [mpirun -np N] wellposed-mpm --batch FILE [--out ROOT] '// &
       '[--no-plot]'
-    write (output_unit, '(a)') '  DECK: a 1D bar (inputs/fig2_*.nml) or a plane-strain plate '// &
-      '(inputs/fig4_*.nml): its &scene kind says which'
-    write (output_unit, '(a)') '  (''bar'' or ''plate''; absent: ''plate'' when the deck has '// &
-      'a &plate, &boundary or &study group); default '//default_deck
+    write (output_unit, '(a)') '  DECK: its &scene kind says which scene it is: '//kinds_text(kinds)
+    write (output_unit, '(a)') '  (absent: by the deck''s groups, '//marks_text(kinds)//', else '// &
+      ''''//trim(kinds(1)%name)//'''); default '//default_deck
     write (output_unit, '(a)') '  results go to ROOT/NAME (ROOT = out, NAME = &scene name)'
     write (output_unit, '(a)') '  overrides, e.g. grid.dx=0.5 time.cfl=0.1 material.h=-5e8'
     write (output_unit, '(a)') '  --checkpoint-every STEPS  into ROOT/NAME.checkpoints/ '// &
