@@ -11,7 +11,8 @@ module wellposed_mpm_deck_shared
   use wellposed_deck, only: check_finite, check_word, unset, is_set, lower, value_text, &
                             check_group_names
   use wellposed_mpm_deck_file, only: open_deck, deck_groups_t, read_sources
-  use wellposed_mpm_scene_kind, only: check_scene_name, kind_words_t, takes_key, key_owner
+  use wellposed_mpm_scene_kind, only: check_scene_name, kind_words_t, takes_key, key_owner, &
+                                      owners_text
   use wellposed_mpm_material_deck, only: read_materials, material_defaults_t, &
                                          is_material_group
   use wellposed_mpm_materials, only: mpm_materials_t
@@ -126,7 +127,8 @@ contains
           ': '//k%foreign%key//' is not a key of '//name//' scenes (docs/guide/decks.md)')
       else
         call new_error(err, status_invalid, k%foreign%key, path//': &'//k%foreign%group// &
-          ': '//k%foreign%key//' is a key of '//trim(kinds(owner)%name)//' scenes; this '// &
+          ': '//k%foreign%key//' is a key of '//owners_text(kinds, k%foreign%group//'.'// &
+          k%foreign%key)//' scenes; this '// &
           'deck''s scene kind is '''//name//''' (docs/guide/decks.md)')
       end if
       return

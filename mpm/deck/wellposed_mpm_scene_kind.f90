@@ -10,7 +10,7 @@ module wellposed_mpm_scene_kind
   implicit none
   private
   public :: kind_words_t, deck_scene_kind, check_scene_kind, check_scene_name, takes_key, &
-            key_owner, kinds_text, marks_text
+            key_owner, owners_text, kinds_text, marks_text
 
   !> What decks say of one scene kind: its &scene kind word, a few words on
   !> it for messages, its own groups, the groups that mark a deck as this
@@ -147,6 +147,28 @@ contains
     end do
     key_owner = 0
   end function key_owner
+
+  !> The names of every kind that takes `key`, for messages: 'plate', or
+  !> 'axisymmetric and plate' ('' when none does).
+  pure function owners_text(kinds, key) result(list)
+    type(kind_words_t), intent(in) :: kinds(:)
+    character(len=*), intent(in) :: key
+    character(len=:), allocatable :: list
+    integer :: i, n, m
+    list = ''
+    n = count([(takes_key(kinds(i), key), i = 1, size(kinds))])
+    m = 0
+    do i = 1, size(kinds)
+      if (.not. takes_key(kinds(i), key)) cycle
+      m = m + 1
+      if (m > 1 .and. m == n) then
+        list = list//' and '
+      else if (m > 1) then
+        list = list//', '
+      end if
+      list = list//trim(kinds(i)%name)
+    end do
+  end function owners_text
 
   !> &scene name of deck `path`: it names the output folder, so letters,
   !> digits, '_', '.' or '-' only, and not empty.
