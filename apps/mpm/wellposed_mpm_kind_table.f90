@@ -18,6 +18,8 @@ module wellposed_mpm_kind_table
   use wellposed_mpm_plate_memory, only: plate_deck_memory
   use wellposed_mpm_plate_checks, only: verify_plate_deck
   use wellposed_mpm_plate_run, only: run_plate
+  use wellposed_mpm_axisymmetric_deck, only: axi_words, axi_deck_memory, verify_axi_deck
+  use wellposed_mpm_axisymmetric_run, only: run_axi
   implicit none
   private
   public :: mpm_kind_entry_t, scene_kinds
@@ -60,10 +62,13 @@ module wellposed_mpm_kind_table
 
 contains
 
-  !> Every scene kind, the default first.
+  !> Every scene kind, the default first; a deck without &scene kind is
+  !> the first whose marking groups it has (the cylinder's &cylinder
+  !> before the plate's &boundary, which a cylinder's deck has too).
   function scene_kinds() result(kinds)
     type(mpm_kind_entry_t), allocatable :: kinds(:)
     kinds = [mpm_kind_entry_t(bar_words, bar_deck_memory, verify_bar_deck, run_bar), &
+             mpm_kind_entry_t(axi_words, axi_deck_memory, verify_axi_deck, run_axi), &
              mpm_kind_entry_t(plate_words, plate_deck_memory, verify_plate_deck, run_plate)]
   end function scene_kinds
 

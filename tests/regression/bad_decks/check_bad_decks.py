@@ -57,7 +57,9 @@ GOOD = {
     'mpm': [('tests/regression/parallel/decks/short_wave.nml',
              'scene grid time viscosity material initial load stations output nonlocal'),
             ('tests/regression/plate/decks/plate_small_local.nml',
-             'scene plate grid time material boundary viscosity stations nonlocal study output')],
+             'scene plate grid time material boundary viscosity stations nonlocal study output'),
+            ('inputs/axisymmetric_thick_cylinder.nml',
+             'scene cylinder grid time material boundary viscosity nonlocal output')],
     'point': [('inputs/fig2_4_directional_stiffness.nml',
                'run material initial leg probe chapter3')],
     # decks good on one rank, refused on more (run with --launcher only)
