@@ -1,11 +1,11 @@
-!> bench_mpm2d: CPU nanoseconds per particle per step of the plane-strain
-!> MPM with the plastic UMAT, as a ratio to the elastic trial stress
-!> (bench_trial_clock) timed in the same run, with the step's shares, on
-!> the 4 m x 5 m plate at h = 0.25 m (linear, GIMP, CPDI under the platen;
-!> CPDI in free pure shear, every particle plastic), then one nonlocal
-!> sweep against a local update. The fastest of `nrounds` rounds is kept;
-!> never a pass/fail. Usage: bench_mpm2d [ROW] (ROW 1-5: that row alone).
-!> Targets and method: docs/guide/performance.md.
+!> bench_mpm2d: CPU ns per particle per step of the plane-strain MPM, the
+!> plastic model through the VUMAT on blocks (a deck's default), as a ratio
+!> to the elastic trial stress (bench_trial_clock) timed in the same run,
+!> with the step's shares, on the 4 m x 5 m plate at h = 0.25 m (linear,
+!> GIMP, CPDI under the platen; CPDI in free pure shear, every particle
+!> plastic), then one nonlocal sweep against a local update. The fastest of
+!> `nrounds` rounds is kept; never a pass/fail. Usage: bench_mpm2d [ROW]
+!> (ROW 1-5: that row alone). Targets, method: docs/guide/performance.md.
 program bench_mpm2d
   use, intrinsic :: iso_fortran_env, only: output_unit, int64
   use wellposed_kinds, only: dp
@@ -134,11 +134,11 @@ contains
     c%nprops = 14
     ! the body, and the weak corner [0, 1] x [0, 1] m with k0 = 38 MPa
     c%materials%ndim = 2
-    call add_material(c%materials, c%props(1:14), 12, .true., .false., err)
+    call add_material(c%materials, c%props(1:14), 12, .true., .false., err, vumat=.true.)
     weak = c%props(1:14)
     weak(5) = 38.0e6_dp
     call add_material(c%materials, weak, 12, .true., .false., err, [0.0_dp, 0.0_dp], &
-                      [1.0_dp, 1.0_dp])
+                      [1.0_dp, 1.0_dp], vumat=.true.)
     c%t_end = 1.0_dp
   end function plate
 
