@@ -13,7 +13,7 @@ module wellposed_mpm_stations
   use wellposed_mpm_particles, only: particles_t
   implicit none
   private
-  public :: stations_t, new_stations, new_point_stations, sample_stations, &
+  public :: stations_t, new_stations, new_point_stations, sample_stations, change_extreme, &
             station_measures_t, measure_stations, fit_speed, find_apex, phase_speed, nfields, &
             field_sxx, field_syy, field_v, field_z, field_apex, field_sxy, field_vy
 
@@ -145,6 +145,19 @@ contains
     call current(self, parts, self%prev)
     self%t_prev = t
   end subroutine sample_stations
+
+  !> Sample j of station s's `field` farthest from its value at t = 0, and
+  !> that change, signed: the extremes the kinds' summaries give.
+  pure subroutine change_extreme(self, field, s, change, j)
+    type(stations_t), intent(in) :: self
+    integer, intent(in) :: field, s
+    real(dp), intent(out) :: change
+    integer, intent(out) :: j
+    real(dp) :: d(self%ns)
+    d = self%hist(field, s, 1:self%ns) - self%hist(field, s, 1)
+    j = maxloc(abs(d), dim=1)
+    change = d(j)
+  end subroutine change_extreme
 
   pure subroutine current(self, parts, now)
     type(stations_t), intent(in) :: self

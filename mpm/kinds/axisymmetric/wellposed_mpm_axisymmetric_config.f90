@@ -15,11 +15,13 @@ module wellposed_mpm_axisymmetric_config
   implicit none
   private
   public :: axi_config_t, check_axi_config, closed_form_none, closed_form_lame, &
-            closed_form_hill, closed_form_names
+            closed_form_hill, closed_form_names, axi_max_stations
 
   !> The closed form a run compares its final state with: none, Lame's
   !> thick-walled cylinder in plane strain (elastic), or Hill's (elastic-
   !> perfectly-plastic von Mises; docs/guide/axisymmetric.md, "Closed forms").
+  !> Most stations of a cylinder's deck.
+  integer, parameter :: axi_max_stations = 16
   integer, parameter :: closed_form_none = 1, closed_form_lame = 2, closed_form_hill = 3
   character(len=8), parameter :: closed_form_names(3) = [character(len=8) :: 'none', 'lame', &
                                                          'hill']
@@ -42,6 +44,9 @@ module wellposed_mpm_axisymmetric_config
     logical :: progress = .true., plot = .true.
     !> a material that gives out ends the run at the last complete step
     logical :: stop_on_cutback = .false.
+    !> &stations: the points (r, z; m) whose particle's history is sampled
+    integer :: nstations = 0
+    real(dp) :: station_r(axi_max_stations) = 0.0_dp, station_z(axi_max_stations) = 0.0_dp
   end type axi_config_t
 
 contains

@@ -1,18 +1,18 @@
 !> The axisymmetric kind's MPM deck: the shared groups (wellposed_mpm_deck_shared,
 !> with this kind's defaults: the thick-walled cylinder under internal
-!> pressure) and its own &cylinder and &boundary into an axi_config_t; the
+!> pressure) and its own &cylinder, &boundary, &stations into an axi_config_t; the
 !> checks a run makes before anything is set up (--check), and the memory
 !> estimate. Overrides `group.key=value` are read after the deck. Keys:
 !> docs/guide/axisymmetric.md.
 module wellposed_mpm_axisymmetric_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_text, only: real_text
-  use wellposed_deck, only: check_finite, lower, check_word
+  use wellposed_text, only: real_text, int_text
+  use wellposed_deck, only: check_finite, lower, check_word, unset, is_set
   use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_mpm_memory, only: deck_bytes
   use wellposed_mpm_deck_shared, only: shared_deck_t, read_shared_deck
-  use wellposed_mpm_deck_file, only: deck_groups_t, read_sources
+  use wellposed_mpm_deck_file, only: deck_groups_t, read_sources, sets_list
   use wellposed_mpm_scene_kind, only: kind_words_t
   use wellposed_mpm_materials, only: first_material
   use wellposed_mpm_material_deck, only: check_boxes
@@ -22,12 +22,13 @@ module wellposed_mpm_axisymmetric_deck
   use wellposed_mpm_plate_deck, only: plate_study_t
   use wellposed_mpm_plate_checks, only: check_plate_deck
   use wellposed_mpm_axisymmetric_config, only: axi_config_t, closed_form_names, &
-                                               check_axi_config
+                                               check_axi_config, axi_max_stations
   implicit none
   private
   public :: axi_words, read_axi_deck, check_axi_deck, verify_axi_deck, axi_deck_memory
 
-  character(len=16), parameter :: axi_groups(2) = [character(len=16) :: 'cylinder', 'boundary']
+  character(len=16), parameter :: axi_groups(3) = [character(len=16) :: 'cylinder', 'boundary', &
+                                                   'stations']
   !> Bytes per particle with outputs on and off: the plate's (the same
   !> particle and grid arrays; docs/guide/performance.md).
   real(dp), parameter :: axi_out = 2900.0_dp, axi_quiet = 1310.0_dp
@@ -41,6 +42,7 @@ module wellposed_mpm_axisymmetric_deck
     character(len=16) :: bottom = 'roller', top = 'velocity', top_lateral = 'free', &
                          platen = 'grid', sides = 'free'
     real(dp) :: top_velocity = 0.0_dp, ramp_time = 0.0_dp
+    real(dp) :: r(axi_max_stations) = unset, z(axi_max_stations) = unset
   contains
     procedure :: read_group => read_axi_group
   end type axi_keys_t
@@ -89,7 +91,8 @@ contains
         real_text(s%width)//'] x [0, '//real_text(s%height)//'] m (x = r - r_inner, y = z)', err)
       if (allocated(err)) return
       call first_material(s%materials, s%props, s%nprops, s%nstatv)
-      call ends(path, k, cfg, err)
+      call ends(path, k, cfg, err); if (allocated(err)) return
+      call station_points(path, k, cfg, err)
     end associate
   end subroutine read_axi_deck
 
@@ -189,6 +192,43 @@ contains
     end associate
   end subroutine ends
 
+  !> &stations r(:), z(:): as many of each, finite, without gaps, inside
+  !> the cylinder, and sampled at a fixed interval (&output sample_dt > 0).
+  subroutine station_points(path, k, cfg, err)
+    character(len=*), intent(in) :: path
+    type(axi_keys_t), intent(in) :: k
+    type(axi_config_t), intent(inout) :: cfg
+    type(error_t), allocatable, intent(out) :: err
+    integer :: n, s
+    n = count(is_set(k%r))
+    if (n == 0 .and. count(is_set(k%z)) == 0) return
+    if (count(is_set(k%z)) /= n .or. .not. all(is_set(k%r(1:n))) .or. &
+        .not. all(is_set(k%z(1:n)))) then
+      call new_error(err, status_invalid, 'r', path//': &stations: r and z must give the '// &
+        'same number of points, without gaps (up to '//int_text(axi_max_stations)//')'); return
+    end if
+    call check_finite(path, 'stations', 'r', k%r(1:n), err); if (allocated(err)) return
+    call check_finite(path, 'stations', 'z', k%z(1:n), err); if (allocated(err)) return
+    do s = 1, n
+      if (k%r(s) < cfg%r_inner .or. k%r(s) > cfg%r_inner + cfg%section%width .or. &
+          k%z(s) < 0.0_dp .or. k%z(s) > cfg%section%height) then
+        call new_error(err, status_invalid, 'stations', path//': &stations: point '// &
+          int_text(s)//' (r, z) = ('//real_text(k%r(s))//', '//real_text(k%z(s))// &
+          ') m lies outside the cylinder ['//real_text(cfg%r_inner)//', '// &
+          real_text(cfg%r_inner + cfg%section%width)//'] x [0, '// &
+          real_text(cfg%section%height)//'] m (&cylinder)'); return
+      end if
+    end do
+    if (.not. cfg%sample_dt > 0.0_dp) then
+      call new_error(err, status_invalid, 'sample_dt', path//': &stations: the station '// &
+        'histories need &output sample_dt > 0 s (it is '//real_text(cfg%sample_dt)//' s)')
+      return
+    end if
+    cfg%nstations = n
+    cfg%station_r(1:n) = k%r(1:n)
+    cfg%station_z(1:n) = k%z(1:n)
+  end subroutine station_points
+
   !> One READ of group `grp` from the deck (`unit`) or an override `line`.
   subroutine read_axi_group(self, grp, ios, msg, unit, line)
     class(axi_keys_t), intent(inout) :: self
@@ -200,15 +240,17 @@ contains
     real(dp) :: r_inner, r_outer, height, p_inner, p_outer, pressure_ramp, top_velocity, &
                 ramp_time, confining
     character(len=16) :: closed_form, bottom, top, top_lateral, platen, sides
+    real(dp) :: r(axi_max_stations), z(axi_max_stations)
     namelist /cylinder/ r_inner, r_outer, height, p_inner, p_outer, pressure_ramp, closed_form, &
                         confining
     namelist /boundary/ bottom, top, top_velocity, ramp_time, top_lateral, platen, sides
+    namelist /stations/ r, z
     r_inner = self%r_inner; r_outer = self%r_outer; height = self%height
     p_inner = self%p_inner; p_outer = self%p_outer; pressure_ramp = self%pressure_ramp
     closed_form = self%closed_form; confining = self%confining
     bottom = self%bottom; top = self%top; top_velocity = self%top_velocity
     ramp_time = self%ramp_time; top_lateral = self%top_lateral; platen = self%platen
-    sides = self%sides
+    sides = self%sides; r = self%r; z = self%z
     ios = 0
     select case (grp)
     case ('cylinder')
@@ -217,13 +259,21 @@ contains
     case ('boundary')
       if (present(unit)) read (unit, nml=boundary, iostat=ios, iomsg=msg)
       if (present(line)) read (line, nml=boundary, iostat=ios, iomsg=msg)
+    case ('stations')
+      if (present(unit)) read (unit, nml=stations, iostat=ios, iomsg=msg)
+      if (present(line)) then
+        ! an override of a list replaces the whole list
+        if (sets_list(line, 'r')) r = unset
+        if (sets_list(line, 'z')) z = unset
+        read (line, nml=stations, iostat=ios, iomsg=msg)
+      end if
     end select
     self%r_inner = r_inner; self%r_outer = r_outer; self%height = height
     self%p_inner = p_inner; self%p_outer = p_outer; self%pressure_ramp = pressure_ramp
     self%closed_form = closed_form; self%confining = confining
     self%bottom = bottom; self%top = top; self%top_velocity = top_velocity
     self%ramp_time = ramp_time; self%top_lateral = top_lateral; self%platen = platen
-    self%sides = sides
+    self%sides = sides; self%r = r; self%z = z
   end subroutine read_axi_group
 
   !> The deck's physical checks: snapshots inside the run, the step count

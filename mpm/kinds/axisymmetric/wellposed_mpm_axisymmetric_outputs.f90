@@ -17,9 +17,14 @@ module wellposed_mpm_axisymmetric_outputs
   use wellposed_mpm_run_loop, only: snapshot_due
   use wellposed_mpm_snapshot_output, only: snapshot_output_t, progress_output_t
   use wellposed_mpm_axisymmetric_kind, only: axi_kind_t
+  use wellposed_h5_parallel, only: h5_parallel_file_t
+  use wellposed_mpm_stations, only: field_sxx, field_syy, field_sxy, field_v, field_vy, &
+                                    change_extreme
+  use wellposed_mpm_plate_stations, only: plate_stations_t
   implicit none
   private
-  public :: axi_snapshots_t, axi_progress_t, axi_curve_t, axi_field_names, axi_field_widths
+  public :: axi_snapshots_t, axi_progress_t, axi_curve_t, axi_stations_t, axi_field_names, &
+            axi_field_widths
 
   character(len=14), parameter :: axi_field_names(6) = [character(len=14) :: 'rz', &
     'sigma_rr', 'sigma_zz', 'sigma_tt', 'sigma_rz', 'plastic_strain']
@@ -68,7 +73,98 @@ module wellposed_mpm_axisymmetric_outputs
     procedure :: get => curve_get
   end type axi_curve_t
 
+  !> &stations: the histories of the particle nearest each point (the
+  !> plate's station machinery on the section, x = r - r_inner), sampled
+  !> every sample_dt on rank 0, into run.h5 (stations/), the summary and
+  !> the checkpoints; named in r and z.
+  type, extends(mpm_output_t) :: axi_stations_t
+    type(plate_stations_t) :: pst
+    real(dp) :: r_inner = 0.0_dp
+  contains
+    procedure :: sample => stations_sample
+    procedure :: summarise => stations_summarise
+    procedure :: write_h5 => stations_write_h5
+    procedure :: put => stations_put
+    procedure :: get => stations_get
+  end type axi_stations_t
+
 contains
+
+  subroutine stations_sample(self, sc, comm, err)
+    class(axi_stations_t), intent(inout) :: self
+    type(mpm_scene_t), intent(in) :: sc
+    type(comm_t), intent(inout) :: comm
+    type(error_t), allocatable, intent(out) :: err
+    call self%pst%sample(sc, comm)
+  end subroutine stations_sample
+
+  !> Per station (rank 0): the particle's reference (r, z), the signed
+  !> extremes of sigma_zz and sigma_rr about t = 0 with their times, and
+  !> the final velocity.
+  subroutine stations_summarise(self, sm)
+    class(axi_stations_t), intent(inout) :: self
+    type(summary_t), intent(inout) :: sm
+    character(len=:), allocatable :: k
+    integer :: s, ns
+    if (.not. self%pst%on) return
+    associate (st => self%pst%st)
+      ns = st%ns
+      do s = 1, st%n
+        k = 'station_'//int_text(s)
+        call sm%add(k//'_r', st%x(s) + self%r_inner, 'm, reference position of the particle read')
+        call sm%add(k//'_z', st%y(s), 'm')
+        call extreme('_sigma_zz', field_syy)
+        call extreme('_sigma_rr', field_sxx)
+        call sm%add(k//'_v_r_final', st%hist(field_v, s, ns), 'm/s')
+        call sm%add(k//'_v_z_final', st%hist(field_vy, s, ns), 'm/s')
+      end do
+    end associate
+  contains
+    subroutine extreme(name, field)
+      character(len=*), intent(in) :: name
+      integer, intent(in) :: field
+      real(dp) :: d
+      integer :: j
+      call change_extreme(self%pst%st, field, s, d, j)
+      call sm%add(k//name//'_extreme', d, 'Pa, signed extreme of the change from t = 0 '// &
+                  '(tension +)')
+      call sm%add(k//'_t'//name//'_extreme', self%pst%st%time(j), 's')
+    end subroutine extreme
+  end subroutine stations_summarise
+
+  !> The histories under stations/ of run.h5 (collective; rank 0's values).
+  subroutine stations_write_h5(self, h5)
+    class(axi_stations_t), intent(inout) :: self
+    type(h5_parallel_file_t), intent(inout) :: h5
+    integer :: ns
+    if (.not. self%pst%on) return
+    associate (st => self%pst%st)
+      ns = st%ns
+      call h5%write('stations/time', st%time(1:ns))
+      call h5%write('stations/r', st%x + self%r_inner)
+      call h5%write('stations/z', st%y)
+      call h5%write('stations/sigma_rr', st%hist(field_sxx, :, 1:ns))
+      call h5%write('stations/sigma_zz', st%hist(field_syy, :, 1:ns))
+      call h5%write('stations/sigma_rz', st%hist(field_sxy, :, 1:ns))
+      call h5%write('stations/velocity_r', st%hist(field_v, :, 1:ns))
+      call h5%write('stations/velocity_z', st%hist(field_vy, :, 1:ns))
+    end associate
+  end subroutine stations_write_h5
+
+  subroutine stations_put(self, ck, comm)
+    class(axi_stations_t), intent(inout) :: self
+    type(checkpoint_t), intent(inout) :: ck
+    type(comm_t), intent(inout) :: comm
+    call self%pst%put(ck, self%name//'/')
+  end subroutine stations_put
+
+  subroutine stations_get(self, ck, comm, err)
+    class(axi_stations_t), intent(inout) :: self
+    type(checkpoint_t), intent(in) :: ck
+    type(comm_t), intent(inout) :: comm
+    type(error_t), allocatable, intent(out) :: err
+    call self%pst%get(ck, self%name//'/', err)
+  end subroutine stations_get
 
   subroutine curve_start(self, sc, comm, err)
     class(axi_curve_t), intent(inout) :: self

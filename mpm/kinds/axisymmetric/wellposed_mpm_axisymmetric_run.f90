@@ -34,7 +34,9 @@ module wellposed_mpm_axisymmetric_run
   use wellposed_mpm_axisymmetric_kind, only: new_axi_scene
   use wellposed_mpm_axisymmetric_deck, only: read_axi_deck, check_axi_deck
   use wellposed_mpm_axisymmetric_outputs, only: axi_snapshots_t, axi_progress_t, axi_curve_t, &
-                                                axi_field_names, axi_field_widths
+                                                axi_stations_t, axi_field_names, axi_field_widths
+  use wellposed_mpm_plate_deck, only: plate_study_t
+  use wellposed_mpm_plate_stations, only: new_plate_stations
   use wellposed_mpm_axisymmetric_closed_forms, only: axi_closed_form_t
   use wellposed_checked_io, only: out_file_t
   implicit none
@@ -57,6 +59,7 @@ module wellposed_mpm_axisymmetric_run
     type(axi_progress_t) :: progress_line
     type(axi_closed_form_t) :: closed
     type(axi_curve_t) :: curve
+    type(axi_stations_t) :: stations
     type(output_list_t) :: outs, resumed
     type(loop_end_t) :: ended
   end type axi_run_t
@@ -133,11 +136,14 @@ contains
     r%curve%name = 'curve'
     r%curve%sample_dt = r%cfg%sample_dt
     r%curve%r_inner = r%cfg%r_inner
+    call station_points(r, comm)
     call r%outs%add(r%curve)
+    call r%outs%add(r%stations)
     call r%outs%add(r%snaps)
     call r%outs%add(r%progress_line)
     call r%outs%add(r%closed)
     call r%resumed%add(r%curve)
+    call r%resumed%add(r%stations)
     call r%resumed%add(r%progress_line)
     call r%resumed%add(r%closed)
     if (comm%rank /= 0) return
@@ -180,6 +186,7 @@ contains
     real(dp) :: wall
     integer :: nsub
     nsub = max_substeps(r%sc)
+    call r%outs%write_h5(r%h5)
     call r%h5%close(err)
     if (allocated(err)) call stop_all(comm, r%rd, err)
     if (comm%rank /= 0) return
@@ -221,6 +228,23 @@ contains
       real_text(r%closed%err_hoop)//', plastic radius '//real_text(r%closed%c_mpm)// &
       ' m (exact '//real_text(r%closed%c_exact)//' m)'
   end subroutine finish_axi
+
+  !> The deck's stations on the fresh scene (collective): the plate's, on
+  !> the section (x = r - r_inner), as one case of scale 1.
+  subroutine station_points(r, comm)
+    type(axi_run_t), intent(inout) :: r
+    type(comm_t), intent(inout) :: comm
+    type(plate_study_t) :: one
+    integer :: n
+    n = r%cfg%nstations
+    r%stations%name = 'stations'
+    r%stations%r_inner = r%cfg%r_inner
+    one%nstations = n
+    one%station_x(1:n) = r%cfg%station_r(1:n) - r%cfg%r_inner
+    one%station_y(1:n) = r%cfg%station_z(1:n)
+    one%sample_dt = r%cfg%sample_dt
+    call new_plate_stations(r%stations%pst, one, 1, r%sc, r%cfg%section%t_end, comm)
+  end subroutine station_points
 
   !> The curve's rows as CSV (rank 0).
   subroutine write_curve(path, curve, err)

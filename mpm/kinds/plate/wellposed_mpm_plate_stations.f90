@@ -16,7 +16,8 @@ module wellposed_mpm_plate_stations
   use wellposed_mpm_particles, only: particles_t
   use wellposed_mpm_scene, only: mpm_scene_t
   use wellposed_mpm_stations, only: stations_t, new_point_stations, sample_stations, nfields, &
-                                    field_sxx, field_syy, field_sxy, field_v, field_vy
+                                    field_sxx, field_syy, field_sxy, field_v, field_vy, &
+                                    change_extreme
   use wellposed_mpm_parallel_io, only: station_proxy_t, gather_particles, make_station_proxy, &
                                        fill_station_proxy, put_stations, get_stations
   use wellposed_mpm_plate_deck, only: plate_study_t
@@ -125,11 +126,10 @@ contains
     subroutine extreme(name, field)
       character(len=*), intent(in) :: name
       integer, intent(in) :: field
-      real(dp) :: d(ns)
+      real(dp) :: d
       integer :: j
-      d = self%st%hist(field, s, 1:ns) - self%st%hist(field, s, 1)
-      j = maxloc(abs(d), dim=1)
-      call sm%add(k//name//'_extreme', d(j), 'Pa, signed extreme of the change from t = 0 '// &
+      call change_extreme(self%st, field, s, d, j)
+      call sm%add(k//name//'_extreme', d, 'Pa, signed extreme of the change from t = 0 '// &
                   '(tension +)')
       call sm%add(k//'_t'//name//'_extreme', self%st%time(j), 's')
     end subroutine extreme
