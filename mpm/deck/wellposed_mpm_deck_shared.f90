@@ -11,7 +11,7 @@ module wellposed_mpm_deck_shared
   use wellposed_deck, only: check_finite, check_word, unset, is_set, lower, value_text, &
                             check_group_names
   use wellposed_mpm_deck_file, only: open_deck, deck_groups_t, read_sources
-  use wellposed_mpm_scene_kind, only: check_scene_name, kind_words_t, takes_key, key_owner, &
+  use wellposed_mpm_scene_kind, only: check_scene_name, kind_words_t, takes_key, &
                                       owners_text
   use wellposed_mpm_material_deck, only: read_materials, material_defaults_t, &
                                          is_material_group
@@ -95,7 +95,8 @@ contains
     character(len=:), allocatable, intent(out) :: text
     type(error_t), allocatable, intent(out) :: err
     type(shared_keys_t) :: k
-    integer :: unit, i, owner, this
+    integer :: unit, i, this
+    character(len=:), allocatable :: owners
     call blank(k%given)
     this = findloc(kinds%name, name, dim=1)
     if (this == 0) then
@@ -121,15 +122,14 @@ contains
       if (allocated(err)) return
     end associate
     if (allocated(k%foreign%key)) then
-      owner = key_owner(kinds, k%foreign%group//'.'//k%foreign%key)
-      if (owner == 0) then     ! a key of kind_keys no registered kind takes
+      owners = owners_text(kinds, k%foreign%group//'.'//k%foreign%key)
+      if (len(owners) == 0) then     ! a key of kind_keys no registered kind takes
         call new_error(err, status_invalid, k%foreign%key, path//': &'//k%foreign%group// &
           ': '//k%foreign%key//' is not a key of '//name//' scenes (docs/guide/decks.md)')
       else
         call new_error(err, status_invalid, k%foreign%key, path//': &'//k%foreign%group// &
-          ': '//k%foreign%key//' is a key of '//owners_text(kinds, k%foreign%group//'.'// &
-          k%foreign%key)//' scenes; this '// &
-          'deck''s scene kind is '''//name//''' (docs/guide/decks.md)')
+          ': '//k%foreign%key//' is a key of '//owners//' scenes; this deck''s scene '// &
+          'kind is '''//name//''' (docs/guide/decks.md)')
       end if
       return
     end if

@@ -15,7 +15,7 @@ module wellposed_mpm_axisymmetric_kind
   use wellposed_mpm_axisymmetric_config, only: axi_config_t, check_axi_config
   implicit none
   private
-  public :: axi_kind_t, new_axi_scene, axi_config, pressure_factor
+  public :: axi_kind_t, new_axi_scene, pressure_factor
 
   real(dp), parameter :: pi = acos(-1.0_dp)
 
@@ -182,15 +182,5 @@ contains
       end do
     end associate
   end function axi_kinematics
-
-  !> The configuration of the axisymmetric scene sc (defaults for another kind).
-  function axi_config(sc) result(cfg)
-    type(mpm_scene_t), intent(in) :: sc
-    type(axi_config_t) :: cfg
-    select type (k => sc%kind)
-    type is (axi_kind_t)
-      cfg = k%axi
-    end select
-  end function axi_config
 
 end module wellposed_mpm_axisymmetric_kind
