@@ -20,7 +20,7 @@ module wellposed_umat_adapter
   use wellposed_umat_layout
   implicit none
   private
-  public :: umat_update, cutback_factor, failure_pnewdt, check_props, explain, fault_non_finite, &
+  public :: umat_update, umat_update_checked, cutback_factor, failure_pnewdt, check_props, explain, fault_non_finite, &
             state_carry, range_error
 
   !> PNEWDT requested on status -2 (a smaller increment may succeed).
@@ -49,91 +49,32 @@ contains
     real(dp), intent(in) :: dstran(ntens), stran(ntens), dtime, props(nprops)
     type(error_t), allocatable, intent(out) :: err
     type(dp_params_t) :: p
-    real(dp) :: sig(ntens6), sig_n(ntens6), de(ntens6), eps_p(ntens6), eps_p_n(ntens6)
-    real(dp) :: z, zeta, dlambda, f, dep(ntens6), over(ntens6), z_over
-    integer(int64) :: carry
+    real(dp) :: sig(ntens6), sig_n(ntens6), de(ntens6), dep(ntens6)
     integer :: fault, status
     logical :: want_tangent
 
     call check_props(ndi, nshr, ntens, nstatv, nprops, props, dtime, p, want_tangent, fault)
-    if (fault == 0) then
-      ! Abaqus order 11, 22, 33, 12, 13, 23. NTENS is 6 or 4 here: literal
-      ! bounds let the compiler unroll the copies.
-      ! Every value checked OR-ed into one carry: one branch for all.
-      ! Finite, and (exponent tests, the same cost) stresses and strains
-      ! within the limits of the material (dp_params_t).
-      if (ntens == ntens6) then
-        sig = stress(1:6)
-        de = dstran(1:6)
-        carry = finite_carry(stran(1:6))
-      else
-        sig(1:4) = stress(1:4)
-        sig(5:6) = 0.0_dp
-        de(1:4) = dstran(1:4)
-        de(5:6) = 0.0_dp
-        carry = finite_carry(stran(1:4))
-      end if
-      carry = ior(ior(carry, state_carry(p, statev)), &
-                  ior(range_carry(sig, p%stress_limit), range_carry(de, p%strain_limit)))
-      if (carry < 0) fault = fault_non_finite
-    end if
+    if (fault == 0) call point_inputs(p, ntens, stress, dstran, stran, statev, sig, de, fault)
     if (fault /= 0) then
       call explain(fault, ndi, nshr, ntens, nstatv, nprops, props, dtime, err)
       if (fault == fault_non_finite) call range_error(p, sig, de, statev, err)
       call fail(); return
     end if
-
-    ! Engineering shears in the strains; the model takes tensor shears.
-    de(4:6) = 0.5_dp*de(4:6)
-    eps_p(1:3) = statev(sv_eps_p:sv_eps_p + 2)
-    eps_p(4:6) = 0.5_dp*statev(sv_eps_p + 3:sv_eps_p + 5)
-    z = statev(sv_z)
-    zeta = statev(sv_zeta)
     sig_n = sig
-    eps_p_n = eps_p
-    if (p%gdl) then
-      over = statev(sv_over:sv_over + 5)
-      z_over = statev(sv_over_z)
-      if (want_tangent) then
-        call gdl_update(p, sig, eps_p, z, zeta, over, z_over, statev(sv_avg_dlambda), de, &
-                        dtime, dlambda, f, status, ntens, ddsdde, err)
-      else
-        call gdl_update(p, sig, eps_p, z, zeta, over, z_over, statev(sv_avg_dlambda), de, &
-                        dtime, dlambda, f, status, ntens, err=err)
-      end if
-    else if (want_tangent) then
-      call point_update(p, sig, eps_p, z, zeta, statev(sv_avg_dlambda), de, dtime, dlambda, f, &
-                        status, ntens, ddsdde, err)
-    else
-      call point_update(p, sig, eps_p, z, zeta, statev(sv_avg_dlambda), de, dtime, dlambda, f, &
-                        status, ntens, err=err)
-    end if
+    call point_increment(p, want_tangent, ntens, sig, de, statev, dtime, ddsdde, dep, status, err)
     if (allocated(err)) then
       call fail(); return
     end if
-
     if (ntens == ntens6) then
       stress(1:6) = sig
     else
       stress(1:4) = sig(1:4)
-    end if
-    statev(sv_z) = z
-    statev(sv_dlambda) = dlambda
-    statev(sv_zeta) = zeta
-    statev(sv_eps_p:sv_eps_p + 2) = eps_p(1:3)
-    statev(sv_eps_p + 3:sv_eps_p + 5) = 2.0_dp*eps_p(4:6)
-    statev(sv_f) = f
-    statev(sv_status) = real(status, dp)
-    if (p%gdl) then
-      statev(sv_over:sv_over + 5) = over
-      statev(sv_over_z) = z_over
     end if
     ! Elastic energy density and plastic dissipation (trapezoidal rule;
     ! an elastic increment leaves eps_p, so SPD, as it is, except where a
     ! generalized Duvaut-Lions overstress relaxes).
     sse = elastic_energy(p%el%bulk, p%el%shear, sig)
     if (status /= state_elastic .or. p%gdl) then
-      dep = eps_p - eps_p_n
       sig_n = sig_n + sig
       spd = spd + 0.5_dp*(sig_n(1)*dep(1) + sig_n(2)*dep(2) + sig_n(3)*dep(3) + &
                           2.0_dp*(sig_n(4)*dep(4) + sig_n(5)*dep(5) + sig_n(6)*dep(6)))
@@ -157,6 +98,112 @@ contains
     end subroutine fail
 
   end subroutine umat_update
+
+  !> umat_update's increment for a host that checked the PROPS, layout and
+  !> DTIME once (`p` as check_props or vumat_props gave it for them): the
+  !> same checks of STRESS, STRAN, DSTRAN and STATEV and the same STRESS and
+  !> STATEV, bit for bit, without DDSDDE, SSE or SPD. Not ok (every argument
+  !> untouched) where umat_update would fail: the host calls it for the rules.
+  pure subroutine umat_update_checked(p, ntens, stress, statev, dstran, stran, dtime, ok)
+    type(dp_params_t), intent(in) :: p
+    integer, intent(in) :: ntens
+    real(dp), intent(inout) :: stress(ntens), statev(:)
+    real(dp), intent(in) :: dstran(ntens), stran(ntens), dtime
+    logical, intent(out) :: ok
+    type(error_t), allocatable :: err
+    real(dp) :: sig(ntens6), de(ntens6), dep(ntens6), none(ntens6, ntens6)
+    integer :: fault, status
+    call point_inputs(p, ntens, stress, dstran, stran, statev, sig, de, fault)
+    ok = fault == 0
+    if (.not. ok) return
+    call point_increment(p, .false., ntens, sig, de, statev, dtime, none, dep, status, err)
+    ok = .not. allocated(err)
+    if (ok) stress = sig(1:ntens)
+  end subroutine umat_update_checked
+
+  !> One point's inputs into the model's order (sig, de: NTENS 6 or 4 of
+  !> Abaqus order 11, 22, 33, 12, 13, 23, the rest 0; engineering shears
+  !> kept), every value checked OR-ed into one carry (one branch for all):
+  !> finite, and (exponent tests, the same cost) stresses and strains within
+  !> the material's limits (dp_params_t); fault_non_finite where one is not.
+  pure subroutine point_inputs(p, ntens, stress, dstran, stran, statev, sig, de, fault)
+    type(dp_params_t), intent(in) :: p
+    integer, intent(in) :: ntens
+    real(dp), intent(in) :: stress(ntens), dstran(ntens), stran(ntens), statev(:)
+    real(dp), intent(out) :: sig(ntens6), de(ntens6)
+    integer, intent(out) :: fault
+    integer(int64) :: carry
+    ! NTENS is 6 or 4 here: literal bounds let the compiler unroll the copies.
+    if (ntens == ntens6) then
+      sig = stress(1:6)
+      de = dstran(1:6)
+      carry = finite_carry(stran(1:6))
+    else
+      sig(1:4) = stress(1:4)
+      sig(5:6) = 0.0_dp
+      de(1:4) = dstran(1:4)
+      de(5:6) = 0.0_dp
+      carry = finite_carry(stran(1:4))
+    end if
+    carry = ior(ior(carry, state_carry(p, statev)), &
+                ior(range_carry(sig, p%stress_limit), range_carry(de, p%strain_limit)))
+    fault = 0
+    if (carry < 0) fault = fault_non_finite
+  end subroutine point_inputs
+
+  !> The model's increment of a checked point (point_inputs' sig and de):
+  !> sig advanced, STATEV written (on success only), dep the plastic strain
+  !> increment (tensor shears), DDSDDE when want_tangent (else not read).
+  pure subroutine point_increment(p, want_tangent, ntens, sig, de, statev, dtime, ddsdde, dep, &
+                                  status, err)
+    type(dp_params_t), intent(in) :: p
+    logical, intent(in) :: want_tangent
+    integer, intent(in) :: ntens
+    real(dp), intent(inout) :: sig(ntens6), de(ntens6), statev(:), ddsdde(ntens, ntens)
+    real(dp), intent(in) :: dtime
+    real(dp), intent(out) :: dep(ntens6)
+    integer, intent(out) :: status
+    type(error_t), allocatable, intent(out) :: err
+    real(dp) :: eps_p(ntens6), eps_p_n(ntens6), z, zeta, dlambda, f, over(ntens6), z_over
+
+    ! Engineering shears in the strains; the model takes tensor shears.
+    de(4:6) = 0.5_dp*de(4:6)
+    eps_p(1:3) = statev(sv_eps_p:sv_eps_p + 2)
+    eps_p(4:6) = 0.5_dp*statev(sv_eps_p + 3:sv_eps_p + 5)
+    z = statev(sv_z)
+    zeta = statev(sv_zeta)
+    eps_p_n = eps_p
+    if (p%gdl) then
+      over = statev(sv_over:sv_over + 5)
+      z_over = statev(sv_over_z)
+      if (want_tangent) then
+        call gdl_update(p, sig, eps_p, z, zeta, over, z_over, statev(sv_avg_dlambda), de, &
+                        dtime, dlambda, f, status, ntens, ddsdde, err)
+      else
+        call gdl_update(p, sig, eps_p, z, zeta, over, z_over, statev(sv_avg_dlambda), de, &
+                        dtime, dlambda, f, status, ntens, err=err)
+      end if
+    else if (want_tangent) then
+      call point_update(p, sig, eps_p, z, zeta, statev(sv_avg_dlambda), de, dtime, dlambda, f, &
+                        status, ntens, ddsdde, err)
+    else
+      call point_update(p, sig, eps_p, z, zeta, statev(sv_avg_dlambda), de, dtime, dlambda, f, &
+                        status, ntens, err=err)
+    end if
+    if (allocated(err)) return
+    statev(sv_z) = z
+    statev(sv_dlambda) = dlambda
+    statev(sv_zeta) = zeta
+    statev(sv_eps_p:sv_eps_p + 2) = eps_p(1:3)
+    statev(sv_eps_p + 3:sv_eps_p + 5) = 2.0_dp*eps_p(4:6)
+    statev(sv_f) = f
+    statev(sv_status) = real(status, dp)
+    if (p%gdl) then
+      statev(sv_over:sv_over + 5) = over
+      statev(sv_over_z) = z_over
+    end if
+    dep = eps_p - eps_p_n
+  end subroutine point_increment
 
   !> PNEWDT out of a failed call (docs/guide/umat.md, "Status codes"), from the
   !> status and PNEWDT on entry. A host whose "no request" is >= 1 (Abaqus's

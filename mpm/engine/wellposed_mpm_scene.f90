@@ -16,7 +16,7 @@ module wellposed_mpm_scene
   use wellposed_umat_host, only: umat_host_t, umat_is_ours
   use wellposed_step_kinematics, only: step_kinematics
   use wellposed_mpm_particle_umat, only: umat_particle
-  use wellposed_mpm_vumat_call, only: vumat_work_t, vumat_material_t, vumat_particles
+  use wellposed_mpm_vumat_call, only: vumat_work_t, vumat_material_t, vumat_particles, vumat_point
   use wellposed_mpm_nonlocal, only: nonlocal_t, nonlocal_host_t
   implicit none
   private
@@ -200,10 +200,19 @@ contains
     real(dp), intent(out) :: dlambda
     type(error_t), allocatable, intent(out) :: err
     integer :: nsub, k, nt
+    logical :: done
     nt = self%ntens
     call restore_start(self, p)
     k = self%mat(p)
     if (self%mats%vumat(k)) then
+      ! a sweep's call (the start of step restored): the checked point path
+      if (self%nl%active .and. allocated(self%vmat)) then
+        call vumat_point(self%vmat(k), nt, self%dt, self%parts%stress(1:nt, p), &
+                         self%parts%statev(:, p), self%parts%stran(1:nt, p), self%de(1:nt, p), &
+                         avg, dlambda, done)
+        if (done) return
+        call restore_start(self, p)
+      end if
       self%block_idx(1) = p
       self%block_avg(1) = avg
       call vumat_of(self, k, 1, .true., err)

@@ -16,9 +16,10 @@ module wellposed_mpm_vumat_call
   use wellposed_abaqus_job, only: abaqus_take_error
   use wellposed_umat_layout, only: sv_dlambda, sv_avg_dlambda, sv_eps_p, sv_over, nstatv_gdl
   use wellposed_umat_host, only: umat_host_t, host_update, vumat_is_ours
+  use wellposed_umat_adapter, only: umat_update_checked
   implicit none
   private
-  public :: vumat_work_t, vumat_particles, vumat_block, material_update
+  public :: vumat_work_t, vumat_particles, vumat_point, vumat_block, material_update
 
   !> Points per VUMAT call (Abaqus/Explicit's blocks are of this order).
   integer, parameter :: vumat_block = 128
@@ -123,6 +124,32 @@ contains
       end do
     end do
   end subroutine vumat_particles
+
+  !> One particle of our VUMAT's material again from its start of step with
+  !> STATEV(3) = avg (Algorithm 1's sweeps): the UMAT's increment on the
+  !> particle's own arrays with the block checks the VUMAT made for this dt
+  !> (umat_update_checked: the VUMAT's answer for a block of one, bit for
+  !> bit, without the copies into its layout and back). Not done (the arrays
+  !> to be restored) where the VUMAT path must decide: checks not made for
+  !> this dt, a point it refuses, a non-finite answer.
+  subroutine vumat_point(mat, nt, dt, s, sv, e, d, avg, dl, done)
+    type(vumat_material_t), intent(in) :: mat
+    integer, intent(in) :: nt
+    real(dp), intent(in) :: dt, d(nt), avg
+    real(dp), intent(inout) :: s(nt), sv(:), e(nt)
+    real(dp), intent(out) :: dl
+    logical, intent(out) :: done
+    dl = 0.0_dp
+    done = .false.
+    if (.not. (mat%ours .and. mat%contract .and. mat%par_ok .and. mat%par_dt == dt)) return
+    sv(sv_avg_dlambda) = avg
+    call umat_update_checked(mat%par, nt, s, sv, d, e, dt, done)
+    if (.not. done) return
+    done = all_finite(s) .and. all_finite(sv)
+    if (.not. done) return
+    e = e + d
+    dl = sv(sv_dlambda)
+  end subroutine vumat_point
 
   !> One point of a material as host_update advances it (its arguments;
   !> the step host%time, host%dtime), through the linked VUMAT when `vumat`

@@ -127,7 +127,7 @@ contains
     integer, intent(in) :: p
     real(dp), intent(in) :: xp(:)
     real(dp), intent(out) :: avg
-    integer :: lo(2), hi(2), i, j, g, nb
+    integer :: lo(2), hi(2), i, j, g, nb, nx
     real(dp) :: num, row, den
     if (.not. self%cached(p)) then
       call box(self, xp, lo, hi)
@@ -170,23 +170,42 @@ contains
       end do
     else
       nb = hi(1) - lo(1) + 1
-      do j = lo(2), hi(2)
-        g = lo(1) + self%nnode(1)*j
-        if (g < self%glo .or. g + nb - 1 > self%ghi) then
+      nx = self%nnode(1)
+      g = lo(1) + nx*lo(2)
+      if (g >= self%glo .and. lo(1) + nx*hi(2) + nb - 1 <= self%ghi) then
+        ! the whole box on this rank's patch: plain loops on the rows
+        num = box_sum(self%field(g:), nx, nb, hi(2) - lo(2) + 1, self%wx(:, p), self%wy(:, p))
+      else
+        do j = lo(2), hi(2)
           row = 0.0_dp
           do i = lo(1), hi(1)
-            g = i + self%nnode(1)*j
+            g = i + nx*j
             if (g >= self%glo .and. g <= self%ghi) &
               row = row + self%wx(i - lo(1) + 1, p)*self%field(g)
           end do
-        else
-          row = dot_product(self%wx(1:nb, p), self%field(g:g + nb - 1))
-        end if
-        num = num + self%wy(j - lo(2) + 1, p)*row
-      end do
+          num = num + self%wy(j - lo(2) + 1, p)*row
+        end do
+      end if
     end if
     avg = num/self%den(p)
   end subroutine cached_average
+
+  !> sum_j wy(j) sum_i wx(i) f(i, j) over nb x ny nodes of rows nx apart
+  !> (cached_average's box; the sums in the order of its rows).
+  pure function box_sum(f, nx, nb, ny, wx, wy) result(num)
+    integer, intent(in) :: nx, nb, ny
+    real(dp), intent(in) :: f(nx, *), wx(nb), wy(ny)
+    real(dp) :: num, row
+    integer :: i, j
+    num = 0.0_dp
+    do j = 1, ny
+      row = 0.0_dp
+      do i = 1, nb
+        row = row + wx(i)*f(i, j)
+      end do
+      num = num + wy(j)*row
+    end do
+  end function box_sum
 
   !> The row extents of the nonzero `field` nodes of the patch.
   subroutine field_extents(self)
