@@ -38,6 +38,7 @@ module wellposed_checkpoint
     !> get(name, values, err): the array (allocated to its length) or scalar.
     generic :: get => get_r1, get_i1, get_r0, get_i0
     procedure :: has => ckpt_has
+    procedure :: put_moved => ckpt_put_moved
     !> put_text(name, text): a text as [0, its character codes].
     procedure :: put_text => ckpt_put_text
     !> get_text(name, text, err): the text put by put_text.
@@ -46,26 +47,41 @@ module wellposed_checkpoint
 
 contains
 
+  !> e into the set (replacing an entry of its name), its arrays moved, not
+  !> copied: a checkpoint holds each array once (particle records are most
+  !> of a run's memory at that moment).
   subroutine add_entry(self, e)
     class(checkpoint_t), intent(inout) :: self
-    type(entry_t), intent(in) :: e
+    type(entry_t), intent(inout) :: e
     type(entry_t), allocatable :: grown(:)
     integer :: k
     if (.not. allocated(self%entries)) allocate (self%entries(16))
     do k = 1, self%n
       if (self%entries(k)%name == e%name) then
-        self%entries(k) = e
+        call move_entry(e, self%entries(k))
         return
       end if
     end do
     if (self%n == size(self%entries)) then
       allocate (grown(2*self%n))
-      grown(1:self%n) = self%entries(1:self%n)
+      do k = 1, self%n
+        call move_entry(self%entries(k), grown(k))
+      end do
       call move_alloc(grown, self%entries)
     end if
     self%n = self%n + 1
-    self%entries(self%n) = e
+    call move_entry(e, self%entries(self%n))
   end subroutine add_entry
+
+  !> to takes from's name and arrays (from's arrays deallocated).
+  subroutine move_entry(from, to)
+    type(entry_t), intent(inout) :: from, to
+    call move_alloc(from%name, to%name)
+    if (allocated(to%r)) deallocate (to%r)
+    if (allocated(to%i)) deallocate (to%i)
+    if (allocated(from%r)) call move_alloc(from%r, to%r)
+    if (allocated(from%i)) call move_alloc(from%i, to%i)
+  end subroutine move_entry
 
   subroutine put_r1(self, name, values)
     class(checkpoint_t), intent(inout) :: self
@@ -76,6 +92,18 @@ contains
     e%r = values
     call add_entry(self, e)
   end subroutine put_r1
+
+  !> put_moved(name, values): the array taken over without a copy (values
+  !> is deallocated on return).
+  subroutine ckpt_put_moved(self, name, values)
+    class(checkpoint_t), intent(inout) :: self
+    character(len=*), intent(in) :: name
+    real(dp), allocatable, intent(inout) :: values(:)
+    type(entry_t) :: e
+    e%name = name
+    call move_alloc(values, e%r)
+    call add_entry(self, e)
+  end subroutine ckpt_put_moved
 
   subroutine put_i1(self, name, values)
     class(checkpoint_t), intent(inout) :: self
@@ -251,19 +279,22 @@ contains
     type(entry_t), intent(in) :: entries(:)
     integer, intent(in) :: n
     character(len=16) :: hex
+    ! the data bits a chunk at a time: no copy of a whole array
+    integer, parameter :: chunk = 1024
     integer(int64) :: s1, s2
-    integer :: k
-    integer(int32), allocatable :: w(:)
+    integer :: k, j, m
+    integer(int32) :: w(2*chunk)
     s1 = 1_int64
     s2 = 0_int64
     do k = 1, n
       call fletcher_text(entries(k)%name, s1, s2)
       if (allocated(entries(k)%r)) then
         call fletcher_words([int(size(entries(k)%r), int32), 1_int32], s1, s2)
-        if (size(entries(k)%r) > 0) then
-          w = transfer(entries(k)%r, 1_int32, 2*size(entries(k)%r))
-          call fletcher_words(w, s1, s2)
-        end if
+        do j = 1, size(entries(k)%r), chunk
+          m = min(chunk, size(entries(k)%r) - j + 1)
+          w(1:2*m) = transfer(entries(k)%r(j:j + m - 1), w, 2*m)
+          call fletcher_words(w(1:2*m), s1, s2)
+        end do
       else
         call fletcher_words([int(size(entries(k)%i), int32), 2_int32], s1, s2)
         if (size(entries(k)%i) > 0) call fletcher_words(int(entries(k)%i, int32), s1, s2)

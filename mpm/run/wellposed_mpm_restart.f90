@@ -43,6 +43,7 @@ contains
       rec(p*reclen) = real(scene%mat(p), dp)
     end do
     call scene%exchange%gather_root(rec, recs, counts)
+    deallocate (rec)
     call scene%exchange%gather_root(scene%kind%partial_sums(), partials, pcounts)
     nsub = max_substeps(scene)
     moved = scene%moved
@@ -56,7 +57,7 @@ contains
     call ckpt%put('mpm/nranks', size(counts))
     call ckpt%put('mpm/record_length', reclen)
     call ckpt%put('mpm/counts', counts/reclen)
-    call ckpt%put('mpm/particles', recs)
+    call ckpt%put_moved('mpm/particles', recs)
     call ckpt%put('mpm/partials', partials)
     call ckpt%put('mpm/t', scene%t)
     call ckpt%put('mpm/dt', scene%dt)
