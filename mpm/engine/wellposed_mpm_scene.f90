@@ -190,7 +190,8 @@ contains
   !> The host side of Algorithm 1: particle p from its start of step (the
   !> copies s0, sv0, e0 when Algorithm 1 iterates; else the particle's own
   !> state: a local model updates each particle once) with STATEV(3) = avg:
-  !> through the VUMAT (a block of one) when its material is a VUMAT's, else
+  !> through the VUMAT (a block of one; ours in a sweep: vumat_point) when
+  !> its material is a VUMAT's, else
   !> (or when our VUMAT refuses it) through the UMAT host (host: its
   !> cut-back splitting, PNEWDT and non-finite rules); dlambda = STATEV(2).
   subroutine scene_update(self, p, avg, dlambda, err)
