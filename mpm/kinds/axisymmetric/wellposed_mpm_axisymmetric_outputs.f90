@@ -18,8 +18,7 @@ module wellposed_mpm_axisymmetric_outputs
   use wellposed_mpm_snapshot_output, only: snapshot_output_t, progress_output_t
   use wellposed_mpm_axisymmetric_kind, only: axi_kind_t
   use wellposed_h5_parallel, only: h5_parallel_file_t
-  use wellposed_mpm_stations, only: field_sxx, field_syy, field_sxy, field_v, field_vy, &
-                                    change_extreme
+  use wellposed_mpm_stations, only: field_sxx, field_syy, field_sxy, field_v, field_vy
   use wellposed_mpm_plate_stations, only: plate_stations_t
   implicit none
   private
@@ -104,32 +103,8 @@ contains
   subroutine stations_summarise(self, sm)
     class(axi_stations_t), intent(inout) :: self
     type(summary_t), intent(inout) :: sm
-    character(len=:), allocatable :: k
-    integer :: s, ns
-    if (.not. self%pst%on) return
-    associate (st => self%pst%st)
-      ns = st%ns
-      do s = 1, st%n
-        k = 'station_'//int_text(s)
-        call sm%add(k//'_r', st%x(s) + self%r_inner, 'm, reference position of the particle read')
-        call sm%add(k//'_z', st%y(s), 'm')
-        call extreme('_sigma_zz', field_syy)
-        call extreme('_sigma_rr', field_sxx)
-        call sm%add(k//'_v_r_final', st%hist(field_v, s, ns), 'm/s')
-        call sm%add(k//'_v_z_final', st%hist(field_vy, s, ns), 'm/s')
-      end do
-    end associate
-  contains
-    subroutine extreme(name, field)
-      character(len=*), intent(in) :: name
-      integer, intent(in) :: field
-      real(dp) :: d
-      integer :: j
-      call change_extreme(self%pst%st, field, s, d, j)
-      call sm%add(k//name//'_extreme', d, 'Pa, signed extreme of the change from t = 0 '// &
-                  '(tension +)')
-      call sm%add(k//'_t'//name//'_extreme', self%pst%st%time(j), 's')
-    end subroutine extreme
+    call self%pst%summarise(sm, 'station_', [character(len=10) :: '_r', '_z', '_sigma_zz', &
+                            '_sigma_rr', '_v_r_final', '_v_z_final'], self%r_inner)
   end subroutine stations_summarise
 
   !> The histories under stations/ of run.h5 (collective; rank 0's values).

@@ -17,7 +17,7 @@ module wellposed_mpm_plate_outputs
   use wellposed_mpm_decomposition, only: gather_by_gid
   use wellposed_mpm_plate_cases, only: band_width
   use wellposed_mpm_plate_band_watch, only: band_watch_t
-  use wellposed_mpm_plate_stations, only: plate_stations_t
+  use wellposed_mpm_plate_stations, only: plate_stations_t, plate_station_keys
   use wellposed_mpm_statev_outputs, only: plate_field_rows, add_plate_band, no_slot_why, &
                                           slot_plastic_strain
   use wellposed_checkpoint, only: checkpoint_t
@@ -348,7 +348,7 @@ contains
   subroutine stations_summarise(self, sm)
     class(plate_stations_output_t), intent(inout) :: self
     type(summary_t), intent(inout) :: sm
-    call self%pst%summarise(sm, self%tag)
+    call self%pst%summarise(sm, self%tag//'.station_', plate_station_keys, 0.0_dp)
   end subroutine stations_summarise
 
   subroutine stations_put(self, ck, comm)

@@ -23,7 +23,11 @@ module wellposed_mpm_plate_stations
   use wellposed_mpm_plate_deck, only: plate_study_t
   implicit none
   private
-  public :: plate_stations_t, new_plate_stations, restore_plate_stations
+  public :: plate_stations_t, new_plate_stations, restore_plate_stations, plate_station_keys
+
+  !> A plate's station keys after station_<s> (summarise_plate_stations).
+  character(len=10), parameter :: plate_station_keys(6) = [character(len=10) :: '_x', '_y', &
+    '_sigma_yy', '_sigma_xx', '_v_x_final', '_v_y_final']
 
   type :: plate_stations_t
     logical :: on = .false.             !< the deck gives &stations
@@ -102,25 +106,29 @@ contains
     if (self%root) call sample_stations(self%st, self%proxy%parts, sc%t)
   end subroutine sample_plate_stations
 
-  !> Per station of case `tag` (rank 0): the particle's reference position,
-  !> the signed extremes of sigma_yy and sigma_xx about their values at
-  !> t = 0 with their times, and the final velocity.
-  subroutine summarise_plate_stations(self, sm, tag)
+  !> Per station (rank 0), keys prefix//'<s>'//keys(i): the particle's
+  !> reference position (x + x_shift, y), the signed extremes of sigma_yy and
+  !> sigma_xx about their values at t = 0 with their times, and the final
+  !> velocity (v_x, v_y). A plate's keys: plate_station_keys; a kind on the
+  !> same section names them its own way (the cylinder: r, z).
+  subroutine summarise_plate_stations(self, sm, prefix, keys, x_shift)
     class(plate_stations_t), intent(in) :: self
     type(summary_t), intent(inout) :: sm
-    character(len=*), intent(in) :: tag
+    character(len=*), intent(in) :: prefix, keys(6)
+    real(dp), intent(in) :: x_shift
     character(len=:), allocatable :: k
     integer :: s, ns
     if (.not. self%on) return
     ns = self%st%ns
     do s = 1, self%st%n
-      k = tag//'.station_'//int_text(s)
-      call sm%add(k//'_x', self%st%x(s), 'm, reference position of the particle read')
-      call sm%add(k//'_y', self%st%y(s), 'm')
-      call extreme('_sigma_yy', field_syy)
-      call extreme('_sigma_xx', field_sxx)
-      call sm%add(k//'_v_x_final', self%st%hist(field_v, s, ns), 'm/s')
-      call sm%add(k//'_v_y_final', self%st%hist(field_vy, s, ns), 'm/s')
+      k = prefix//int_text(s)
+      call sm%add(k//trim(keys(1)), self%st%x(s) + x_shift, &
+                  'm, reference position of the particle read')
+      call sm%add(k//trim(keys(2)), self%st%y(s), 'm')
+      call extreme(trim(keys(3)), field_syy)
+      call extreme(trim(keys(4)), field_sxx)
+      call sm%add(k//trim(keys(5)), self%st%hist(field_v, s, ns), 'm/s')
+      call sm%add(k//trim(keys(6)), self%st%hist(field_vy, s, ns), 'm/s')
     end do
   contains
     subroutine extreme(name, field)
