@@ -28,6 +28,7 @@ module wellposed_mpm_snapshot_output
   contains
     procedure(rows_i), deferred :: rows
     procedure :: take => snapshot_take
+    procedure :: last_due => snapshot_last_due
     procedure :: put => snapshot_put
     procedure :: get => snapshot_get
   end type snapshot_output_t
@@ -54,6 +55,14 @@ module wellposed_mpm_snapshot_output
   end type progress_output_t
 
 contains
+
+  !> The run's last state wants a snapshot of its own: none was scheduled,
+  !> or the last scheduled one lies more than half a step back.
+  pure logical function snapshot_last_due(self, sc) result(due)
+    class(snapshot_output_t), intent(in) :: self
+    type(mpm_scene_t), intent(in) :: sc
+    due = self%interval <= 0.0_dp .or. self%next - self%interval < sc%t - 0.5_dp*sc%dt
+  end function snapshot_last_due
 
   !> A snapshot now (collective): every rank its own particles' rows.
   subroutine snapshot_take(self, sc, comm, err)

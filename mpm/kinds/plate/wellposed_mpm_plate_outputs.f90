@@ -426,8 +426,7 @@ contains
     type(mpm_scene_t), intent(in) :: sc
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
-    if (self%interval <= 0.0_dp .or. self%next - self%interval < sc%t - 0.5_dp*sc%dt) &
-      call self%snap(sc, comm, err)
+    if (self%last_due(sc)) call self%snap(sc, comm, err)
   end subroutine plate_snapshots_finish
 
   subroutine plate_progress_sample(self, sc, comm, err)
