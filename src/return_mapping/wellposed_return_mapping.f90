@@ -96,7 +96,9 @@ contains
     if (is_linear(p%hard)) then
       x = f_tr/(p%a_m + p%hard%h)
     else
-      scale = abs(f_tr) + abs(k_n)
+      ! The residual rounds at the size of k(z) itself: with a nonlocal
+      ! zeta (eq. 4.34) k_n = k(z) + zeta can be far smaller than k(z).
+      scale = abs(f_tr) + abs(strength(p%hard, z_n))
       x = f_tr/(p%a_m + strength_slope(p%hard, z_n))
       do it = 1, max_newton
         g = cone_residual(x)
