@@ -1,6 +1,7 @@
 !> What the station histories need from a scene spread over ranks, so they
 !> keep the serial values: gather_particles (every particle on rank 0, in
-!> global-id order); station proxies, a small particle set refreshed every
+!> global-id order), gather_reference_positions (their x0 only, for placing
+!> stations: 8 bytes a coordinate, not a record); station proxies, a small particle set refreshed every
 !> sample by one exact reduction (the holder gives the value, the others
 !> zeros); put_stations / get_stations, a stations_t in a checkpoint.
 !> Particle snapshots go from every rank: wellposed_mpm_snapshots.
@@ -13,11 +14,12 @@ module wellposed_mpm_parallel_io
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_mpm_particles, only: particles_t, particle_record_length, pack_particle, &
                                      unpack_particle, ensure_capacity
-  use wellposed_mpm_stations, only: stations_t, nfields
+  use wellposed_mpm_stations, only: stations_t, nfields, start_stations
   implicit none
   private
-  public :: gather_particles, station_proxy_t, make_station_proxy, fill_station_proxy, &
-            put_stations, get_stations
+  public :: gather_particles, gather_reference_positions, station_proxy_t, &
+            make_station_proxy, fill_station_proxy, start_proxied_stations, put_stations, &
+            get_stations
 
   !> The particles the stations read, by global id, and their copies.
   type :: station_proxy_t
@@ -95,6 +97,48 @@ contains
     call ensure_capacity(proxy%parts, max(1, size(proxy%gids)))
     proxy%parts%n = size(proxy%gids)
   end subroutine make_station_proxy
+
+  !> The reference positions x0(1:ndim, id) of every rank's particles on
+  !> `root`, in global-id order (ids 1..N, each once); elsewhere x0(ndim, 0).
+  subroutine gather_reference_positions(comm, parts, root, x0)
+    type(comm_t), intent(in) :: comm
+    type(particles_t), intent(in) :: parts
+    integer, intent(in) :: root
+    real(dp), allocatable, intent(out) :: x0(:, :)
+    real(dp), allocatable :: rec(:), recs(:)
+    integer :: p, k, nd, n
+    nd = parts%ndim
+    allocate (rec((nd + 1)*parts%n))
+    do p = 1, parts%n
+      k = (p - 1)*(nd + 1)
+      rec(k + 1) = real(parts%gid(p), dp)
+      rec(k + 2:k + 1 + nd) = parts%x0(1:nd, p)
+    end do
+    call gatherv_real(comm, rec, recs, root)
+    n = 0
+    if (comm%rank == root) n = size(recs)/(nd + 1)
+    allocate (x0(nd, n))
+    do p = 1, n
+      k = (p - 1)*(nd + 1)
+      x0(:, nint(recs(k + 1))) = recs(k + 2:k + 1 + nd)
+    end do
+  end subroutine gather_reference_positions
+
+  !> Stations `st` placed on rank 0 (global ids in pa, pb) start on the
+  !> scene's particles `parts` spread over the ranks (collective): their
+  !> proxy, filled, gives the first sample, as start_stations on every
+  !> particle would; pa, pb become proxy slots.
+  subroutine start_proxied_stations(st, comm, ntotal, parts, sample_dt, t_end, proxy)
+    type(stations_t), intent(inout) :: st
+    type(comm_t), intent(in) :: comm
+    integer, intent(in) :: ntotal
+    type(particles_t), intent(in) :: parts
+    real(dp), intent(in) :: sample_dt, t_end
+    type(station_proxy_t), intent(out) :: proxy
+    call make_station_proxy(st, comm, ntotal, parts, proxy)
+    call fill_station_proxy(proxy, comm, parts)
+    if (comm%rank == 0) call start_stations(st, proxy%parts, sample_dt, t_end)
+  end subroutine start_proxied_stations
 
   !> Copy the proxied particles from whichever rank holds them into
   !> proxy%parts on every rank (collective; exact).

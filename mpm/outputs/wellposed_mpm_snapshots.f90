@@ -215,50 +215,33 @@ contains
     real(dp), allocatable :: mine_rows(:), all_rows(:), values(:)
     integer, allocatable :: first(:)
     character(len=:), allocatable :: groups
-    integer :: k, q, j, m, g, a, b, nc
+    integer :: k, m, nc
     nc = self%ncols
     allocate (mine_n(self%n))
     do k = 1, self%n
       mine_n(k) = size(self%snaps(k)%gid)
     end do
-    allocate (mine_gid(sum(mine_n)), mine_rows(nc*sum(mine_n)))
+    allocate (mine_gid(sum(mine_n)), mine_rows(merge(nc*sum(mine_n), 0, comm%size > 1)))
     m = 0
     do k = 1, self%n
       associate (s => self%snaps(k))
         mine_gid(m + 1:m + mine_n(k)) = s%gid
-        mine_rows(nc*m + 1:nc*(m + mine_n(k))) = reshape(s%rows, [nc*mine_n(k)])
+        if (comm%size > 1) mine_rows(nc*m + 1:nc*(m + mine_n(k))) = &
+          reshape(s%rows, [nc*mine_n(k)])
         m = m + mine_n(k)
       end associate
     end do
-    call gatherv_int(comm, mine_n, all_n, 0)
-    call gatherv_int(comm, mine_gid, all_gid, 0)
-    call gatherv_real(comm, mine_rows, all_rows, 0)
-    if (comm%rank /= 0) return
-    ! rows of snapshot k over all ranks, and where its rows start in `values`
-    allocate (n_rows(self%n), first(self%n))
-    n_rows = 0
-    do q = 0, comm%size - 1
-      n_rows = n_rows + all_n(q*self%n + 1:(q + 1)*self%n)
-    end do
-    allocate (values(1 + nc*sum(n_rows)))
-    values(1) = 0.0_dp
-    a = 1
-    do k = 1, self%n
-      first(k) = a
-      a = a + nc*n_rows(k)
-    end do
-    ! rank q's rows, snapshot after snapshot, each to row gid of its snapshot
-    m = 0
-    do q = 0, comm%size - 1
-      do k = 1, self%n
-        do j = 1, all_n(q*self%n + k)
-          m = m + 1
-          g = all_gid(m)
-          b = first(k) + nc*(g - 1)
-          values(b + 1:b + nc) = all_rows(nc*(m - 1) + 1:nc*m)
-        end do
-      end do
-    end do
+    if (comm%size == 1) then
+      call assemble(mine_n, mine_gid)   ! one rank: from the store, no gathered copy
+    else
+      call gatherv_int(comm, mine_n, all_n, 0)
+      call gatherv_int(comm, mine_gid, all_gid, 0)
+      call gatherv_real(comm, mine_rows, all_rows, 0)
+      deallocate (mine_rows)
+      if (comm%rank /= 0) return
+      call assemble(all_n, all_gid, all_rows)
+      deallocate (all_rows)
+    end if
     groups = ''
     do k = 1, self%n
       groups = groups//self%snaps(k)%group//new_line('a')
@@ -270,7 +253,44 @@ contains
     call ckpt%put(prefix//'rows', [0, n_rows])
     call ckpt%put(prefix//'times', [0.0_dp, (self%snaps(k)%time, k=1, self%n)])
     call ckpt%put_text(prefix//'groups', groups)
-    call ckpt%put(prefix//'values', values)
+    call ckpt%put_moved(prefix//'values', values)
+
+  contains
+
+    !> values: snapshot after snapshot, each row to row gid; rank q's rows
+    !> (counts n(q*self%n + k), ids gid) from `rows`, or from the store.
+    subroutine assemble(n, gid, rows)
+      integer, intent(in) :: n(:), gid(:)
+      real(dp), intent(in), optional :: rows(:)
+      integer :: nranks, q, k, j, m, b, a
+      nranks = size(n)/self%n
+      allocate (n_rows(self%n), first(self%n))
+      n_rows = 0
+      do q = 0, nranks - 1
+        n_rows = n_rows + n(q*self%n + 1:(q + 1)*self%n)
+      end do
+      allocate (values(1 + nc*sum(n_rows)))
+      values(1) = 0.0_dp
+      a = 1
+      do k = 1, self%n
+        first(k) = a
+        a = a + nc*n_rows(k)
+      end do
+      m = 0
+      do q = 0, nranks - 1
+        do k = 1, self%n
+          do j = 1, n(q*self%n + k)
+            m = m + 1
+            b = first(k) + nc*(gid(m) - 1)
+            if (present(rows)) then
+              values(b + 1:b + nc) = rows(nc*(m - 1) + 1:nc*m)
+            else
+              values(b + 1:b + nc) = self%snaps(k)%rows(:, j)
+            end if
+          end do
+        end do
+      end do
+    end subroutine assemble
   end subroutine store_put
 
   !> Refuse a checkpoint without the store's entries under `prefix`, or

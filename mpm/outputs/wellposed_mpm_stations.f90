@@ -13,7 +13,8 @@ module wellposed_mpm_stations
   use wellposed_mpm_particles, only: particles_t
   implicit none
   private
-  public :: stations_t, new_stations, new_point_stations, sample_stations, change_extreme, &
+  public :: stations_t, new_stations, new_point_stations, place_stations, &
+            place_point_stations, start_stations, sample_stations, change_extreme, &
             station_measures_t, measure_stations, fit_speed, find_apex, phase_speed, nfields, &
             field_sxx, field_syy, field_v, field_z, field_apex, field_sxy, field_vy
 
@@ -65,23 +66,33 @@ contains
     real(dp), intent(in) :: first, spacing, sample_dt, t_end
     integer, intent(in) :: nstations
     type(particles_t), intent(in) :: parts
-    integer :: s, p
+    call place_stations(self, first, spacing, nstations, parts%x0(1, 1:parts%n))
+    call start_stations(self, parts, sample_dt, t_end)
+  end subroutine new_stations
+
+  !> Where a bar's stations read: x0(p), the reference x of every particle
+  !> in id order (1D, increasing), gives the bracketing pair pa, pb = pa + 1
+  !> (ids) and the weight wb of pb. Histories follow from start_stations.
+  subroutine place_stations(self, first, spacing, nstations, x0)
+    type(stations_t), intent(out) :: self
+    real(dp), intent(in) :: first, spacing, x0(:)
+    integer, intent(in) :: nstations
+    integer :: s, p, n
+    n = size(x0)
     self%n = nstations
     allocate (self%x(self%n), self%y(self%n), self%pa(self%n), self%pb(self%n), &
               self%wb(self%n))
     self%y = 0.0_dp
     do s = 1, self%n
       self%x(s) = first + (s - 1)*spacing
-      ! particles are laid out in order of x0 (1D): find the bracketing pair
-      p = count(parts%x0(1, 1:parts%n) <= self%x(s))
-      p = max(1, min(parts%n - 1, p))
+      p = count(x0 <= self%x(s))
+      p = max(1, min(n - 1, p))
       self%pa(s) = p
       self%pb(s) = p + 1
-      self%wb(s) = (self%x(s) - parts%x0(1, p))/(parts%x0(1, p + 1) - parts%x0(1, p))
+      self%wb(s) = (self%x(s) - x0(p))/(x0(p + 1) - x0(p))
       self%wb(s) = max(0.0_dp, min(1.0_dp, self%wb(s)))
     end do
-    call start_stations(self, parts, sample_dt, t_end)
-  end subroutine new_stations
+  end subroutine place_stations
 
   !> Stations of a plate at the reference points (xs(s), ys(s)) (m), each
   !> reading the particle of `parts` (every particle, in id order) whose
@@ -90,24 +101,31 @@ contains
     type(stations_t), intent(out) :: self
     real(dp), intent(in) :: xs(:), ys(:), sample_dt, t_end
     type(particles_t), intent(in) :: parts
+    call place_point_stations(self, xs, ys, parts%x0(1:2, 1:parts%n))
+    call start_stations(self, parts, sample_dt, t_end)
+  end subroutine new_point_stations
+
+  !> Where a plate's stations read: the particle whose reference position
+  !> x0(1:2, p) (every particle, in id order) is nearest (xs(s), ys(s)).
+  subroutine place_point_stations(self, xs, ys, x0)
+    type(stations_t), intent(out) :: self
+    real(dp), intent(in) :: xs(:), ys(:), x0(:, :)
     integer :: s, p
     self%n = size(xs)
     allocate (self%x(self%n), self%y(self%n), self%pa(self%n), self%pb(self%n), &
               self%wb(self%n))
     do s = 1, self%n
-      p = minloc((parts%x0(1, 1:parts%n) - xs(s))**2 + (parts%x0(2, 1:parts%n) - ys(s))**2, &
-                 dim=1)
+      p = minloc((x0(1, :) - xs(s))**2 + (x0(2, :) - ys(s))**2, dim=1)
       self%pa(s) = p
       self%pb(s) = p
       self%wb(s) = 0.0_dp
-      self%x(s) = parts%x0(1, p)
-      self%y(s) = parts%x0(2, p)
+      self%x(s) = x0(1, p)
+      self%y(s) = x0(2, p)
     end do
-    call start_stations(self, parts, sample_dt, t_end)
-  end subroutine new_point_stations
+  end subroutine place_point_stations
 
-  !> The histories of `self` (n, pa, pb, wb set) for samples every sample_dt
-  !> up to t_end, with the first sample now (t = 0).
+  !> The histories of `self` (n, pa, pb, wb set, indices into `parts`) for
+  !> samples every sample_dt up to t_end, with the first sample now (t = 0).
   subroutine start_stations(self, parts, sample_dt, t_end)
     type(stations_t), intent(inout) :: self
     type(particles_t), intent(in) :: parts

@@ -42,8 +42,13 @@ contains
       rec((p - 1)*reclen + plen + 1) = scene%q(p)
       rec(p*reclen) = real(scene%mat(p), dp)
     end do
-    call scene%exchange%gather_root(rec, recs, counts)
-    deallocate (rec)
+    if (scene%exchange%nranks() == 1) then
+      counts = [size(rec)]   ! one rank: the records are the checkpoint's, not copied
+      call move_alloc(rec, recs)
+    else
+      call scene%exchange%gather_root(rec, recs, counts)
+      deallocate (rec)
+    end if
     call scene%exchange%gather_root(scene%kind%partial_sums(), partials, pcounts)
     nsub = max_substeps(scene)
     moved = scene%moved

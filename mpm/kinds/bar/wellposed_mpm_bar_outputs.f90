@@ -14,15 +14,15 @@ module wellposed_mpm_bar_outputs
   use wellposed_mpm_scene, only: mpm_scene_t
   use wellposed_mpm_bar_kind, only: bar_book_t, bar_book
   use wellposed_mpm_solver, only: kinetic_energy, total_momentum
-  use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations, &
+  use wellposed_mpm_stations, only: stations_t, place_stations, sample_stations, &
                                     station_measures_t, measure_stations, field_sxx, &
                                     field_syy, field_v, field_z, field_apex, nfields
   use wellposed_mpm_bar_station_summary, only: add_station_summary, head_speed_t
   use wellposed_mpm_wake, only: wake_t, station_wake, wake_start
   use wellposed_mpm_bar_admissibility, only: add_admissibility
-  use wellposed_mpm_particles, only: particles_t
-  use wellposed_mpm_parallel_io, only: station_proxy_t, gather_particles, make_station_proxy, &
-                                       fill_station_proxy, put_stations, get_stations
+  use wellposed_mpm_parallel_io, only: station_proxy_t, gather_reference_positions, &
+                                       start_proxied_stations, fill_station_proxy, &
+                                       put_stations, get_stations
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_summary, only: summary_t
   use wellposed_h5_parallel, only: h5_parallel_file_t
@@ -110,17 +110,18 @@ contains
     type(mpm_scene_t), intent(in) :: sc
     integer, intent(in) :: ntotal
     type(comm_t), intent(inout) :: comm
-    type(particles_t) :: everyone
+    real(dp), allocatable :: x0(:, :)
     self%name = 'stations'
     self%cfg = cfg
-    call gather_particles(comm, sc%parts, 0, everyone)
+    call gather_reference_positions(comm, sc%parts, 0, x0)
     if (comm%rank == 0) then
-      call new_stations(self%st, cfg%station_first, cfg%station_spacing, cfg%nstations, &
-                        everyone, cfg%sample_dt, cfg%t_end)
+      call place_stations(self%st, cfg%station_first, cfg%station_spacing, cfg%nstations, &
+                          x0(1, :))
     else
       allocate (self%st%x(0), self%st%time(0), self%st%hist(nfields, 0, 0))
     end if
-    call make_station_proxy(self%st, comm, ntotal, sc%parts, self%proxy)
+    call start_proxied_stations(self%st, comm, ntotal, sc%parts, cfg%sample_dt, cfg%t_end, &
+                                self%proxy)
   end subroutine stations_setup
 
   subroutine stations_sample(self, sc, comm, err)

@@ -13,13 +13,13 @@ module wellposed_mpm_plate_stations
   use wellposed_summary, only: summary_t
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_h5_parallel, only: h5_parallel_file_t
-  use wellposed_mpm_particles, only: particles_t
   use wellposed_mpm_scene, only: mpm_scene_t
-  use wellposed_mpm_stations, only: stations_t, new_point_stations, sample_stations, nfields, &
+  use wellposed_mpm_stations, only: stations_t, place_point_stations, sample_stations, nfields, &
                                     field_sxx, field_syy, field_sxy, field_v, field_vy, &
                                     change_extreme
-  use wellposed_mpm_parallel_io, only: station_proxy_t, gather_particles, make_station_proxy, &
-                                       fill_station_proxy, put_stations, get_stations
+  use wellposed_mpm_parallel_io, only: station_proxy_t, gather_reference_positions, &
+                                       start_proxied_stations, fill_station_proxy, &
+                                       put_stations, get_stations
   use wellposed_mpm_plate_deck, only: plate_study_t
   implicit none
   private
@@ -53,21 +53,21 @@ contains
     type(mpm_scene_t), intent(in) :: sc
     real(dp), intent(in) :: t_end
     type(comm_t), intent(in) :: comm
-    type(particles_t) :: everyone
+    real(dp), allocatable :: x0(:, :)
     integer :: n
     n = study%nstations
     if (n == 0) return
     self%on = .true.
     self%root = comm%rank == 0
-    call gather_particles(comm, sc%parts, 0, everyone)
+    call gather_reference_positions(comm, sc%parts, 0, x0)
     if (self%root) then
-      call new_point_stations(self%st, study%station_x(1:n)*study%scale(ic), &
-                              study%station_y(1:n)*study%scale(ic), everyone, &
-                              study%sample_dt, t_end)
+      call place_point_stations(self%st, study%station_x(1:n)*study%scale(ic), &
+                                study%station_y(1:n)*study%scale(ic), x0)
     else
       allocate (self%st%x(0), self%st%y(0), self%st%time(0), self%st%hist(nfields, 0, 0))
     end if
-    call make_station_proxy(self%st, comm, sc%ntotal, sc%parts, self%proxy)
+    call start_proxied_stations(self%st, comm, sc%ntotal, sc%parts, study%sample_dt, t_end, &
+                                self%proxy)
   end subroutine new_plate_stations
 
   !> The stations of finished case `ic` (run to t_end) from checkpoint `ck`
