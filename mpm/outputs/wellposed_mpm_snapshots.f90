@@ -232,14 +232,14 @@ contains
       end associate
     end do
     if (comm%size == 1) then
-      call assemble(mine_n, mine_gid)   ! one rank: from the store, no gathered copy
+      call assemble(1, mine_n, mine_gid)   ! one rank: from the store, no gathered copy
     else
       call gatherv_int(comm, mine_n, all_n, 0)
       call gatherv_int(comm, mine_gid, all_gid, 0)
       call gatherv_real(comm, mine_rows, all_rows, 0)
       deallocate (mine_rows)
       if (comm%rank /= 0) return
-      call assemble(all_n, all_gid, all_rows)
+      call assemble(comm%size, all_n, all_gid, all_rows)
       deallocate (all_rows)
     end if
     groups = ''
@@ -259,11 +259,10 @@ contains
 
     !> values: snapshot after snapshot, each row to row gid; rank q's rows
     !> (counts n(q*self%n + k), ids gid) from `rows`, or from the store.
-    subroutine assemble(n, gid, rows)
-      integer, intent(in) :: n(:), gid(:)
+    subroutine assemble(nranks, n, gid, rows)
+      integer, intent(in) :: nranks, n(:), gid(:)
       real(dp), intent(in), optional :: rows(:)
-      integer :: nranks, q, k, j, m, b, a
-      nranks = size(n)/self%n
+      integer :: q, k, j, m, b, a
       allocate (n_rows(self%n), first(self%n))
       n_rows = 0
       do q = 0, nranks - 1

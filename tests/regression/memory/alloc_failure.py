@@ -4,8 +4,8 @@ naming the deck, exit status 1, no runtime backtrace and no finished folder.
 
 usage: alloc_failure.py MPM SRC_DIR WORK_DIR
 
-The bar of tests/regression/mpm/decks/sr_short.nml stretched to 70 km (about
-280 000 particles, an estimate near 1 GB, under MemAvailable) runs with its
+The bar of tests/regression/mpm/decks/sr_short.nml stretched to 200 km (about
+800 000 particles, an estimate near 1.3 GB, under MemAvailable) runs with its
 address space limited to 500 MB (RLIMIT_AS), so the particle storage cannot
 be allocated although the estimate let the deck through. Skipped (exit 77)
 when the machine has less than the estimate available: the estimate then
@@ -29,7 +29,7 @@ def main():
     shutil.rmtree(work, ignore_errors=True)
     os.makedirs(work)
     deck = os.path.join(src, 'tests', 'regression', 'mpm', 'decks', 'sr_short.nml')
-    cmd = [mpm, deck, 'grid.length=70000', 'time.t_end=3e-3', '--out', work, '--no-plot',
+    cmd = [mpm, deck, 'grid.length=200000', 'time.t_end=3e-3', '--out', work, '--no-plot',
            '--checkpoint-every', '0']
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=120, preexec_fn=limit_memory)
     if 'more than the machine has available' in p.stderr:
