@@ -9,7 +9,7 @@ program bench_checkpoint
   use wellposed_kinds, only: dp
   use bench_args, only: real_arg, most_args
   use wellposed_error, only: error_t
-  use wellposed_mpm_bar_config, only: bar_config_t
+  use wellposed_mpm_bar_config, only: bar_config_t, mass_lumped
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance
   use wellposed_mpm_restart, only: save_scene, restore_scene
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint, read_checkpoint
@@ -35,6 +35,8 @@ program bench_checkpoint
   cfg%props(1:5) = [4.0e9_dp, 1.5e9_dp, 0.315_dp, 0.0_dp, 5.066e6_dp]
   cfg%props(14) = 1.0_dp
   cfg%progress = .false.
+  cfg%mass = mass_lumped   ! the default scene (inputs/sandler_rubin_default.nml)
+  cfg%cfl = 0.2_dp
   call new_scene(scene, cfg, err)
   if (allocated(err)) error stop 'new_scene failed'
   call system_clock(c0, rate)

@@ -60,6 +60,7 @@ program bench_mpm1d
     cfg%props(prop_explicit) = 1.0_dp
     cfg%nprops = prop_explicit
     cfg%mass = merge(mass_blended, mass_lumped, row == 4)
+    cfg%cfl = 0.2_dp   ! every row the same step
     call new_scene(sc, cfg, err)
     if (allocated(err)) error stop 'bench_mpm1d: scene'
     label = shape_names(kind)

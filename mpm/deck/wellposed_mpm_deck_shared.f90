@@ -47,6 +47,7 @@ module wellposed_mpm_deck_shared
     character(len=16) :: shape = 'gimp', far_end = 'fixed', scheme = 'musl', mass = 'lumped'
     integer :: shape_id = 0, far_end_id = 0, scheme_id = 0, mass_id = 0
     real(dp) :: t_end = 0.0_dp, cfl = 0.2_dp
+    logical :: mass_given = .false., cfl_given = .false.  !< by the deck or an override
     logical :: stop_on_cutback = .false.
     real(dp) :: visc_a1 = 0.0_dp, visc_a2 = 0.0_dp  !< &viscosity a1, a2
     real(dp) :: sample_dt = 0.0_dp, snapshot_dt = 0.0_dp
@@ -268,8 +269,10 @@ contains
     if (g%far_end /= achar(0)) sh%far_end = g%far_end
     if (g%scheme /= achar(0)) sh%scheme = g%scheme
     if (g%mass /= achar(0)) sh%mass = g%mass
+    sh%mass_given = g%mass /= achar(0)
     if (is_set(g%t_end)) sh%t_end = g%t_end
     if (is_set(g%cfl)) sh%cfl = g%cfl
+    sh%cfl_given = is_set(g%cfl)
     if (is_set(g%visc_a1)) sh%visc_a1 = g%visc_a1
     if (is_set(g%visc_a2)) sh%visc_a2 = g%visc_a2
     sh%stop_on_cutback = g%stop_on_cutback

@@ -56,11 +56,6 @@ contains
     call setup_ranks(self, cfg%nonlocal, ncells + 1, &
                      merge(0, 1, cfg%shape == shape_linear), err, exchange)
     if (allocated(err)) return
-    if (cfg%mass /= mass_lumped .and. self%exchange%nranks() > 1) then
-      call new_error(err, status_invalid, 'mass', '&time mass = '''// &
-        trim(mass_names(cfg%mass))//''' solves the mass matrix on one rank only; run it '// &
-        'without mpirun, or with mass = ''lumped'''); return
-    end if
     select case (cfg%bc_far)
     case (bc_fixed, bc_symmetric)
       ! a wall at x = length: the node on it and those beyond (a GIMP

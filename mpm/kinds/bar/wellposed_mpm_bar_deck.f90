@@ -2,9 +2,10 @@
 !> the bar's defaults: the Sandler-Rubin case of shared reference A), the
 !> bar's own &initial (stress, velocity, out_of_equilibrium), &load (base,
 !> peak, duration, start, pulse; ramp_sine: rate, amplitude, frequency) and
-!> &stations (first, spacing, count), and &output's reference keys, into an
-!> bar_config_t. Overrides `group.key=value` are read after the deck as
-!> one-line namelists, under the same rules. Keys: docs/guide/decks.md.
+!> &stations (first, spacing, count), and &output's reference keys, into a
+!> bar_config_t; the defaults of &time mass and cfl follow the deck's other
+!> keys. Overrides `group.key=value` are read after the deck as one-line
+!> namelists, under the same rules. Keys: docs/guide/decks.md.
 module wellposed_mpm_bar_deck
   use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
   use wellposed_kinds, only: dp
@@ -17,6 +18,7 @@ module wellposed_mpm_bar_deck
   use wellposed_mpm_material_deck, only: check_boxes
   use wellposed_mpm_bar_config
   use wellposed_mpm_bar_reference, only: check_reference
+  use wellposed_mpm_bar_cfl_limit, only: cfl_limit
   use wellposed_text, only: int_text, real_text
   implicit none
   private
@@ -26,6 +28,8 @@ module wellposed_mpm_bar_deck
   type :: bar_options_t
     logical :: plot = .true.           !< run the plot script at the end
     character(len=:), allocatable :: reference, reference_label  !< &output
+    !> why the deck, naming no &time mass, runs lumped (unallocated: it does not)
+    character(len=:), allocatable :: mass_note
   end type bar_options_t
 
   character(len=8), parameter :: bar_groups(3) = [character(len=8) :: 'initial', 'load', &
@@ -76,6 +80,7 @@ contains
                           sh, text, err)
     if (allocated(err)) return
     call shared_into_config(sh, cfg)
+    call step_defaults(sh%mass_given, sh%cfl_given, cfg, opts%mass_note)
     if (ieee_is_finite(cfg%length)) then    ! else the scene's check names the length
       call check_boxes(cfg%materials, [cfg%length], 'the bar [0, '//real_text(cfg%length)// &
                        '] m (&grid length)', err)
@@ -103,6 +108,7 @@ contains
     sh%title = 'Sandler-Rubin case study'
     sh%length = cfg%length; sh%dx = cfg%dx; sh%ppc = cfg%ppc; sh%pad_cells = cfg%pad_cells
     sh%shape = 'gimp'; sh%far_end = 'fixed'; sh%scheme = 'musl'
+    sh%mass = mass_names(cfg%mass)
     sh%t_end = cfg%t_end; sh%cfl = cfg%cfl
     sh%visc_a1 = cfg%visc_a1; sh%visc_a2 = cfg%visc_a2
     sh%sample_dt = cfg%sample_dt; sh%snapshot_dt = cfg%snapshot_dt
@@ -132,6 +138,39 @@ contains
     cfg%progress = sh%progress
     cfg%nonlocal = sh%nonlocal
   end subroutine shared_into_config
+
+  !> The &time mass and cfl the deck leaves out (docs/research/timestep.md,
+  !> "Recommended for a wave run"): the blended mass, the one that converges
+  !> on the fig. 2.8 grid, unless it cannot run the deck (ppc = 1: M_P has
+  !> no inverse; a given cfl above its stability limit), then the lumped one,
+  !> and `note` says why; cfl_blended with MUSL and the blended mass, else
+  !> cfl_dissertation, below every scheme's limit.
+  subroutine step_defaults(mass_given, cfl_given, cfg, note)
+    logical, intent(in) :: mass_given, cfl_given
+    type(bar_config_t), intent(inout) :: cfg
+    character(len=:), allocatable, intent(out) :: note
+    real(dp) :: limit
+    character(len=12) :: lim_text, cfl_text
+    if (.not. mass_given) then
+      cfg%mass = mass_blended
+      limit = cfl_limit(cfg%scheme, mass_blended, cfg%ppc)
+      if (cfg%ppc == 1) then
+        note = 'with ppc = 1 (the particles'' mass matrix has no inverse)'
+      else if (cfl_given .and. cfg%cfl > limit) then
+        write (lim_text, '(f6.4)') limit
+        write (cfl_text, '(g0.4)') cfg%cfl
+        note = 'at cfl = '//trim(cfl_text)//' (above its limit '//trim(lim_text)// &
+               ' with scheme = '''//trim(scheme_names(cfg%scheme))//''')'
+      end if
+      if (allocated(note)) then
+        cfg%mass = mass_lumped
+        note = 'mass = ''lumped'': the deck names no &time mass, and the default '// &
+               '''blended'' cannot run '//note//'; docs/research/timestep.md'
+      end if
+    end if
+    if (.not. cfl_given) cfg%cfl = merge(cfl_blended, cfl_dissertation, &
+                                         cfg%mass == mass_blended .and. cfg%scheme == scheme_musl)
+  end subroutine step_defaults
 
   !> &initial, &load and &stations checked, into cfg.
   subroutine keys_into_config(path, k, cfg, err)

@@ -169,8 +169,9 @@ contains
   end subroutine bar_traction
 
   !> After the grid update: the mass matrix's acceleration (&time mass not
-  !> lumped), then the step's impulse: the reaction at the fixed far end
-  !> and the surface force on the surface particle's rank.
+  !> lumped; on many ranks the whole bar's system, collective), then the
+  !> step's impulse: the reaction at the fixed far end and the surface
+  !> force on the surface particle's rank.
   subroutine bar_grid_solved(self, sc, reaction, err)
     class(bar_kind_t), intent(inout) :: self
     class(mpm_scene_t), intent(inout) :: sc
@@ -178,7 +179,7 @@ contains
     type(error_t), allocatable, intent(out) :: err
     if (self%cfg%mass /= mass_lumped) then
       call mass_matrix_update(self%cfg%mass, sc%grid, sc%parts, sc%parts%n, sc%nnz, sc%dt, &
-                              sc%mass_floor, err)
+                              sc%mass_floor, err, sc%exchange)
       if (allocated(err)) return
     end if
     if (self%load%mine) then

@@ -158,6 +158,7 @@ contains
       write (output_unit, '(a,a,a,a,a,f9.2,a,f9.2,a)') '  shape ', &
         trim(shape_names(cfg%shape)), ', scheme ', trim(scheme_names(cfg%scheme)), ', C_E = ', &
         r%stations%c_e, ' m/s, C_P = ', r%stations%c_p, ' m/s (UMAT moduli at the initial state)'
+      if (allocated(r%opts%mass_note)) write (output_unit, '(a)') '  '//r%opts%mass_note
       if (scene%nl%active) write (output_unit, '(a)') '  nonlocal: L = '// &
         real_text(scene%nl%length)//' m, Gaussian support radius '// &
         real_text(scene%nl%radius)//' m = '//real_text(scene%nl%radius/cfg%dx)//' cells'
@@ -268,7 +269,11 @@ contains
       call sm%add('git_revision', wellposed_git_revision)
       call sm%add('shape', trim(shape_names(cfg%shape)))
       call sm%add('scheme', trim(scheme_names(cfg%scheme)))
-      call sm%add('mass', trim(mass_names(cfg%mass)), 'the grid acceleration''s mass matrix')
+      if (allocated(r%opts%mass_note)) then
+        call sm%add('mass', trim(mass_names(cfg%mass)), r%opts%mass_note)
+      else
+        call sm%add('mass', trim(mass_names(cfg%mass)), 'the grid acceleration''s mass matrix')
+      end if
       call sm%add('dx', cfg%dx, 'm')
       call sm%add('ppc', cfg%ppc)
       call sm%add('cfl', cfg%cfl)

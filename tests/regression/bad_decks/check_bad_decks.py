@@ -6,8 +6,7 @@ refused at reading or set-up, before the first step.
                      [--only REGEX]
       runs every bad deck of KIND ('mpm': any_*, mpm_* and the generated
       wrong-type decks of the bar and the plate; 'point': any_*, point_* and
-      the point deck's; 'ranks': ranks_*, good on one rank, refused on
-      more, with --launcher only) through each EXE (optionally under the launcher, e.g.
+      the point deck's) through each EXE (optionally under the launcher, e.g.
       "mpirun -np 2") with --out OUT/<exe>/<deck>; --skip leaves a deck
       out, --only keeps the decks whose file name matches REGEX;
   check_bad_decks.py batch KIND OUT EXE [--driver DRIVER]
@@ -62,8 +61,6 @@ GOOD = {
              'scene cylinder grid time material boundary viscosity nonlocal output')],
     'point': [('inputs/fig2_4_directional_stiffness.nml',
                'run material initial leg probe chapter3')],
-    # decks good on one rank, refused on more (run with --launcher only)
-    'ranks': [],
 }
 FAST_START = {'OMPI_MCA_ess_singleton_isolated': '1', 'OMPI_MCA_pml': 'ob1',
               'OMPI_MCA_btl': 'self,vader'}
@@ -186,7 +183,7 @@ def corpus(kind, out):
     decks = []
     for path in sorted(glob.glob(os.path.join(HERE, '*.nml'))):
         base = os.path.basename(path)
-        if not (base.startswith(kind + '_') or (base.startswith('any_') and kind != 'ranks')):
+        if not (base.startswith(kind + '_') or base.startswith('any_')):
             continue
         expect = EXPECT.get(base)
         if expect is None:

@@ -5,6 +5,7 @@ tolerances. Each mode exits 0 on success, 1 with a message otherwise.
 
   mpm_check.py run   EXE DECK NAME [driver args] [check ...]
       check: KEY=VALUE:TOL   |summary[KEY] - VALUE| <= TOL
+             KEY=WORD        the summary's word (true, blended) is WORD
              KEY<VALUE, KEY>VALUE
              KEY/KEY2=VALUE:TOL  ratio of two summary figures
              KEY-KEY2=VALUE:TOL  difference of two summary figures
@@ -80,9 +81,10 @@ def num(vals, key):
     if key not in vals:
         raise SystemExit(f"FAIL: summary.txt has no key {key}")
     v = vals[key]
-    if v in ("true", "false"):
-        return v
-    return float(v)
+    try:
+        return float(v)
+    except ValueError:
+        return v   # a word (true, false, a scheme's name): compared as text
 
 
 def evaluate(vals, check):

@@ -103,7 +103,8 @@ QUICK_700 = ['grid.length=40', 'time.t_end=0.0125', 'stations.first=5', 'station
              'stations.count=5', 'output.snapshot_dt=0.0125']
 QUICK = {stem: QUICK_700 for stem in (
     'sandler_rubin_default', 'fig2_3_local_dx0.25', 'fig2_3_local_dx0.125', 'fig2_6_hardening',
-    'fig2_6_softening', 'fig2_7_exponential', 'fig2_8_right_efr', 'fig2_9_dl_de0.01',
+    'fig2_6_softening', 'fig2_7_exponential', 'fig2_8_right_efr', 'fig2_8_right_efr_lumped',
+    'fig2_9_dl_de0.01',
     'fig2_9_dl_de1', 'fig2_9_dl_de5', 'fig2_9_dl_de10', 'fig2_9_gdl_de0.01', 'fig2_9_gdl_de1',
     'fig2_9_gdl_de5', 'fig2_9_gdl_de10', 'fig2_10_right_local_softening',
     'fig2_10_right_overlocal')}

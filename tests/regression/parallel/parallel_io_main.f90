@@ -9,7 +9,7 @@ program parallel_io_main
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop, allreduce_sum
-  use wellposed_mpm_bar_config, only: bar_config_t
+  use wellposed_mpm_bar_config, only: bar_config_t, mass_lumped
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance
   use wellposed_mpm_particles, only: particles_t
   use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations
@@ -46,6 +46,8 @@ program parallel_io_main
   cfg%station_spacing = 10.0_dp
   cfg%nstations = 5
   cfg%progress = .false.
+  cfg%mass = mass_lumped   ! the scene of the stored expectations
+  cfg%cfl = 0.2_dp
   call new_scene(ref, cfg, err)
   call stop_on(err)
   n = ref%parts%n

@@ -8,7 +8,7 @@ program parallel_restart_main
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t
   use wellposed_mpi, only: comm_t, comm_start, comm_stop, allreduce_sum, barrier
-  use wellposed_mpm_bar_config, only: bar_config_t
+  use wellposed_mpm_bar_config, only: bar_config_t, mass_lumped
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance
   use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, &
                                          restrict_particles, owner_of_position
@@ -51,6 +51,8 @@ program parallel_restart_main
   cfg%station_spacing = 10.0_dp
   cfg%nstations = 3
   cfg%progress = .false.
+  cfg%mass = mass_lumped   ! the scene of the stored expectations
+  cfg%cfl = 0.2_dp
   call new_scene(ref, cfg, err)
   call stop_on(err)
   do k = 1, nsteps
