@@ -1,9 +1,9 @@
 !> What the station histories need from a scene spread over ranks, so they
 !> keep the serial values: gather_particles (every particle on rank 0, in
-!> global-id order), gather_reference_positions (their x0 only, for placing
-!> stations: 8 bytes a coordinate, not a record); station proxies, a small particle set refreshed every
-!> sample by one exact reduction (the holder gives the value, the others
-!> zeros); put_stations / get_stations, a stations_t in a checkpoint.
+!> global-id order), gather_reference_positions (their x0 alone, to place
+!> stations); station proxies, a small particle set refreshed every sample
+!> by one exact reduction (the holder gives the value, the others zeros);
+!> put_stations / get_stations, a stations_t in a checkpoint.
 !> Particle snapshots go from every rank: wellposed_mpm_snapshots.
 module wellposed_mpm_parallel_io
   use, intrinsic :: iso_fortran_env, only: int64
