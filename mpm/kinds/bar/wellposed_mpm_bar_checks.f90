@@ -4,8 +4,10 @@
 !> (unless out_of_equilibrium) and lies inside the yield surface (a zero
 !> increment through the material's interface: eq. 2.3, 2.10); stations,
 !> samples, snapshots and the pulse inside the run; the step count
-!> (wellposed_mpm_deck_checks). verify_bar_deck: wellposed-mpm --check.
+!> (wellposed_mpm_deck_checks). verify_bar_deck: wellposed-mpm --check (and
+!> the default mass's fallback note).
 module wellposed_mpm_bar_checks
+  use, intrinsic :: iso_fortran_env, only: output_unit
   use wellposed_kinds, only: dp
   use wellposed_finite, only: all_finite
   use wellposed_error, only: error_t, new_error, status_invalid
@@ -48,6 +50,9 @@ contains
     character(len=:), allocatable :: text
     call read_bar_deck(cli%deck_path, cli%overrides, cli%kinds, cfg, opts, text, err)
     if (.not. allocated(err)) call check_bar_deck(cli%deck_path, cfg, err, cli%force)
+    ! the run would print this note too: the default mass it falls back from
+    if (.not. allocated(err) .and. allocated(opts%mass_note)) &
+      write (output_unit, '(a)') cli%deck_path//': '//opts%mass_note
   end subroutine verify_bar_deck
 
   !> The bar deck `path` read into cfg: err when it is not physically
