@@ -20,6 +20,8 @@ import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
 root = os.path.dirname(here)
+sys.path.insert(0, os.path.join(root, "common"))
+from summary_text import read_summary  # noqa: E402
 TARGET = 1024.0
 
 
@@ -34,23 +36,16 @@ def cpu():
     return "unknown"
 
 
-def summary(path):
-    values = {}
-    with open(path) as f:
-        for line in f:
-            if "=" in line:
-                key, value = line.split("=", 1)
-                values[key.strip()] = value.split("#", 1)[0].strip()
-    return values
-
-
 def run(program, deck, out, name, extra):
     cmd = [program, deck, "--out", out, "--name", name, "--no-plot"] + extra
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
         sys.exit("bench_memory: %s failed (exit %d): %s"
                  % (" ".join(cmd), p.returncode, p.stderr.strip()[-400:]))
-    s = summary(os.path.join(out, name, "summary.txt"))
+    s = read_summary(os.path.join(out, name))
+    if "particles" not in s or "bytes_per_particle" not in s:
+        sys.exit("bench_memory: %s has no particles or bytes_per_particle"
+                 % os.path.join(out, name, "summary.txt"))
     n = int(s["particles"])
     return n, int(s["bytes_per_particle"]) * n
 
