@@ -13,7 +13,7 @@ module wellposed_mpm_stations
   use wellposed_mpm_particles, only: particles_t
   implicit none
   private
-  public :: stations_t, new_stations, new_point_stations, place_stations, &
+  public :: stations_t, new_stations, place_stations, &
             place_point_stations, start_stations, sample_stations, change_extreme, &
             station_measures_t, measure_stations, fit_speed, find_apex, phase_speed, nfields, &
             field_sxx, field_syy, field_v, field_z, field_apex, field_sxy, field_vy
@@ -95,18 +95,9 @@ contains
   end subroutine place_stations
 
   !> Stations of a plate at the reference points (xs(s), ys(s)) (m), each
-  !> reading the particle of `parts` (every particle, in id order) whose
-  !> reference position x0 is nearest; x, y become that particle's.
-  subroutine new_point_stations(self, xs, ys, parts, sample_dt, t_end)
-    type(stations_t), intent(out) :: self
-    real(dp), intent(in) :: xs(:), ys(:), sample_dt, t_end
-    type(particles_t), intent(in) :: parts
-    call place_point_stations(self, xs, ys, parts%x0(1:2, 1:parts%n))
-    call start_stations(self, parts, sample_dt, t_end)
-  end subroutine new_point_stations
-
-  !> Where a plate's stations read: the particle whose reference position
-  !> x0(1:2, p) (every particle, in id order) is nearest (xs(s), ys(s)).
+  !> reading the particle whose reference position x0(1:2, p) (every
+  !> particle, in id order) is nearest; x, y become that particle's.
+  !> Histories follow from start_stations.
   subroutine place_point_stations(self, xs, ys, x0)
     type(stations_t), intent(out) :: self
     real(dp), intent(in) :: xs(:), ys(:), x0(:, :)

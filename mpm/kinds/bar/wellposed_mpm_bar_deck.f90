@@ -140,7 +140,7 @@ contains
   end subroutine shared_into_config
 
   !> The &time mass and cfl the deck leaves out (docs/research/timestep.md,
-  !> "Recommended for a wave run"): the blended mass, the one that converges
+  !> "The blended mass on the unstable materials"): the blended mass, the one that converges
   !> on the fig. 2.8 grid, unless it cannot run the deck (ppc = 1: M_P has
   !> no inverse; a given cfl above its stability limit), then the lumped one,
   !> and `note` says why; cfl_blended with MUSL and the blended mass, else

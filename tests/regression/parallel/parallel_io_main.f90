@@ -1,9 +1,10 @@
 !> mpirun -np N parallel_io_main: the outputs of a scene spread over ranks
 !> (wellposed_mpm_parallel_io) equal the serial ones bit for bit. Every rank
 !> advances the same serial scene and keeps the particles of its cells, as
-!> a decomposed run holds them; then stations read through the proxy give
-!> the serial histories, gather_particles the serial particles in id order,
-!> and stations survive a checkpoint round trip, all bitwise.
+!> a decomposed run holds them; then stations placed from the gathered
+!> reference positions and read through the proxy give the serial
+!> histories, gather_particles the serial particles in id order, and
+!> stations survive a checkpoint round trip, all bitwise.
 program parallel_io_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
   use wellposed_kinds, only: dp
@@ -12,7 +13,7 @@ program parallel_io_main
   use wellposed_mpm_bar_config, only: bar_config_t, mass_lumped
   use wellposed_mpm_solver, only: mpm_scene_t, new_scene, advance
   use wellposed_mpm_particles, only: particles_t
-  use wellposed_mpm_stations, only: stations_t, new_stations, sample_stations
+  use wellposed_mpm_stations, only: stations_t, new_stations, place_stations, sample_stations
   use wellposed_mpm_decomposition, only: decomposition_t, new_decomposition, restrict_particles
   use wellposed_mpm_parallel_io
   use wellposed_checkpoint, only: checkpoint_t
@@ -28,6 +29,7 @@ program parallel_io_main
   type(station_proxy_t) :: proxy
   type(checkpoint_t) :: ckpt
   type(error_t), allocatable :: err
+  real(dp), allocatable :: x0(:, :)
   integer :: k, n, failures
 
   call comm_start(comm, err)
@@ -56,12 +58,17 @@ program parallel_io_main
   call stop_on(err)
   call new_stations(st_ref, cfg%station_first, cfg%station_spacing, cfg%nstations, ref%parts, &
                     cfg%sample_dt, cfg%t_end)
-  ! the decomposed view: stations set up on rank 0 over the gathered particles
+  ! the decomposed view, as a run sets it up: stations placed on rank 0 from
+  ! the gathered reference positions, started through their proxy
   call distribute()
-  call gather_particles(comm, mine, 0, gathered)
-  if (comm%rank == 0) call new_stations(st, cfg%station_first, cfg%station_spacing, &
-                                        cfg%nstations, gathered, cfg%sample_dt, cfg%t_end)
-  call make_station_proxy(st, comm, n, mine, proxy)
+  call gather_reference_positions(comm, mine, 0, x0)
+  if (comm%rank == 0) then
+    call check(size(x0, 2) == n, 'gather_reference_positions: every particle')
+    if (size(x0, 2) == n) call check(all(x0 == ref%parts%x0(:, 1:n)), &
+                                     'gather_reference_positions: bitwise, in id order')
+    call place_stations(st, cfg%station_first, cfg%station_spacing, cfg%nstations, x0(1, :))
+  end if
+  call start_proxied_stations(st, comm, n, mine, cfg%sample_dt, cfg%t_end, proxy)
   do k = 1, nsteps
     call advance(ref, err)
     call stop_on(err)
