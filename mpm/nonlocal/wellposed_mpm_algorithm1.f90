@@ -10,7 +10,7 @@ module wellposed_mpm_algorithm1
   use wellposed_error, only: error_t, new_error, status_cutback
   use wellposed_text, only: int_text
   use wellposed_mpm_nonlocal_state, only: nonlocal_t
-  use wellposed_mpm_nonlocal_grid, only: support_mass
+  use wellposed_mpm_nonlocal_grid, only: row_prefix, disk_mass
   use wellposed_mpm_nonlocal_ranks, only: nonlocal_ranks_t
   use wellposed_mpm_nonlocal_host, only: nonlocal_host_t
   use wellposed_mpm_algorithm1_work, only: algorithm1_work_t, start_solve, serial_order, &
@@ -110,9 +110,14 @@ contains
     type(algorithm1_work_t), intent(in) :: w
     integer, intent(in), optional :: log_unit
     integer :: p
+    real(dp), allocatable :: prefix(:)
+    if (any(self%plastic(1:w%n))) then
+      allocate (prefix(self%glo:self%ghi))
+      call row_prefix(self, prefix)
+    end if
     do p = 1, w%n
       if (.not. self%plastic(p)) cycle
-      self%last%n_alpha = max(self%last%n_alpha, support_mass(self, w%x(:, p))/w%mass(p))
+      self%last%n_alpha = max(self%last%n_alpha, disk_mass(self, prefix, w%x(:, p))/w%mass(p))
     end do
     if (w%par) call w%ranks%max_real(self%last%n_alpha)
     if (self%bound_43 >= 0.0_dp) self%last%bound_printed = self%last%n_alpha*self%bound_43

@@ -11,7 +11,8 @@ module wellposed_mpm_nonlocal_grid
   use wellposed_mpm_nonlocal_state, only: nonlocal_t
   implicit none
   private
-  public :: nonlocal_project, add_projection, nonlocal_average, support_mass, cached_average, &
+  public :: nonlocal_project, add_projection, nonlocal_average, support_mass, row_prefix, &
+            disk_mass, cached_average, &
             field_extents, extend_extents, field_reaches
 
 contains
@@ -93,31 +94,78 @@ contains
   end subroutine nonlocal_average
 
   !> The node mass within the support radius of xp (kg): the dissertation's
-  !> N_alpha times the particle mass (eq. 4.43). Comparisons and sums only.
+  !> N_alpha times the particle mass (eq. 4.43). One point; for many, build
+  !> the prefix once (row_prefix) and call disk_mass for each.
   pure real(dp) function support_mass(self, xp) result(smass)
     type(nonlocal_t), intent(in) :: self
     real(dp), intent(in) :: xp(:)
-    integer :: lo(2), hi(2), i, j, g
-    real(dp) :: r2
+    real(dp) :: prefix(self%glo:self%ghi)
+    call row_prefix(self, prefix)
+    smass = disk_mass(self, prefix, xp)
+  end function support_mass
+
+  !> prefix(g): the node masses of g's grid row on this patch up to g.
+  pure subroutine row_prefix(self, prefix)
+    type(nonlocal_t), intent(in) :: self
+    real(dp), intent(out) :: prefix(self%glo:)
+    integer :: g
+    prefix(self%glo) = self%node_mass(self%glo)
+    do g = self%glo + 1, self%ghi
+      prefix(g) = self%node_mass(g)
+      if (self%ndim == 1 .or. mod(g, self%nnode(1)) /= 0) prefix(g) = prefix(g) + prefix(g - 1)
+    end do
+  end subroutine row_prefix
+
+  !> support_mass from row_prefix's sums: per row the run of nodes within the
+  !> radius (found by the distance test itself, so the same nodes), summed as a
+  !> difference of prefixes: 2R+1 rows a point instead of (2R+1)^2 nodes.
+  pure real(dp) function disk_mass(self, prefix, xp) result(smass)
+    type(nonlocal_t), intent(in) :: self
+    real(dp), intent(in) :: prefix(self%glo:), xp(:)
+    integer :: lo(2), hi(2), j, a, b, ga, gb, row0
+    real(dp) :: dy2, c, h
     call box(self, xp, lo, hi)
     smass = 0.0_dp
-    if (self%ndim == 1) then
-      do i = max(lo(1), self%glo), min(hi(1), self%ghi)
-        if (abs(xp(1) - (self%origin(1) + self%dx*i)) <= self%radius) &
-          smass = smass + self%node_mass(i)
-      end do
-      return
-    end if
     do j = lo(2), hi(2)
-      do i = lo(1), hi(1)
-        g = i + self%nnode(1)*j
-        if (g < self%glo .or. g > self%ghi) cycle
-        r2 = (xp(1) - (self%origin(1) + self%dx*i))**2 + &
-             (xp(2) - (self%origin(2) + self%dx*j))**2
-        if (r2 <= self%radius**2) smass = smass + self%node_mass(g)
+      dy2 = 0.0_dp
+      if (self%ndim == 2) dy2 = (xp(2) - (self%origin(2) + self%dx*j))**2
+      if (dy2 > self%radius**2) cycle
+      c = (xp(1) - self%origin(1))/self%dx
+      h = sqrt(self%radius**2 - dy2)/self%dx
+      a = max(lo(1), min(hi(1) + 1, ceiling(c - h)))
+      b = min(hi(1), max(lo(1) - 1, floor(c + h)))
+      do while (a <= b .and. .not. inside(a))
+        a = a + 1
       end do
+      do while (a > lo(1) .and. inside(a - 1))
+        a = a - 1
+      end do
+      do while (b >= a .and. .not. inside(b))
+        b = b - 1
+      end do
+      do while (b < hi(1) .and. inside(b + 1))
+        b = b + 1
+      end do
+      row0 = 0
+      if (self%ndim == 2) row0 = self%nnode(1)*j
+      ga = max(a + row0, self%glo)
+      gb = min(b + row0, self%ghi)
+      if (ga > gb) cycle
+      smass = smass + (prefix(gb) - prefix(ga)) + self%node_mass(ga)
     end do
-  end function support_mass
+
+  contains
+
+    !> node i of row j within the radius of xp (support_mass's own test)
+    pure logical function inside(i)
+      integer, intent(in) :: i
+      if (self%ndim == 1) then
+        inside = abs(xp(1) - (self%origin(1) + self%dx*i)) <= self%radius
+      else
+        inside = (xp(1) - (self%origin(1) + self%dx*i))**2 + dy2 <= self%radius**2
+      end if
+    end function inside
+  end function disk_mass
 
   !> <dlambda> of particle p at xp within a solve: its separable weights and
   !> M_p (eq. 4.48) are computed at the first call of the step and kept, so a
@@ -127,8 +175,7 @@ contains
     integer, intent(in) :: p
     real(dp), intent(in) :: xp(:)
     real(dp), intent(out) :: avg
-    integer :: lo(2), hi(2), i, j, g, nb, nx
-    real(dp) :: num, row, den
+    integer :: lo(2), hi(2), i, j
     if (.not. self%cached(p)) then
       call box(self, xp, lo, hi)
       hi = min(hi, lo + self%nbmax - 1)
@@ -138,72 +185,73 @@ contains
         self%wx(i - lo(1) + 1, p) = nonlocal_weight(xp(1) - (self%origin(1) + self%dx*i), &
                                                     self%length)
       end do
-      den = 0.0_dp
-      if (self%ndim == 1) then
-        do i = max(lo(1), self%glo), min(hi(1), self%ghi)
-          den = den + self%wx(i - lo(1) + 1, p)*self%node_mass(i)
-        end do
-      else
+      if (self%ndim == 2) then
         do j = lo(2), hi(2)
           self%wy(j - lo(2) + 1, p) = nonlocal_weight(xp(2) - (self%origin(2) + self%dx*j), &
                                                       self%length)
-          row = 0.0_dp
-          do i = lo(1), hi(1)
-            g = i + self%nnode(1)*j
-            if (g < self%glo .or. g > self%ghi) cycle
-            row = row + self%wx(i - lo(1) + 1, p)*self%node_mass(g)
-          end do
-          den = den + self%wy(j - lo(2) + 1, p)*row
         end do
       end if
-      self%den(p) = den
+      self%den(p) = weighted_sum(self, self%node_mass, p)
       self%cached(p) = .true.
     end if
     avg = 0.0_dp
     if (.not. self%den(p) > 0.0_dp) return
-    lo = self%blo(:, p)
-    hi = self%bhi(:, p)
-    num = 0.0_dp
-    if (self%ndim == 1) then
-      do i = max(lo(1), self%glo), min(hi(1), self%ghi)
-        num = num + self%wx(i - lo(1) + 1, p)*self%field(i)
-      end do
-    else
-      nb = hi(1) - lo(1) + 1
-      nx = self%nnode(1)
-      g = lo(1) + nx*lo(2)
-      if (g >= self%glo .and. lo(1) + nx*hi(2) + nb - 1 <= self%ghi) then
-        ! the whole box on this rank's patch: plain loops on the rows
-        num = box_sum(self%field(g:), nx, nb, hi(2) - lo(2) + 1, self%wx(:, p), self%wy(:, p))
-      else
-        do j = lo(2), hi(2)
-          row = 0.0_dp
-          do i = lo(1), hi(1)
-            g = i + nx*j
-            if (g >= self%glo .and. g <= self%ghi) &
-              row = row + self%wx(i - lo(1) + 1, p)*self%field(g)
-          end do
-          num = num + self%wy(j - lo(2) + 1, p)*row
-        end do
-      end if
-    end if
-    avg = num/self%den(p)
+    avg = weighted_sum(self, self%field, p)/self%den(p)
   end subroutine cached_average
 
-  !> sum_j wy(j) sum_i wx(i) f(i, j) over nb x ny nodes of rows nx apart
-  !> (cached_average's box; the sums in the order of its rows).
+  !> sum_i alpha(x_p - x_i) v_i over particle p's cached box (the sums of
+  !> eq. 4.47-4.48), nodes outside this rank's patch [glo, ghi] left out.
+  pure real(dp) function weighted_sum(self, v, p) result(total)
+    type(nonlocal_t), intent(in) :: self
+    real(dp), intent(in) :: v(self%glo:)
+    integer, intent(in) :: p
+    integer :: lo(2), hi(2), i, j, g, nb, nx
+    real(dp) :: row
+    lo = self%blo(:, p)
+    hi = self%bhi(:, p)
+    total = 0.0_dp
+    if (self%ndim == 1) then
+      do i = max(lo(1), self%glo), min(hi(1), self%ghi)
+        total = total + self%wx(i - lo(1) + 1, p)*v(i)
+      end do
+      return
+    end if
+    nb = hi(1) - lo(1) + 1
+    nx = self%nnode(1)
+    g = lo(1) + nx*lo(2)
+    if (g >= self%glo .and. lo(1) + nx*hi(2) + nb - 1 <= self%ghi) then
+      ! the whole box on this rank's patch: plain loops
+      total = box_sum(v(g:), nx, nb, hi(2) - lo(2) + 1, self%wx(:, p), self%wy(:, p))
+      return
+    end if
+    do j = lo(2), hi(2)
+      row = 0.0_dp
+      do i = lo(1), hi(1)
+        g = i + nx*j
+        if (g >= self%glo .and. g <= self%ghi) row = row + self%wx(i - lo(1) + 1, p)*v(g)
+      end do
+      total = total + self%wy(j - lo(2) + 1, p)*row
+    end do
+  end function weighted_sum
+
+  !> sum_i wx(i) sum_j wy(j) f(i, j) over nb x ny nodes of rows nx apart
+  !> (cached_average's box): the rows are added into one column sum, a loop
+  !> without a carried dependence that the compiler vectorises, then one dot
+  !> product (a sum along each row would wait on every addition).
   pure function box_sum(f, nx, nb, ny, wx, wy) result(num)
     integer, intent(in) :: nx, nb, ny
     real(dp), intent(in) :: f(nx, *), wx(nb), wy(ny)
-    real(dp) :: num, row
+    real(dp) :: num, col(nb)
     integer :: i, j
-    num = 0.0_dp
+    col = 0.0_dp
     do j = 1, ny
-      row = 0.0_dp
       do i = 1, nb
-        row = row + wx(i)*f(i, j)
+        col(i) = col(i) + wy(j)*f(i, j)
       end do
-      num = num + wy(j)*row
+    end do
+    num = 0.0_dp
+    do i = 1, nb
+      num = num + wx(i)*col(i)
     end do
   end function box_sum
 
