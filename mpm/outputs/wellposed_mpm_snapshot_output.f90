@@ -77,7 +77,7 @@ contains
     call self%store%take(self%h5, comm, group, sc%t, sc%parts%gid(1:sc%parts%n), rows, err)
   end subroutine snapshot_take
 
-  !> The store (every rank's rows, gathered to rank 0) and the cadence.
+  !> The store (how far every rank's snapshot file reached) and the cadence.
   subroutine snapshot_put(self, ck, comm)
     class(snapshot_output_t), intent(inout) :: self
     type(checkpoint_t), intent(inout) :: ck
@@ -88,14 +88,14 @@ contains
     call ck%put(self%name//'/next', self%next)
   end subroutine snapshot_put
 
-  !> The store (each rank a block of ids) and the cadence; the snapshots
-  !> are not written again here (the kind knows in which order).
+  !> The store (its files checked) and the cadence; the snapshots are not
+  !> written again here (the kind knows in which order).
   subroutine snapshot_get(self, ck, comm, err)
     class(snapshot_output_t), intent(inout) :: self
     type(checkpoint_t), intent(in) :: ck
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
-    call self%store%get(ck, comm, self%name//'/', err); if (allocated(err)) return
+    call self%store%get(ck, self%name//'/', err); if (allocated(err)) return
     call ck%get(self%name//'/taken', self%taken, err); if (allocated(err)) return
     call ck%get(self%name//'/next', self%next, err)
   end subroutine snapshot_get

@@ -1,35 +1,35 @@
 !> Particle snapshots of an MPM run, kept where they were taken: each rank
-!> holds its own particles' rows and writes them collectively into run.h5
-!> (wellposed_h5_parallel, row gid at [gid-1]). For a restart, `put`
-!> gathers the rows to rank 0's checkpoint in id order and `get` hands each
-!> rank a block of ids on any rank count; `write_stored` writes them again,
-!> bit for bit. A snapshot is a group (`snapshots/0001/`) with its time and
-!> one dataset per field (width 1: N rows; width 2: (N, 2)).
-!> Entries and layout: docs/guide/parallel.md.
+!> writes its own particles' rows collectively into run.h5 (row gid at
+!> [gid-1]) and, in a run that checkpoints, appends them to its own file of
+!> the checkpoint folder (wellposed_mpm_snapshot_files); memory keeps each
+!> snapshot's group and time only. `put` records how far every file
+!> reached, `get` checks the files, `write_stored` reads them back into
+!> run.h5 bit for bit on any rank count. A snapshot is a group with its time
+!> and a dataset per field (width 1: N rows; 2: (N, 2)). docs/guide/parallel.md.
 module wellposed_mpm_snapshots
-  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
-  use wellposed_out_of_memory, only: out_of_memory
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
-  use wellposed_mpi, only: comm_t, gatherv_real, gatherv_int
+  use wellposed_mpi, only: comm_t, gatherv_int, allreduce_any
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_h5_parallel, only: h5_parallel_file_t, h5_row_order_t, new_row_order
   use wellposed_xdmf, only: write_particle_xdmf
+  use wellposed_mpm_snapshot_files, only: snapshot_file_t, spool_t, spool_name, &
+                                          check_spool_file, read_spool_rows
   implicit none
   private
   public :: snapshot_store_t, new_snapshot_store, check_snapshots_format, snapshots_version
 
-  !> Version of the checkpoint entries; checkpoints of the programs before
-  !> this store (snapshots kept whole on rank 0) have none and are refused.
-  integer, parameter :: snapshots_version = 2
+  !> Version of the checkpoint entries: 3 records the snapshot files of the
+  !> checkpoint folder; 2 held the rows in the checkpoint itself, 1 (and the
+  !> programs before, with no entries) on rank 0: both refused.
+  integer, parameter :: snapshots_version = 3
 
-  !> One snapshot: this rank's rows of it.
+  !> One snapshot: where it goes and when it was taken (its rows are in
+  !> run.h5 and the files).
   type :: snapshot_t
     character(len=:), allocatable :: group   !< dataset prefix, ends with '/'
     real(dp) :: time = 0.0_dp                !< s
-    integer, allocatable :: gid(:)           !< global ids of the rows held here
-    real(dp), allocatable :: rows(:, :)      !< (values per row, rows held here)
   end type snapshot_t
 
   !> The snapshots taken so far, and what a snapshot holds.
@@ -40,19 +40,26 @@ module wellposed_mpm_snapshots
     logical :: time_first = .true.              !< `<group>time` before the fields, else after
     type(snapshot_t), allocatable :: snaps(:)
     integer :: n = 0                            !< snapshots taken
+    character(len=:), allocatable :: dir        !< the files' folder ('': none)
+    logical :: append = .false.                 !< new snapshots go into a file of dir
+    type(spool_t) :: spool                      !< this rank's file of this start or restart
+    integer, allocatable :: mine(:)             !< rows of every snapshot in it
+    type(snapshot_file_t), allocatable :: files(:)  !< those of a checkpoint (get)
   contains
+    procedure :: keep_files => store_keep_files
     procedure :: take => store_take
     procedure :: write_stored => store_write_stored
     procedure :: put => store_put
     procedure :: get => store_get
     procedure :: write_xdmf => store_write_xdmf
+    procedure :: close => store_close
   end type snapshot_store_t
 
 contains
 
   !> An empty store of snapshots with the fields `names` (datasets of
   !> `widths` values per particle: 1 or 2), the time written before them
-  !> (`time_first`) or after.
+  !> (`time_first`) or after; no files kept until keep_files.
   subroutine new_snapshot_store(self, names, widths, time_first)
     type(snapshot_store_t), intent(out) :: self
     character(len=*), intent(in) :: names(:)
@@ -66,15 +73,29 @@ contains
     self%widths = widths
     self%ncols = sum(widths)
     self%time_first = time_first
-    allocate (self%snaps(8))
+    allocate (self%snaps(8), self%mine(8), self%files(0))
+    self%mine = 0
     self%n = 0
+    self%dir = ''
   end subroutine new_snapshot_store
+
+  !> The files of the snapshots are in folder `dir` (the run's checkpoint
+  !> folder), where `get` finds a checkpoint's; with `append`, every
+  !> snapshot taken from now on is appended to this rank's file there (a
+  !> run that checkpoints; without, no file is written).
+  subroutine store_keep_files(self, dir, append)
+    class(snapshot_store_t), intent(inout) :: self
+    character(len=*), intent(in) :: dir
+    logical, intent(in) :: append
+    self%dir = dir
+    self%append = append .and. len(dir) > 0
+  end subroutine store_keep_files
 
   !> Take a snapshot (collective): this rank's particles `gid` with their
   !> values `rows(ncols, size(gid))` (the fields' values one after
-  !> another), at time `t`, under `group`; kept and written into `h5`.
-  !> The ids over all ranks must be a permutation of 1..N (else `err`,
-  !> the same on every rank).
+  !> another), at time `t`, under `group`; written into `h5` and, with
+  !> keep_files' `append`, into this rank's file. The ids over all ranks
+  !> must be a permutation of 1..N (else `err`, the same on every rank).
   subroutine store_take(self, h5, comm, group, t, gid, rows, err)
     class(snapshot_store_t), intent(inout) :: self
     type(h5_parallel_file_t), intent(inout) :: h5
@@ -84,35 +105,60 @@ contains
     integer, intent(in) :: gid(:)
     real(dp), intent(in) :: rows(:, :)
     type(error_t), allocatable, intent(out) :: err
-    integer :: st
     call room(self, self%n + 1)
     self%n = self%n + 1
-    associate (s => self%snaps(self%n))
-      s%group = group
-      s%time = t
-      if (allocated(s%gid)) deallocate (s%gid)
-      if (allocated(s%rows)) deallocate (s%rows)
-      allocate (s%gid(size(gid)), s%rows(size(rows, 1), size(rows, 2)), stat=st)
-      if (st /= 0) call out_of_memory('snapshot rows', int(size(rows), int64), st)
-      s%gid = gid
-      s%rows = rows
-    end associate
-    call write_one(self, self%n, h5, comm, err)
+    self%snaps(self%n)%group = group
+    self%snaps(self%n)%time = t
+    self%mine(self%n) = 0
+    call write_one(self, self%snaps(self%n), h5, comm, gid, rows, err)
+    if (allocated(err) .or. .not. self%append) return
+    if (self%spool%segment == 0) then
+      call self%spool%open(self%dir, comm, self%ncols, err)
+      if (allocated(err)) return
+    end if
+    call self%spool%append(gid, rows, comm, err)
+    if (.not. allocated(err)) self%mine(self%n) = size(gid)
   end subroutine store_take
 
-  !> Write the stored snapshots into `h5` again (collective; on restart),
-  !> all of them or those whose group begins with `prefix`.
+  !> Write the snapshots of the checkpoint `get` read into `h5` again
+  !> (collective; on restart), all of them or those whose group begins
+  !> with `prefix`: each rank reads the files f = rank + 1, rank + 1 +
+  !> ranks, ... one snapshot at a time, whatever ranks wrote them.
   subroutine store_write_stored(self, h5, comm, err, prefix)
     class(snapshot_store_t), intent(in) :: self
     type(h5_parallel_file_t), intent(inout) :: h5
     type(comm_t), intent(in) :: comm
     type(error_t), allocatable, intent(out) :: err
     character(len=*), intent(in), optional :: prefix
-    integer :: k
+    type(error_t), allocatable :: e
+    integer, allocatable :: gid(:)
+    real(dp), allocatable :: rows(:, :)
+    integer :: k, f, m
     do k = 1, self%n
       if (.not. selected(self, k, prefix)) cycle
-      call write_one(self, k, h5, comm, err)
+      m = 0
+      do f = comm%rank + 1, size(self%files), comm%size
+        if (k <= size(self%files(f)%rows)) m = m + self%files(f)%rows(k)
+      end do
+      allocate (gid(m), rows(self%ncols, m))
+      m = 0
+      do f = comm%rank + 1, size(self%files), comm%size
+        if (k > size(self%files(f)%rows)) cycle
+        call read_spool_rows(self%dir, self%files(f), self%ncols, k, gid, rows, m, e)
+        if (allocated(e)) exit
+      end do
+      if (allreduce_any(comm, allocated(e))) then
+        if (allocated(e)) then
+          call move_alloc(e, err)
+        else
+          call new_error(err, status_invalid, 'checkpoint', 'another rank could not '// &
+                         'read its particle snapshot files')
+        end if
+        return
+      end if
+      call write_one(self, self%snaps(k), h5, comm, gid, rows, err)
       if (allocated(err)) return
+      deallocate (gid, rows)
     end do
   end subroutine store_write_stored
 
@@ -156,146 +202,110 @@ contains
     if (present(prefix)) selected = index(self%snaps(k)%group, prefix) == 1
   end function selected
 
-  !> Snapshot k into `h5` (collective): every field in global-id order,
-  !> and its time before or after them (`time_first`).
-  subroutine write_one(self, k, h5, comm, err)
+  !> Snapshot `s` into `h5` (collective): this rank's rows `gid` with their
+  !> values, every field in global-id order, and its time before or after
+  !> them (`time_first`).
+  subroutine write_one(self, s, h5, comm, gid, rows, err)
     class(snapshot_store_t), intent(in) :: self
-    integer, intent(in) :: k
+    type(snapshot_t), intent(in) :: s
     type(h5_parallel_file_t), intent(inout) :: h5
     type(comm_t), intent(in) :: comm
+    integer, intent(in) :: gid(:)
+    real(dp), intent(in) :: rows(:, :)
     type(error_t), allocatable, intent(out) :: err
     type(h5_row_order_t) :: order
     integer :: f, c, w
-    associate (s => self%snaps(k))
-      call new_row_order(comm, s%gid, order, err)
-      if (allocated(err)) return
-      if (self%time_first) call h5%write(s%group//'time', [s%time])
-      c = 0
-      do f = 1, size(self%names)
-        w = self%widths(f)
-        if (w == 1) then
-          call h5%write_rows(s%group//trim(self%names(f)), s%rows(c + 1, :), order)
-        else
-          call h5%write_rows(s%group//trim(self%names(f)), transpose(s%rows(c + 1:c + w, :)), &
-                             order)
-        end if
-        c = c + w
-      end do
-      if (.not. self%time_first) call h5%write(s%group//'time', [s%time])
-    end associate
+    call new_row_order(comm, gid, order, err)
+    if (allocated(err)) return
+    if (self%time_first) call h5%write(s%group//'time', [s%time])
+    c = 0
+    do f = 1, size(self%names)
+      w = self%widths(f)
+      if (w == 1) then
+        call h5%write_rows(s%group//trim(self%names(f)), rows(c + 1, :), order)
+      else
+        call h5%write_rows(s%group//trim(self%names(f)), transpose(rows(c + 1:c + w, :)), &
+                           order)
+      end if
+      c = c + w
+    end do
+    if (.not. self%time_first) call h5%write(s%group//'time', [s%time])
   end subroutine write_one
 
-  !> Room for at least n snapshots (doubling; the rows move, not copied).
+  !> This rank's file closed (the run is done with its snapshots).
+  subroutine store_close(self)
+    class(snapshot_store_t), intent(inout) :: self
+    call self%spool%close()
+  end subroutine store_close
+
+  !> Room for at least n snapshots (doubling).
   subroutine room(self, n)
     class(snapshot_store_t), intent(inout) :: self
     integer, intent(in) :: n
     type(snapshot_t), allocatable :: grown(:)
+    integer, allocatable :: mine(:)
     integer :: k
     if (.not. allocated(self%snaps)) allocate (self%snaps(8))
+    if (.not. allocated(self%mine)) allocate (self%mine(size(self%snaps)))
     if (size(self%snaps) >= n) return
-    allocate (grown(max(n, 2*size(self%snaps))))
+    allocate (grown(max(n, 2*size(self%snaps))), mine(max(n, 2*size(self%snaps))))
     do k = 1, self%n
       call move_alloc(self%snaps(k)%group, grown(k)%group)
       grown(k)%time = self%snaps(k)%time
-      call move_alloc(self%snaps(k)%gid, grown(k)%gid)
-      call move_alloc(self%snaps(k)%rows, grown(k)%rows)
     end do
+    mine = 0
+    mine(1:self%n) = self%mine(1:self%n)
     call move_alloc(grown, self%snaps)
+    call move_alloc(mine, self%mine)
   end subroutine room
 
-  !> The store into checkpoint `ckpt` under `prefix` (collective): rank 0
-  !> receives every rank's rows and puts them in global-id order; the other
-  !> ranks' `ckpt` is left as it is (rank 0 writes the file).
+  !> Into checkpoint `ckpt` under `prefix` (collective; rank 0's `ckpt` is
+  !> the one written): the snapshots' groups and times, and every file that
+  !> holds rows of them with the rows of each snapshot it holds, which is
+  !> how far it reached (the files of the checkpoint the run continued
+  !> from, then this start's or restart's, one a rank).
   subroutine store_put(self, ckpt, comm, prefix)
     class(snapshot_store_t), intent(in) :: self
     type(checkpoint_t), intent(inout) :: ckpt
-    type(comm_t), intent(in) :: comm
+    type(comm_t), intent(inout) :: comm
     character(len=*), intent(in) :: prefix
-    integer, allocatable :: mine_n(:), mine_gid(:), all_n(:), all_gid(:), n_rows(:)
-    real(dp), allocatable :: mine_rows(:), all_rows(:), values(:)
-    integer, allocatable :: first(:)
-    character(len=:), allocatable :: groups
-    integer :: k, m, nc
-    nc = self%ncols
-    allocate (mine_n(self%n))
-    do k = 1, self%n
-      mine_n(k) = size(self%snaps(k)%gid)
-    end do
-    allocate (mine_gid(sum(mine_n)), mine_rows(merge(nc*sum(mine_n), 0, comm%size > 1)))
-    m = 0
-    do k = 1, self%n
-      associate (s => self%snaps(k))
-        mine_gid(m + 1:m + mine_n(k)) = s%gid
-        if (comm%size > 1) mine_rows(nc*m + 1:nc*(m + mine_n(k))) = &
-          reshape(s%rows, [nc*mine_n(k)])
-        m = m + mine_n(k)
-      end associate
-    end do
-    if (comm%size == 1) then
-      call assemble(1, mine_n, mine_gid)   ! one rank: from the store, no gathered copy
-    else
-      call gatherv_int(comm, mine_n, all_n, 0)
-      call gatherv_int(comm, mine_gid, all_gid, 0)
-      call gatherv_real(comm, mine_rows, all_rows, 0)
-      deallocate (mine_rows)
-      if (comm%rank /= 0) return
-      call assemble(comm%size, all_n, all_gid, all_rows)
-      deallocate (all_rows)
-    end if
+    integer, allocatable :: counts(:), rows(:)
+    character(len=:), allocatable :: groups, names
+    integer :: k, f, q, n
+    n = self%n
+    call gatherv_int(comm, self%mine(1:n), counts, 0)
+    if (comm%rank /= 0) return
     groups = ''
-    do k = 1, self%n
+    do k = 1, n
       groups = groups//self%snaps(k)%group//new_line('a')
     end do
+    names = ''
+    rows = [0]
+    do f = 1, size(self%files)
+      names = names//self%files(f)%name//new_line('a')
+      rows = [rows, self%files(f)%rows, (0, k=size(self%files(f)%rows) + 1, n)]
+    end do
+    if (self%spool%segment > 0) then
+      do q = 0, comm%size - 1
+        if (.not. any(counts(q*n + 1:(q + 1)*n) > 0)) cycle
+        names = names//spool_name(self%spool%segment, q)//new_line('a')
+        rows = [rows, counts(q*n + 1:(q + 1)*n)]
+      end do
+    end if
     call ckpt%put(prefix//'version', snapshots_version)
-    call ckpt%put(prefix//'count', self%n)
-    call ckpt%put(prefix//'columns', nc)
+    call ckpt%put(prefix//'count', n)
+    call ckpt%put(prefix//'columns', self%ncols)
     call ckpt%put(prefix//'fields', size(self%names))
-    call ckpt%put(prefix//'rows', [0, n_rows])
-    call ckpt%put(prefix//'times', [0.0_dp, (self%snaps(k)%time, k=1, self%n)])
+    call ckpt%put(prefix//'times', [0.0_dp, (self%snaps(k)%time, k=1, n)])
     call ckpt%put_text(prefix//'groups', groups)
-    call ckpt%put_moved(prefix//'values', values)
-
-  contains
-
-    !> values: snapshot after snapshot, each row to row gid; rank q's rows
-    !> (counts n(q*self%n + k), ids gid) from `rows`, or from the store.
-    subroutine assemble(nranks, n, gid, rows)
-      integer, intent(in) :: nranks, n(:), gid(:)
-      real(dp), intent(in), optional :: rows(:)
-      integer :: q, k, j, m, b, a
-      allocate (n_rows(self%n), first(self%n))
-      n_rows = 0
-      do q = 0, nranks - 1
-        n_rows = n_rows + n(q*self%n + 1:(q + 1)*self%n)
-      end do
-      allocate (values(1 + nc*sum(n_rows)))
-      values(1) = 0.0_dp
-      a = 1
-      do k = 1, self%n
-        first(k) = a
-        a = a + nc*n_rows(k)
-      end do
-      m = 0
-      do q = 0, nranks - 1
-        do k = 1, self%n
-          do j = 1, n(q*self%n + k)
-            m = m + 1
-            b = first(k) + nc*(gid(m) - 1)
-            if (present(rows)) then
-              values(b + 1:b + nc) = rows(nc*(m - 1) + 1:nc*m)
-            else
-              values(b + 1:b + nc) = self%snaps(k)%rows(:, j)
-            end if
-          end do
-        end do
-      end do
-    end subroutine assemble
+    call ckpt%put_text(prefix//'files', names)
+    call ckpt%put(prefix//'file_rows', rows)
   end subroutine store_put
 
   !> Refuse a checkpoint without the store's entries under `prefix`, or
-  !> with another version of them: one written by the programs that kept
-  !> every snapshot on rank 0 (the caller adds the file's name); version 1
-  !> held the header as one positional `layout` entry.
+  !> with another version of them (the caller adds the file's name): one
+  !> written by the programs that kept every snapshot on rank 0 (no
+  !> entries, or version 1) or in the checkpoint itself (version 2).
   subroutine check_snapshots_format(ckpt, prefix, err)
     type(checkpoint_t), intent(in) :: ckpt
     character(len=*), intent(in) :: prefix
@@ -313,29 +323,35 @@ contains
       call ckpt%get(prefix//'version', version, err)
       if (allocated(err)) return
     end if
-    if (version /= snapshots_version) then
+    if (version == 2) then
+      call new_error(err, status_invalid, 'checkpoint', 'it was written by an earlier '// &
+        'version of the program, which held the particle snapshots in the checkpoint '// &
+        '(snapshot version 2); this version keeps them in snapshot files of the '// &
+        'checkpoint folder (version 3) and cannot continue it: run the deck from the '// &
+        'start, or finish the run with the version that wrote it')
+    else if (version /= snapshots_version) then
       call new_error(err, status_invalid, 'checkpoint', 'its particle snapshots are of '// &
         'version '//int_text(version)//', this program reads version '// &
         int_text(snapshots_version))
     end if
   end subroutine check_snapshots_format
 
-  !> The store back from `ckpt` (which every rank holds; collective by
-  !> nature, no messages): each rank takes a contiguous block of global ids
-  !> of every snapshot (rank q of P the q-th of P near-equal blocks, the
-  !> first mod(N, P) one longer), on any number of ranks. `self` must have
-  !> been made by new_snapshot_store with the fields of the run that wrote
-  !> `ckpt`; anything else is refused.
-  subroutine store_get(self, ckpt, comm, prefix, err)
+  !> The store back from `ckpt` (which every rank holds; no messages): the
+  !> snapshots' groups and times and the files that hold their rows, each
+  !> checked in the folder of keep_files (there, of these rows, as long as
+  !> the checkpoint records; else `err` names it, the same on every rank).
+  !> `self` must have been made by new_snapshot_store with the fields of
+  !> the run that wrote `ckpt`; anything else is refused. The next
+  !> snapshot taken opens a new file of the folder.
+  subroutine store_get(self, ckpt, prefix, err)
     class(snapshot_store_t), intent(inout) :: self
     type(checkpoint_t), intent(in) :: ckpt
-    type(comm_t), intent(in) :: comm
     character(len=*), intent(in) :: prefix
     type(error_t), allocatable, intent(out) :: err
-    integer, allocatable :: n_rows(:)
-    real(dp), allocatable :: times(:), values(:)
-    character(len=:), allocatable :: groups
-    integer :: nsnap, nc, nfields, k, b, r, first, nb, j, at, nl, a
+    integer, allocatable :: rows(:)
+    real(dp), allocatable :: times(:)
+    character(len=:), allocatable :: groups, names
+    integer :: nsnap, nc, nfields, nfiles, k, f, at, nl
     call check_snapshots_format(ckpt, prefix, err)
     if (allocated(err)) return
     call ckpt%get(prefix//'count', nsnap, err); if (allocated(err)) return
@@ -346,40 +362,50 @@ contains
                   int_text(nc)//' values per particle; this program writes '// &
                   int_text(size(self%names))//' of '//int_text(self%ncols)); return
     end if
-    call ckpt%get(prefix//'rows', n_rows, err); if (allocated(err)) return
     call ckpt%get(prefix//'times', times, err); if (allocated(err)) return
     call ckpt%get_text(prefix//'groups', groups, err); if (allocated(err)) return
-    call ckpt%get(prefix//'values', values, err); if (allocated(err)) return
-    if (size(n_rows) /= nsnap + 1 .or. size(times) /= nsnap + 1) then
+    call ckpt%get_text(prefix//'files', names, err); if (allocated(err)) return
+    call ckpt%get(prefix//'file_rows', rows, err); if (allocated(err)) return
+    nfiles = lines(names)
+    if (size(times) /= nsnap + 1 .or. lines(groups) /= nsnap .or. &
+        size(rows) /= 1 + nfiles*nsnap) then
       call refuse(err, 'its snapshot counts are garbled'); return
     end if
-    n_rows = n_rows(2:)
-    if (any(n_rows < 0) .or. size(values) /= 1 + nc*sum(n_rows) .or. &
-        count([(groups(j:j) == new_line('a'), j=1, len(groups))]) /= nsnap) then
+    if (any(rows < 0)) then
       call refuse(err, 'its snapshots are garbled'); return
     end if
-    deallocate (self%snaps)
-    allocate (self%snaps(max(nsnap, 8)))
+    if (len(self%dir) == 0 .and. nfiles > 0) then
+      call refuse(err, 'its particle snapshot files have no folder'); return
+    end if
+    deallocate (self%snaps, self%files, self%mine)
+    allocate (self%snaps(max(nsnap, 8)), self%files(nfiles), self%mine(max(nsnap, 8)))
+    self%mine = 0
+    call self%spool%close()
     self%n = nsnap
-    a = 1
     at = 1
     do k = 1, nsnap
-      associate (s => self%snaps(k))
-        nl = index(groups(at:), new_line('a'))
-        s%group = groups(at:at + nl - 2)
-        at = at + nl
-        s%time = times(k + 1)
-        b = n_rows(k)/comm%size
-        r = mod(n_rows(k), comm%size)
-        first = comm%rank*b + min(comm%rank, r) + 1
-        nb = b
-        if (comm%rank < r) nb = b + 1
-        s%gid = [(first + j - 1, j=1, nb)]
-        s%rows = reshape(values(a + nc*(first - 1) + 1:a + nc*(first - 1 + nb)), [nc, nb])
-        a = a + nc*n_rows(k)
-      end associate
+      nl = index(groups(at:), new_line('a'))
+      self%snaps(k)%group = groups(at:at + nl - 2)
+      self%snaps(k)%time = times(k + 1)
+      at = at + nl
+    end do
+    at = 1
+    do f = 1, nfiles
+      nl = index(names(at:), new_line('a'))
+      self%files(f)%name = names(at:at + nl - 2)
+      self%files(f)%rows = rows(2 + (f - 1)*nsnap:1 + f*nsnap)
+      at = at + nl
+      call check_spool_file(self%dir, self%files(f), nc, err)
+      if (allocated(err)) return
     end do
   end subroutine store_get
+
+  !> Lines of `text` (each ended by new_line).
+  pure integer function lines(text)
+    character(len=*), intent(in) :: text
+    integer :: j
+    lines = count([(text(j:j) == new_line('a'), j=1, len(text))])
+  end function lines
 
   !> A checkpoint's snapshots refused, and why.
   subroutine refuse(err, what)

@@ -128,6 +128,7 @@ contains
     r%snaps%h5 => r%h5
     r%snaps%interval = r%cfg%snapshot_dt
     r%snaps%r_inner = r%cfg%r_inner
+    call r%snaps%store%keep_files(r%cks%dir, r%cks%every > 0)
     r%progress_line%name = 'progress'
     r%progress_line%on = r%cfg%progress .and. comm%rank == 0
     r%progress_line%nsteps_est = nsteps_est
@@ -189,6 +190,7 @@ contains
     call r%outs%write_h5(r%h5)
     call r%h5%close(err)
     if (allocated(err)) call stop_all(comm, r%rd, err)
+    call r%snaps%store%close()
     if (comm%rank /= 0) return
     wall = r%progress_line%wall()
     associate (sm => r%sm, sc => r%sc)

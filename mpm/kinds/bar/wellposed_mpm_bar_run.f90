@@ -115,6 +115,8 @@ contains
     r%cks = new_run_checkpoints(cli%out_root, r%cfg%name, &
                                 checkpoint_every(cli%ck_every, r%nsteps_est), cli%ck_file, &
                                 r%deck_text, r%rd)
+    ! the snapshots' rows go into files of the checkpoint folder, for the checkpoints
+    call r%snaps%store%keep_files(r%cks%dir, r%cks%every > 0)
     if (root) call say_opening(r, comm)
   end subroutine open_bar
 
@@ -225,6 +227,7 @@ contains
     call r%outs%write_h5(r%h5)
     call r%h5%close(err)
     if (allocated(err)) call stop_all(comm, r%rd, err)
+    call r%snaps%store%close()
     if (comm%rank /= 0) return
     ! the particle snapshots for ParaView: points on the x axis over time
     if (r%snaps%taken > 0) then

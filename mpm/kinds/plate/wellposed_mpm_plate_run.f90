@@ -122,6 +122,7 @@ contains
     r%snaps%name = 'snapshots'
     r%snaps%h5 => r%h5
     r%snaps%interval = r%study%snapshot_dt
+    call r%snaps%store%keep_files(r%cks%dir, cli%ck_every /= 0)
     call r%done%setup(r%study, r%cfg0%t_end, r%sm)
     if (cli%restart) then
       call r%cks%open(cli%deck_path, err)
@@ -417,6 +418,7 @@ contains
     real(dp) :: total
     call r%h5%close(err)
     if (allocated(err)) call stop_all(comm, r%rd, err)
+    call r%snaps%store%close()
     if (comm%rank /= 0) return
     associate (outs => r%done%outs, sm => r%sm)
       ! across cases: successive meshes, sizes
