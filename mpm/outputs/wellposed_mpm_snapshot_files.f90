@@ -153,23 +153,22 @@ contains
     end if
     needed = spool_bytes(ncols, f%rows)
     inquire (file=path, size=size_now)
-    open (newunit=u, file=path, access='stream', form='unformatted', status='old', &
-          action='read', iostat=st)
-    if (st /= 0) then
-      call refuse(err, path, 'cannot be read')
-      return
-    end if
-    head = ''
-    nc = -1
-    read (u, iostat=st) head, nc, pad
-    close (u)
-    if (st /= 0 .or. head /= magic .or. nc /= ncols) then
-      call refuse(err, path, 'is not a particle snapshot file of this run (its header '// &
-                  'is not that of rows of '//int_text(ncols)//' values)')
-    else if (size_now < needed) then
+    if (size_now < needed) then
       call refuse(err, path, 'is truncated: it has '//bytes_text(size_now)//' bytes, the '// &
                   'checkpoint records '//bytes_text(needed))
+      return
     end if
+    open (newunit=u, file=path, access='stream', form='unformatted', status='old', &
+          action='read', iostat=st)
+    head = ''
+    nc = -1
+    if (st == 0) then
+      read (u, iostat=st) head, nc, pad
+      close (u)
+    end if
+    if (st /= 0 .or. head /= magic .or. nc /= ncols) &
+      call refuse(err, path, 'is not a particle snapshot file of this run (its header '// &
+                  'is not that of rows of '//int_text(ncols)//' values)')
   end subroutine check_spool_file
 
   !> A byte count as text.

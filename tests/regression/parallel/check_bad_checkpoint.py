@@ -17,9 +17,11 @@ copies of that checkpoint:
   - with --downgrade HELPER (parallel_snapshots_main): the checkpoint
     without its particle snapshot entries, as the programs before the
     snapshot store wrote their checkpoints, given with --restart-from;
+  - the checkpoint itself, with its particle snapshot file of the
+    checkpoint folder (rank 0's) cut to half its length, then removed;
 each restart must exit non-zero with one message naming the file and
 saying it is refused (the third also naming --restart-from, the fourth that
-an earlier version wrote it), and leave no finished run folder. Exit status
+an earlier version wrote it, the last two naming the snapshot file), and leave no finished run folder. Exit status
 0 when all holds.
 """
 import argparse, glob, os, re, shlex, shutil, signal, subprocess, sys, time
@@ -106,4 +108,16 @@ if a.downgrade:
                          stdout=subprocess.PIPE, text=True, check=True).stdout.split()[0]
     refused('checkpoint of the programs before the snapshot store', ['--restart-from', old],
             re.escape(old) + r': it was written by an earlier version of the program')
+spool = sorted(glob.glob(os.path.join(ckdir, 'snapshots_*_rank000000.bin')))
+if len(spool) != 1:
+    sys.exit('FAIL: the killed run left %d snapshot files of rank 0, not one' % len(spool))
+spool = spool[0]
+with open(spool, 'r+b') as f:
+    f.truncate(os.path.getsize(spool) // 2)
+refused('truncated snapshot file', ['--restart-from', good],
+        r'particle snapshot file "' + re.escape(spool) + r'" is truncated: it has \d+ bytes, '
+        r'the checkpoint records \d+')
+os.remove(spool)
+refused('missing snapshot file', ['--restart-from', good],
+        r'particle snapshot file "' + re.escape(spool) + r'" is missing')
 sys.exit(1 if failures else 0)

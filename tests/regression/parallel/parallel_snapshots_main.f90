@@ -2,7 +2,8 @@
 !> of the MPM programs (wellposed_mpm_snapshots) on its own, rows scattered
 !> over the ranks as particles are, against the serial writer's file. Modes
 !> reference, write, read, old, downgrade: docs/research/verification.md.
-!> Row g of snapshot k holds k*1000 + g + c/8 in value c (exact).
+!> Row g of snapshot k holds k*1000 + g + c/8 in value c (exact); the
+!> rows go into the snapshot files of the checkpoint folder DIR/ck_npN.
 !> Exits non-zero on any failure.
 program parallel_snapshots_main
   use, intrinsic :: iso_fortran_env, only: output_unit, error_unit
@@ -10,6 +11,7 @@ program parallel_snapshots_main
   use wellposed_error, only: error_t
   use wellposed_text, only: int_text
   use wellposed_mpi, only: comm_t, comm_start, comm_stop, allreduce_sum, barrier
+  use wellposed_fs, only: remove_file, truncate_file, remove_tree
   use wellposed_h5, only: h5_file_t
   use wellposed_h5_parallel, only: h5_parallel_file_t
   use wellposed_checkpoint, only: checkpoint_t, write_checkpoint, read_checkpoint, &
@@ -97,6 +99,14 @@ contains
   end subroutine reference
 
   subroutine write_scattered()
+    call write_snapshots(trim(dir)//'/written_np'//int_text(comm%size)//'.h5', &
+                         trim(dir)//'/ck_np'//int_text(comm%size))
+  end subroutine write_scattered
+
+  !> The snapshots scattered over the ranks into `file` and into the
+  !> snapshot files of folder `ckdir`, with checkpoint 1 there.
+  subroutine write_snapshots(file, ckdir)
+    character(len=*), intent(in) :: file, ckdir
     type(snapshot_store_t) :: store
     type(h5_parallel_file_t) :: h5
     type(checkpoint_t) :: ck
@@ -104,8 +114,12 @@ contains
     real(dp), allocatable :: rows(:, :)
     character(len=:), allocatable :: path
     integer :: k, g, j
+    if (comm%rank == 0) call remove_tree(ckdir, err)   ! an earlier run's files
+    call stop_on(err)
+    call barrier(comm)
     call new_store(store)
-    call h5%create(comm, trim(dir)//'/written_np'//int_text(comm%size)//'.h5', err)
+    call store%keep_files(ckdir, .true.)
+    call h5%create(comm, file, err)
     call stop_on(err)
     do k = 1, nsnap
       gid = pack([(g, g=nrows(k), 1, -1)], &
@@ -121,45 +135,33 @@ contains
     call h5%close(err)
     call stop_on(err)
     call store%put(ck, comm, 'snapshots/')
+    call store%close()
     if (comm%rank == 0) then
-      call write_checkpoint(ck, trim(dir)//'/ck_np'//int_text(comm%size), 1, 2, path, err)
+      call write_checkpoint(ck, ckdir, 1, 2, path, err)
       call stop_on(err)
     end if
-  end subroutine write_scattered
+    call barrier(comm)     ! the checkpoint is there before anyone reads it
+  end subroutine write_snapshots
 
   subroutine read_restored()
     type(snapshot_store_t) :: store
     type(h5_parallel_file_t) :: h5
     type(checkpoint_t) :: ck
     character(len=:), allocatable :: path
-    integer :: k, j, b, r, first, nb
+    integer :: k
     call latest_checkpoint(trim(dir)//'/'//trim(arg), path, err)
     call stop_on(err)
     call read_checkpoint(path, ck, err)
     call stop_on(err)
     call new_store(store)
-    call store%get(ck, comm, 'snapshots/', err)
+    call store%keep_files(trim(dir)//'/'//trim(arg), .false.)
+    call store%get(ck, 'snapshots/', err)
     call stop_on(err)
     call expect(store%n == nsnap, 'the store holds '//int_text(store%n)//' snapshots')
     do k = 1, min(store%n, nsnap)
-      associate (s => store%snaps(k))
-        call expect(s%group == trim(groups(k)) .and. s%time == time_of(k), &
-                    'snapshot '//int_text(k)//' is "'//s%group//'"')
-        b = nrows(k)/comm%size
-        r = mod(nrows(k), comm%size)
-        first = comm%rank*b + min(comm%rank, r) + 1
-        nb = b + merge(1, 0, comm%rank < r)
-        call expect(size(s%gid) == nb, 'snapshot '//int_text(k)//': '// &
-                    int_text(size(s%gid))//' rows, expected '//int_text(nb))
-        if (size(s%gid) /= nb) cycle
-        do j = 1, nb
-          call expect(s%gid(j) == first + j - 1 .and. &
-                      all(s%rows(:, j) == [value(k, s%gid(j), 1), value(k, s%gid(j), 2), &
-                                           value(k, s%gid(j), 3)]), &
-                      'snapshot '//int_text(k)//': row '//int_text(j)//' is not id '// &
-                      int_text(first + j - 1)//' with its values')
-        end do
-      end associate
+      call expect(store%snaps(k)%group == trim(groups(k)) .and. &
+                  store%snaps(k)%time == time_of(k), &
+                  'snapshot '//int_text(k)//' is "'//store%snaps(k)%group//'"')
     end do
     call h5%create(comm, trim(dir)//'/restored_'//trim(arg)//'_np'//int_text(comm%size)// &
                    '.h5', err)
@@ -175,7 +177,8 @@ contains
   subroutine old_format()
     type(snapshot_store_t) :: store
     type(checkpoint_t) :: ck, back
-    character(len=:), allocatable :: path
+    character(len=:), allocatable :: path, ckdir, victim
+    logical :: gone
     ! the earlier programs' checkpoints: their own entries, no store
     call ck%put('main/counts', [1, 1, 37, 0])
     call ck%put('main/snapshots', [0.5_dp, 1.5_dp])
@@ -191,21 +194,47 @@ contains
     call check_snapshots_format(back, 'snapshots/', err)
     call refused('no store entries', 'written by an earlier version of the program')
     call new_store(store)
-    call store%get(back, comm, 'snapshots/', err)
+    call store%get(back, 'snapshots/', err)
     call refused('no store entries (get)', 'written by an earlier version of the program')
-    ! a later version of the entries
-    call back%put('snapshots/version', snapshots_version + 1)
+    ! version 2: the rows held in the checkpoint itself
+    call back%put('snapshots/version', 2)
     call back%put('snapshots/count', 0)
     call back%put('snapshots/columns', ncols)
     call back%put('snapshots/fields', 2)
+    call check_snapshots_format(back, 'snapshots/', err)
+    call refused('version 2', 'held the particle snapshots in the checkpoint')
+    ! a later version of the entries
+    call back%put('snapshots/version', snapshots_version + 1)
     call check_snapshots_format(back, 'snapshots/', err)
     call refused('another version', 'version '//int_text(snapshots_version + 1)// &
                  ', this program reads version '//int_text(snapshots_version))
     ! the right version, other fields
     call back%put('snapshots/version', snapshots_version)
     call back%put('snapshots/columns', ncols + 1)
-    call store%get(back, comm, 'snapshots/', err)
+    call store%get(back, 'snapshots/', err)
     call refused('other fields', 'values per particle')
+    ! a snapshot file truncated, then missing: refused, naming it
+    ckdir = trim(dir)//'/damaged_np'//int_text(comm%size)
+    call write_snapshots(trim(dir)//'/damaged_np'//int_text(comm%size)//'.h5', ckdir)
+    call latest_checkpoint(ckdir, path, err)
+    call stop_on(err)
+    call read_checkpoint(path, ck, err)
+    call stop_on(err)
+    victim = ckdir//'/snapshots_0001_rank000000.bin'
+    if (comm%rank == 0) call expect(truncate_file(victim), 'cannot truncate '//victim)
+    call barrier(comm)
+    call new_store(store)
+    call store%keep_files(ckdir, .false.)
+    call store%get(ck, 'snapshots/', err)
+    call refused('truncated file', '"'//victim//'" is truncated: it has 0 bytes')
+    call barrier(comm)
+    if (comm%rank == 0) then
+      gone = remove_file(victim)
+      call expect(gone, 'cannot remove '//victim)
+    end if
+    call barrier(comm)
+    call store%get(ck, 'snapshots/', err)
+    call refused('missing file', '"'//victim//'" is missing')
   end subroutine old_format
 
   !> Checkpoint file `dir` (here a file) without its 'snapshots/' entries,
