@@ -11,11 +11,11 @@ module wellposed_mpm_snapshot_files
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
   use wellposed_mpi, only: comm_t, broadcast, allreduce_any
-  use wellposed_fs, only: make_dirs, path_exists
+  use wellposed_fs, only: make_dirs, path_exists, rename_path
   implicit none
   private
   public :: snapshot_file_t, spool_t, spool_name, spool_bytes, check_spool_file, &
-            read_spool_rows
+            read_spool_rows, copy_spool_file
 
   !> The first bytes of every file: this text, then the values per row
   !> (int32) and four bytes of zero.
@@ -170,6 +170,41 @@ contains
       call refuse(err, path, 'is not a particle snapshot file of this run (its header '// &
                   'is not that of rows of '//int_text(ncols)//' values)')
   end subroutine check_spool_file
+
+  !> File `f` of folder `from` into folder `to` (which exists), as far as
+  !> the checkpoint records it, through a temporary name.
+  subroutine copy_spool_file(from, to, f, ncols, err)
+    character(len=*), intent(in) :: from, to
+    type(snapshot_file_t), intent(in) :: f
+    integer, intent(in) :: ncols
+    type(error_t), allocatable, intent(out) :: err
+    integer(int64), parameter :: chunk = 1048576_int64
+    character(len=:), allocatable :: part
+    character(len=1), allocatable :: buf(:)
+    integer(int64) :: left, n
+    integer :: ui, uo, st
+    part = to//'/'//f%name//'.part'
+    allocate (buf(chunk))
+    open (newunit=ui, file=from//'/'//f%name, access='stream', form='unformatted', &
+          status='old', action='read', iostat=st)
+    if (st /= 0) then
+      call refuse(err, from//'/'//f%name, 'cannot be read'); return
+    end if
+    open (newunit=uo, file=part, access='stream', form='unformatted', status='replace', &
+          action='write', iostat=st)
+    left = spool_bytes(ncols, f%rows)
+    do while (st == 0 .and. left > 0)
+      n = min(chunk, left)
+      read (ui, iostat=st) buf(1:n)
+      if (st == 0) write (uo, iostat=st) buf(1:n)
+      left = left - n
+    end do
+    close (ui)
+    if (st == 0) close (uo, iostat=st)
+    if (st == 0) call rename_path(part, to//'/'//f%name, err)
+    if (st /= 0) call new_error(err, status_invalid, part, 'cannot copy the particle '// &
+      'snapshot file "'//from//'/'//f%name//'" to "'//part//'" (disk full?)')
+  end subroutine copy_spool_file
 
   !> A byte count as text.
   pure function bytes_text(n) result(text)

@@ -95,7 +95,7 @@ contains
     type(checkpoint_t), intent(in) :: ck
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
-    call self%store%get(ck, self%name//'/', err); if (allocated(err)) return
+    call self%store%get(ck, comm, self%name//'/', err); if (allocated(err)) return
     call ck%get(self%name//'/taken', self%taken, err); if (allocated(err)) return
     call ck%get(self%name//'/next', self%next, err)
   end subroutine snapshot_get

@@ -14,8 +14,10 @@ module wellposed_mpm_snapshots
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_h5_parallel, only: h5_parallel_file_t, h5_row_order_t, new_row_order
   use wellposed_xdmf, only: write_particle_xdmf
+  use wellposed_mpi, only: broadcast
+  use wellposed_fs, only: make_dirs
   use wellposed_mpm_snapshot_files, only: snapshot_file_t, spool_t, spool_name, &
-                                          check_spool_file, read_spool_rows
+                                          check_spool_file, read_spool_rows, copy_spool_file
   implicit none
   private
   public :: snapshot_store_t, new_snapshot_store, check_snapshots_format, snapshots_version
@@ -336,21 +338,24 @@ contains
     end if
   end subroutine check_snapshots_format
 
-  !> The store back from `ckpt` (which every rank holds; no messages): the
+  !> The store back from `ckpt` (which every rank holds; collective): the
   !> snapshots' groups and times and the files that hold their rows, each
-  !> checked in the folder of keep_files (there, of these rows, as long as
-  !> the checkpoint records; else `err` names it, the same on every rank).
+  !> checked in the folder the checkpoint was read from (its text entry
+  !> 'run/read_from', else the folder of keep_files): there, of these rows,
+  !> as long as the checkpoint records; else `err` names it, the same on
+  !> every rank. Files of another folder are copied into keep_files' one.
   !> `self` must have been made by new_snapshot_store with the fields of
   !> the run that wrote `ckpt`; anything else is refused. The next
   !> snapshot taken opens a new file of the folder.
-  subroutine store_get(self, ckpt, prefix, err)
+  subroutine store_get(self, ckpt, comm, prefix, err)
     class(snapshot_store_t), intent(inout) :: self
     type(checkpoint_t), intent(in) :: ckpt
+    type(comm_t), intent(in) :: comm
     character(len=*), intent(in) :: prefix
     type(error_t), allocatable, intent(out) :: err
     integer, allocatable :: rows(:)
     real(dp), allocatable :: times(:)
-    character(len=:), allocatable :: groups, names
+    character(len=:), allocatable :: groups, names, from
     integer :: nsnap, nc, nfields, nfiles, k, f, at, nl
     call check_snapshots_format(ckpt, prefix, err)
     if (allocated(err)) return
@@ -374,8 +379,9 @@ contains
     if (any(rows < 0)) then
       call refuse(err, 'its snapshots are garbled'); return
     end if
-    if (len(self%dir) == 0 .and. nfiles > 0) then
-      call refuse(err, 'its particle snapshot files have no folder'); return
+    from = self%dir
+    if (ckpt%has('run/read_from')) then
+      call ckpt%get_text('run/read_from', from, err); if (allocated(err)) return
     end if
     deallocate (self%snaps, self%files, self%mine)
     allocate (self%snaps(max(nsnap, 8)), self%files(nfiles), self%mine(max(nsnap, 8)))
@@ -395,10 +401,43 @@ contains
       self%files(f)%name = names(at:at + nl - 2)
       self%files(f)%rows = rows(2 + (f - 1)*nsnap:1 + f*nsnap)
       at = at + nl
-      call check_spool_file(self%dir, self%files(f), nc, err)
+      call check_spool_file(from, self%files(f), nc, err)
       if (allocated(err)) return
     end do
+    if (from /= self%dir .and. len(self%dir) > 0) call adopt(self, from, comm, err)
   end subroutine store_get
+
+  !> The files of `self` copied from folder `from` into self%dir (created
+  !> if missing; collective, each rank a share): a checkpoint continued
+  !> from another folder (--restart-from) leaves the run's own
+  !> checkpoints with their files beside them.
+  subroutine adopt(self, from, comm, err)
+    class(snapshot_store_t), intent(inout) :: self
+    character(len=*), intent(in) :: from
+    type(comm_t), intent(in) :: comm
+    type(error_t), allocatable, intent(out) :: err
+    type(error_t), allocatable :: e
+    integer :: f, made
+    made = 1
+    if (comm%rank == 0) then
+      call make_dirs(self%dir, e)
+      if (allocated(e)) made = 0
+    end if
+    call broadcast(comm, made, 0)
+    if (made == 1) then
+      do f = comm%rank + 1, size(self%files), comm%size
+        call copy_spool_file(from, self%dir, self%files(f), self%ncols, e)
+        if (allocated(e)) exit
+      end do
+    end if
+    if (.not. allreduce_any(comm, allocated(e)) .and. made == 1) return
+    if (allocated(e)) then
+      call move_alloc(e, err)
+    else
+      call new_error(err, status_invalid, self%dir, 'cannot copy the particle snapshot '// &
+                     'files of '//from//' into '//self%dir)
+    end if
+  end subroutine adopt
 
   !> Lines of `text` (each ended by new_line).
   pure integer function lines(text)

@@ -133,6 +133,9 @@ contains
       call refuse_restart(err, e%message//'; an older checkpoint of '//ck_dir// &
                           ' may be given with --restart-from FILE'); return
     end if
+    ! where the particle snapshot files of this checkpoint are (wellposed_mpm_snapshots)
+    call ck%put_text('run/read_from', ck_file(1:max(index(ck_file, '/', back=.true.) - 1, 0)))
+    if (index(ck_file, '/') == 0) call ck%put_text('run/read_from', '.')
     call check_snapshots_format(ck, 'snapshots/', e)
     if (allocated(e)) then
       call refuse_restart(err, ck_file//': '//e%message); return

@@ -155,7 +155,7 @@ contains
     call stop_on(err)
     call new_store(store)
     call store%keep_files(trim(dir)//'/'//trim(arg), .false.)
-    call store%get(ck, 'snapshots/', err)
+    call store%get(ck, comm, 'snapshots/', err)
     call stop_on(err)
     call expect(store%n == nsnap, 'the store holds '//int_text(store%n)//' snapshots')
     do k = 1, min(store%n, nsnap)
@@ -194,7 +194,7 @@ contains
     call check_snapshots_format(back, 'snapshots/', err)
     call refused('no store entries', 'written by an earlier version of the program')
     call new_store(store)
-    call store%get(back, 'snapshots/', err)
+    call store%get(back, comm, 'snapshots/', err)
     call refused('no store entries (get)', 'written by an earlier version of the program')
     ! version 2: the rows held in the checkpoint itself
     call back%put('snapshots/version', 2)
@@ -211,7 +211,7 @@ contains
     ! the right version, other fields
     call back%put('snapshots/version', snapshots_version)
     call back%put('snapshots/columns', ncols + 1)
-    call store%get(back, 'snapshots/', err)
+    call store%get(back, comm, 'snapshots/', err)
     call refused('other fields', 'values per particle')
     ! a snapshot file truncated, then missing: refused, naming it
     ckdir = trim(dir)//'/damaged_np'//int_text(comm%size)
@@ -225,7 +225,7 @@ contains
     call barrier(comm)
     call new_store(store)
     call store%keep_files(ckdir, .false.)
-    call store%get(ck, 'snapshots/', err)
+    call store%get(ck, comm, 'snapshots/', err)
     call refused('truncated file', '"'//victim//'" is truncated: it has 0 bytes')
     call barrier(comm)
     if (comm%rank == 0) then
@@ -233,7 +233,7 @@ contains
       call expect(gone, 'cannot remove '//victim)
     end if
     call barrier(comm)
-    call store%get(ck, 'snapshots/', err)
+    call store%get(ck, comm, 'snapshots/', err)
     call refused('missing file', '"'//victim//'" is missing')
   end subroutine old_format
 
