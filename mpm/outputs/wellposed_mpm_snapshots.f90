@@ -7,7 +7,9 @@
 !> run.h5 bit for bit on any rank count. A snapshot is a group with its time
 !> and a dataset per field (width 1: N rows; 2: (N, 2)). docs/guide/parallel.md.
 module wellposed_mpm_snapshots
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
+  use wellposed_out_of_memory, only: out_of_memory
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
   use wellposed_mpi, only: comm_t, gatherv_int, allreduce_any
@@ -135,14 +137,15 @@ contains
     type(error_t), allocatable :: e
     integer, allocatable :: gid(:)
     real(dp), allocatable :: rows(:, :)
-    integer :: k, f, m
+    integer :: k, f, m, st
     do k = 1, self%n
       if (.not. selected(self, k, prefix)) cycle
       m = 0
       do f = comm%rank + 1, size(self%files), comm%size
         if (k <= size(self%files(f)%rows)) m = m + self%files(f)%rows(k)
       end do
-      allocate (gid(m), rows(self%ncols, m))
+      allocate (gid(m), rows(self%ncols, m), stat=st)
+      if (st /= 0) call out_of_memory('snapshot rows', int(self%ncols + 1, int64)*m, st)
       m = 0
       do f = comm%rank + 1, size(self%files), comm%size
         if (k > size(self%files(f)%rows)) cycle

@@ -31,7 +31,7 @@ module wellposed_mpm_axisymmetric_deck
                                                    'stations']
   !> Bytes per particle with outputs on and off: the plate's (the same
   !> particle and grid arrays; docs/guide/performance.md).
-  real(dp), parameter :: axi_out = 2000.0_dp, axi_quiet = 1310.0_dp
+  real(dp), parameter :: axi_out = 1700.0_dp, axi_quiet = 1310.0_dp
 
   !> &cylinder and &boundary as read, before their checks.
   type, extends(deck_groups_t) :: axi_keys_t

@@ -14,7 +14,7 @@ module wellposed_mpm_plate_memory
   private
   public :: plate_deck_memory
 
-  real(dp), parameter :: plate_out = 2000.0_dp, plate_quiet = 1310.0_dp
+  real(dp), parameter :: plate_out = 1700.0_dp, plate_quiet = 1310.0_dp
 
 contains
 
