@@ -13,7 +13,7 @@ module wellposed_mpm_bar_memory
   private
   public :: bar_deck_memory
 
-  real(dp), parameter :: bar_out = 1100.0_dp, bar_quiet = 700.0_dp
+  real(dp), parameter :: bar_out = 1200.0_dp, bar_quiet = 700.0_dp
 
 contains
 

@@ -21,7 +21,8 @@ copies of that checkpoint:
     checkpoint folder (rank 0's) cut to half its length, then removed;
 each restart must exit non-zero with one message naming the file and
 saying it is refused (the third also naming --restart-from, the fourth that
-an earlier version wrote it, the last two naming the snapshot file), and leave no finished run folder. Exit status
+an earlier version wrote it, the last two naming the snapshot file), and
+leave no finished run folder. Exit status
 0 when all holds.
 """
 import argparse, glob, os, re, shlex, shutil, signal, subprocess, sys, time
