@@ -11,14 +11,14 @@ module wellposed_mpm_nonlocal
                                              nl_coloured, nl_sweep_names
   use wellposed_mpm_nonlocal_state, only: nonlocal_t, nonlocal_step_stats_t, new_nonlocal, &
                                           nonlocal_ghost_nodes
-  use wellposed_mpm_nonlocal_grid, only: nonlocal_project, nonlocal_average, support_mass
+  use wellposed_mpm_nonlocal_grid, only: nonlocal_project, nonlocal_average
   use wellposed_mpm_algorithm1, only: nonlocal_host_t, nonlocal_solve
   use wellposed_mpm_nonlocal_ranks, only: nonlocal_ranks_t
   use wellposed_mpm_sweep_order, only: sweep_key
   implicit none
   private
   public :: nonlocal_settings_t, nonlocal_t, nonlocal_host_t, nonlocal_step_stats_t
-  public :: new_nonlocal, nonlocal_solve, nonlocal_project, nonlocal_average, support_mass
+  public :: new_nonlocal, nonlocal_solve, nonlocal_project, nonlocal_average
   public :: nl_fixed_point, nl_anderson, nl_scheme_names, nl_scheme_id, ours_bounds
   public :: nonlocal_ranks_t, nonlocal_ghost_nodes, sweep_key
   public :: nl_sweep_auto, nl_gauss_seidel, nl_jacobi, nl_coloured, nl_sweep_names

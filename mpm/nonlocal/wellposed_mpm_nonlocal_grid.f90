@@ -11,7 +11,7 @@ module wellposed_mpm_nonlocal_grid
   use wellposed_mpm_nonlocal_state, only: nonlocal_t
   implicit none
   private
-  public :: nonlocal_project, add_projection, nonlocal_average, support_mass, row_prefix, &
+  public :: nonlocal_project, add_projection, nonlocal_average, row_prefix, &
             disk_mass, cached_average, &
             field_extents, extend_extents, field_reaches
 
@@ -93,17 +93,6 @@ contains
     if (den > 0.0_dp) avg = num/den
   end subroutine nonlocal_average
 
-  !> The node mass within the support radius of xp (kg): the dissertation's
-  !> N_alpha times the particle mass (eq. 4.43). One point; for many, build
-  !> the prefix once (row_prefix) and call disk_mass for each.
-  pure real(dp) function support_mass(self, xp) result(smass)
-    type(nonlocal_t), intent(in) :: self
-    real(dp), intent(in) :: xp(:)
-    real(dp) :: prefix(self%glo:self%ghi)
-    call row_prefix(self, prefix)
-    smass = disk_mass(self, prefix, xp)
-  end function support_mass
-
   !> prefix(g): the node masses of g's grid row on this patch up to g.
   pure subroutine row_prefix(self, prefix)
     type(nonlocal_t), intent(in) :: self
@@ -116,9 +105,10 @@ contains
     end do
   end subroutine row_prefix
 
-  !> support_mass from row_prefix's sums: per row the run of nodes within the
-  !> radius (found by the distance test itself, so the same nodes), summed as a
-  !> difference of prefixes: 2R+1 rows a point instead of (2R+1)^2 nodes.
+  !> The node mass within the support radius of xp (kg): the dissertation's
+  !> N_alpha times the particle mass (eq. 4.43), from row_prefix's sums: per
+  !> row the run of nodes within the radius (found by the distance test
+  !> itself), a difference of prefixes: 2R+1 rows a point, not (2R+1)^2 nodes.
   pure real(dp) function disk_mass(self, prefix, xp) result(smass)
     type(nonlocal_t), intent(in) :: self
     real(dp), intent(in) :: prefix(self%glo:), xp(:)
@@ -156,7 +146,7 @@ contains
 
   contains
 
-    !> node i of row j within the radius of xp (support_mass's own test)
+    !> node i of row j within the radius of xp (the distance test)
     pure logical function inside(i)
       integer, intent(in) :: i
       if (self%ndim == 1) then

@@ -12,11 +12,10 @@ module wellposed_mpm_snapshots
   use wellposed_out_of_memory, only: out_of_memory
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text
-  use wellposed_mpi, only: comm_t, gatherv_int, allreduce_any
+  use wellposed_mpi, only: comm_t, gatherv_int, allreduce_any, broadcast
   use wellposed_checkpoint, only: checkpoint_t
   use wellposed_h5_parallel, only: h5_parallel_file_t, h5_row_order_t, new_row_order
   use wellposed_xdmf, only: write_particle_xdmf
-  use wellposed_mpi, only: broadcast
   use wellposed_fs, only: make_dirs
   use wellposed_mpm_snapshot_files, only: snapshot_file_t, spool_t, spool_name, &
                                           check_spool_file, read_spool_rows, copy_spool_file
@@ -34,6 +33,7 @@ module wellposed_mpm_snapshots
   type :: snapshot_t
     character(len=:), allocatable :: group   !< dataset prefix, ends with '/'
     real(dp) :: time = 0.0_dp                !< s
+    integer :: mine = 0                      !< its rows in this rank's file
   end type snapshot_t
 
   !> The snapshots taken so far, and what a snapshot holds.
@@ -47,7 +47,6 @@ module wellposed_mpm_snapshots
     character(len=:), allocatable :: dir        !< the files' folder ('': none)
     logical :: append = .false.                 !< new snapshots go into a file of dir
     type(spool_t) :: spool                      !< this rank's file of this start or restart
-    integer, allocatable :: mine(:)             !< rows of every snapshot in it
     type(snapshot_file_t), allocatable :: files(:)  !< those of a checkpoint (get)
   contains
     procedure :: keep_files => store_keep_files
@@ -77,8 +76,7 @@ contains
     self%widths = widths
     self%ncols = sum(widths)
     self%time_first = time_first
-    allocate (self%snaps(8), self%mine(8), self%files(0))
-    self%mine = 0
+    allocate (self%snaps(8), self%files(0))
     self%n = 0
     self%dir = ''
   end subroutine new_snapshot_store
@@ -113,7 +111,7 @@ contains
     self%n = self%n + 1
     self%snaps(self%n)%group = group
     self%snaps(self%n)%time = t
-    self%mine(self%n) = 0
+    self%snaps(self%n)%mine = 0
     call write_one(self, self%snaps(self%n), h5, comm, gid, rows, err)
     if (allocated(err) .or. .not. self%append) return
     if (self%spool%segment == 0) then
@@ -121,7 +119,7 @@ contains
       if (allocated(err)) return
     end if
     call self%spool%append(gid, rows, comm, err)
-    if (.not. allocated(err)) self%mine(self%n) = size(gid)
+    if (.not. allocated(err)) self%snaps(self%n)%mine = size(gid)
   end subroutine store_take
 
   !> Write the snapshots of the checkpoint `get` read into `h5` again
@@ -248,20 +246,16 @@ contains
     class(snapshot_store_t), intent(inout) :: self
     integer, intent(in) :: n
     type(snapshot_t), allocatable :: grown(:)
-    integer, allocatable :: mine(:)
     integer :: k
     if (.not. allocated(self%snaps)) allocate (self%snaps(8))
-    if (.not. allocated(self%mine)) allocate (self%mine(size(self%snaps)))
     if (size(self%snaps) >= n) return
-    allocate (grown(max(n, 2*size(self%snaps))), mine(max(n, 2*size(self%snaps))))
+    allocate (grown(max(n, 2*size(self%snaps))))
     do k = 1, self%n
       call move_alloc(self%snaps(k)%group, grown(k)%group)
       grown(k)%time = self%snaps(k)%time
+      grown(k)%mine = self%snaps(k)%mine
     end do
-    mine = 0
-    mine(1:self%n) = self%mine(1:self%n)
     call move_alloc(grown, self%snaps)
-    call move_alloc(mine, self%mine)
   end subroutine room
 
   !> Into checkpoint `ckpt` under `prefix` (collective; rank 0's `ckpt` is
@@ -278,7 +272,7 @@ contains
     character(len=:), allocatable :: groups, names
     integer :: k, f, q, n
     n = self%n
-    call gatherv_int(comm, self%mine(1:n), counts, 0)
+    call gatherv_int(comm, [(self%snaps(k)%mine, k=1, n)], counts, 0)
     if (comm%rank /= 0) return
     groups = ''
     do k = 1, n
@@ -386,9 +380,8 @@ contains
     if (ckpt%has('run/read_from')) then
       call ckpt%get_text('run/read_from', from, err); if (allocated(err)) return
     end if
-    deallocate (self%snaps, self%files, self%mine)
-    allocate (self%snaps(max(nsnap, 8)), self%files(nfiles), self%mine(max(nsnap, 8)))
-    self%mine = 0
+    deallocate (self%snaps, self%files)
+    allocate (self%snaps(max(nsnap, 8)), self%files(nfiles))
     call self%spool%close()
     self%n = nsnap
     at = 1
