@@ -16,12 +16,17 @@ WELLPOSED_BUILD="${WELLPOSED_ROOT}/build"
 # h5pfc.openmpi) so that many ranks write one file; the serial one is what
 # python3-h5py-serial (the plots' h5py, named so apt never picks
 # python3-h5py-mpi) reads the files with, and what a build with
-# WELLPOSED_WITH_MPI=OFF uses.
+# WELLPOSED_WITH_MPI=OFF uses. petsc-dev (PETSc 3.18 with MUMPS, on the
+# same Open MPI) solves the MPM's implicit scheme's sparse, nonsymmetric
+# tangent systems (mpm/implicit); CMake finds it through its pkg-config
+# file, so pkgconf (Debian 12's pkg-config) comes too. A build without
+# them still works, and its implicit scheme refuses with a message.
 WELLPOSED_PACKAGES=(
   gfortran g++ cmake make
   liblapack-dev libblas-dev
   libhdf5-dev libhdf5-openmpi-dev
   libopenmpi-dev openmpi-bin
+  petsc-dev pkgconf
   python3 python3-matplotlib python3-h5py python3-h5py-serial
   doxygen
 )
