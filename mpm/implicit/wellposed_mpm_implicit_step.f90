@@ -48,6 +48,7 @@ contains
     type(mpm_scene_t), intent(in) :: sc
     character(len=:), allocatable :: why
     integer :: k
+    logical :: ours
     why = ''
     if (sc%ndim /= 1) then
       why = 'the implicit scheme runs the bar (1D) only so far'
@@ -60,8 +61,9 @@ contains
     end if
     if (len(why) > 0) return
     ! our VUMAT's material is our UMAT's (same PROPS): the UMAT gives DDSDDE
+    ours = umat_is_ours()
     do k = 1, sc%mats%n
-      if (sc%mats%vumat(k) .and. .not. (sc%mats%ours(k) .and. umat_is_ours())) &
+      if (sc%mats%vumat(k) .and. .not. (sc%mats%ours(k) .and. ours)) &
         why = 'material '//int_text(k)//' goes through a user''s VUMAT, which has no '// &
               'tangent (DDSDDE): the implicit scheme needs a UMAT'
     end do
@@ -98,7 +100,7 @@ contains
     type(newton_report_t), intent(out) :: rep
     type(error_t), allocatable, intent(out) :: err
     real(dp), allocatable :: x0(:, :), f0(:, :, :), v0(:), s0(:, :), sv0(:, :), e0(:, :)
-    real(dp), allocatable :: du(:), r(:), delta(:), dtan(:), vn(:)
+    real(dp), allocatable :: du(:), r(:), delta(:), dtan(:)
     integer, allocatable :: dof(:)
     real(dp) :: given(1), t0, scale, rel
     integer :: n, nfree, it, last, p
@@ -123,20 +125,19 @@ contains
       x0 = pt%x(:, 1:n); f0 = pt%defgrad(:, :, 1:n); v0 = pt%vol(1:n)
       s0 = pt%stress(:, 1:n); sv0 = pt%statev(:, 1:n); e0 = pt%stran(:, 1:n)
       allocate (du(g%glo:g%ghi), source=0.0_dp)
-      allocate (r(nfree), delta(nfree), dtan(n), vn(n))
+      allocate (r(nfree), delta(nfree), dtan(n))
       call solver%setup(nfree, 2*pt%nsup - 1, opt%method, err)
       if (allocated(err)) return
       do it = 0, opt%max_iterations
-        ! --- the state at du: F, V, the UMAT's stress and tangent
-        pt%defgrad(:, :, 1:n) = f0; pt%vol(1:n) = v0
-        pt%stress(:, 1:n) = s0; pt%statev(:, 1:n) = sv0; pt%stran(:, 1:n) = e0
+        ! --- the state at du from the start's: F, V, the UMAT's stress and
+        ! tangent (V_n, the kinematics' vol_n, is the start's v0)
+        call restore()
         g%velocity(1, :) = du/sc%dt
         call velocity_gradients(g, pt, n, sc%lgrad, sc%nnz)
         last = kind%kinematics(sc)
         if (last <= n) then
           call fail('particle '//int_text(pt%gid(last))//' was turned inside out'); return
         end if
-        vn = sc%vol_n(1:n)
         do p = 1, n
           call stress_tangent(sc, p, dtan(p), err)
           if (allocated(err)) then
@@ -144,7 +145,7 @@ contains
           end if
         end do
         ! --- the residual on the free nodes and its scale
-        call residual(sc, dof, vn, r, scale)
+        call residual(sc, dof, v0, r, scale)
         rel = maxval(abs(r))/max(scale, tiny(1.0_dp))
         rep%residual(it) = rel
         if (rel <= opt%rtol) then
@@ -153,7 +154,7 @@ contains
         end if
         if (it == opt%max_iterations) exit
         ! --- the tangent A = -dR/du and the Newton correction A delta = R
-        call assemble(sc, solver, dof, dtan, vn)
+        call assemble(sc, solver, dof, dtan, v0)
         call solver%solve(r, delta, err, last)
         if (allocated(err)) then
           call restore(); return
