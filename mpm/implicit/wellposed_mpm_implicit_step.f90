@@ -3,16 +3,20 @@
 !> = 0 on the free nodes (eq. 4.5 without inertia), each iteration's stress
 !> from the UMAT over the increment du gives (eq. 4.11 with v = du/dt), the
 !> tangent from its DDSDDE (the consistent tangent; nonsymmetric for a
-!> nonassociative model). One rank, the
-!> bar (ndim = 1), local models through the UMAT; the same scene, weights,
-!> kind and bookkeeping as the explicit step (wellposed_mpm_step).
+!> nonassociative model; the forces: wellposed_mpm_implicit_forces). One
+!> rank, the bar and the plate, local models through the UMAT; the same
+!> scene, weights, kind and bookkeeping as the explicit step.
 module wellposed_mpm_implicit_step
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_shape_weights, only: shape_weights
   use wellposed_mpm_transfer, only: p2g, velocity_gradients
+  use wellposed_mpm_implicit_forces, only: residual, assemble, row_nonzeros
   use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t, size_workspace
+  use wellposed_mpm_bar_kind, only: bar_kind_t
+  use wellposed_mpm_plate_kind, only: plate_kind_t
+  use wellposed_mpm_plate_config, only: platen_contact
   use wellposed_mpm_particle_umat, only: umat_particle
   use wellposed_umat_host, only: umat_is_ours
   use wellposed_mpm_linear_solver, only: linear_solver_t, solver_direct
@@ -50,8 +54,16 @@ contains
     integer :: k
     logical :: ours
     why = ''
-    if (sc%ndim /= 1) then
-      why = 'the implicit scheme runs the bar (1D) only so far'
+    select type (k => sc%kind)
+    type is (bar_kind_t)
+    type is (plate_kind_t)
+      if (k%cfg%platen == platen_contact) why = 'the implicit scheme has no contact '// &
+        'platen yet (&boundary platen = ''grid'' or ''surface'')'
+    class default
+      why = 'the implicit scheme runs the bar and the plate only so far'
+    end select
+    if (len(why) > 0) then
+      return
     else if (sc%exchange%nranks() /= 1) then
       why = 'the implicit scheme runs on one rank only so far'
     else if (sc%nl%active) then
@@ -100,23 +112,21 @@ contains
     type(newton_report_t), intent(out) :: rep
     type(error_t), allocatable, intent(out) :: err
     real(dp), allocatable :: x0(:, :), f0(:, :, :), v0(:), s0(:, :), sv0(:, :), e0(:, :)
-    real(dp), allocatable :: du(:), r(:), delta(:), dtan(:)
-    integer, allocatable :: dof(:)
-    real(dp) :: given(1), t0, scale, rel
-    integer :: n, nfree, it, last, p
+    real(dp), allocatable :: du(:, :), r(:), delta(:), dtan(:, :)
+    integer, allocatable :: dof(:, :)
+    real(dp) :: given(sc%ndim), scale, rel
+    integer :: n, nd, nfree, it, last, p, a
     call size_workspace(sc)
+    nd = sc%ndim
     associate (g => sc%grid, pt => sc%parts)
       n = pt%n
       call shape_weights(sc%shape, pt, sc%origin, sc%dx, sc%nx, sc%nnz)
       call sc%exchange%check_support(pt, g, err)
       if (allocated(err)) return
-      ! the grid's mass (the nodes in use) and the load at the step's end
+      ! the grid's mass (the nodes in use), the step's conditions and loads
       call p2g(g, pt, n, nnz=sc%nnz)
-      t0 = sc%t
-      sc%t = t0 + sc%dt
-      given = 0.0_dp
-      call kind%conditions(sc, given)
-      sc%t = t0
+      call kind%forces(sc)
+      call step_loads(sc, kind, given)
       call number_dofs(sc, dof, nfree)
       if (nfree == 0) then
         call new_error(err, status_invalid, 'time%scheme', 'the implicit step has no free '// &
@@ -124,22 +134,30 @@ contains
       end if
       x0 = pt%x(:, 1:n); f0 = pt%defgrad(:, :, 1:n); v0 = pt%vol(1:n)
       s0 = pt%stress(:, 1:n); sv0 = pt%statev(:, 1:n); e0 = pt%stran(:, 1:n)
-      allocate (du(g%glo:g%ghi), source=0.0_dp)
-      allocate (r(nfree), delta(nfree), dtan(n))
-      call solver%setup(nfree, 2*pt%nsup - 1, opt%method, err)
+      ! du to start: the given motion on its nodes, elsewhere the particles'
+      ! velocity of the last step mapped to the grid (p2g's momentum), so
+      ! Newton starts on the last step's loading path (its plastic set)
+      allocate (du(nd, g%glo:g%ghi), source=0.0_dp)
+      do a = g%glo, g%ghi
+        if (g%mass(a) > sc%mass_floor) du(:, a) = sc%dt*g%momentum(1:nd, a)/g%mass(a)
+        where (g%fixed(1:nd, a)) du(:, a) = 0.0_dp
+        where (g%given(1:nd, a)) du(:, a) = given*sc%dt
+      end do
+      allocate (r(nfree), delta(nfree), dtan(sc%ntens**2, n))
+      call solver%setup(nfree, row_nonzeros(nd, pt%nsup), opt%method, err)
       if (allocated(err)) return
       do it = 0, opt%max_iterations
         ! --- the state at du from the start's: F, V, the UMAT's stress and
         ! tangent (V_n, the kinematics' vol_n, is the start's v0)
         call restore()
-        g%velocity(1, :) = du/sc%dt
+        g%velocity(1:nd, :) = du/sc%dt
         call velocity_gradients(g, pt, n, sc%lgrad, sc%nnz)
         last = kind%kinematics(sc)
         if (last <= n) then
           call fail('particle '//int_text(pt%gid(last))//' was turned inside out'); return
         end if
         do p = 1, n
-          call stress_tangent(sc, p, dtan(p), err)
+          call stress_tangent(sc, p, dtan(:, p), err)
           if (allocated(err)) then
             call restore(); return
           end if
@@ -154,14 +172,16 @@ contains
         end if
         if (it == opt%max_iterations) exit
         ! --- the tangent A = -dR/du and the Newton correction A delta = R
-        call assemble(sc, solver, dof, dtan, v0)
+        call assemble(sc, solver, dof, dtan, s0, v0)
         call solver%solve(r, delta, err, last)
         if (allocated(err)) then
           call restore(); return
         end if
         rep%iterations = rep%iterations + 1
         rep%linear_iterations = rep%linear_iterations + last
-        call add_correction(dof, delta, du)
+        do a = g%glo, g%ghi
+          where (dof(:, a) > 0) du(:, a) = du(:, a) + delta(max(dof(:, a), 1))
+        end do
       end do
       if (.not. rep%converged) then
         call fail('Newton did not converge in '//int_text(opt%max_iterations)// &
@@ -169,8 +189,10 @@ contains
       end if
       ! --- the converged step: positions and velocities from du
       do p = 1, n
-        pt%x(1, p) = x0(1, p) + sum(pt%phi(1:sc%nnz(p), p)*du(pt%node(1:sc%nnz(p), p)))
-        pt%v(1, p) = (pt%x(1, p) - x0(1, p))/sc%dt
+        do a = 1, nd
+          pt%x(a, p) = x0(a, p) + sum(pt%phi(1:sc%nnz(p), p)*du(a, pt%node(1:sc%nnz(p), p)))
+          pt%v(a, p) = (pt%x(a, p) - x0(a, p))/sc%dt
+        end do
       end do
       call kind%bookkeeping(sc)
     end associate
@@ -191,117 +213,81 @@ contains
     end subroutine fail
   end subroutine newton_step
 
-  !> Free degrees of freedom: nodes in use (mass above the floor), neither
-  !> fixed nor given, numbered 1 .. nfree in node order (0: not free).
+  !> The kind's conditions of the step (the node flags and given velocity,
+  !> as the explicit step has them: the plate's platen over the step) and
+  !> its loads at the step's end t + dt on g%fext (the bar's surface
+  !> traction: the quasi-static balance is the end's).
+  subroutine step_loads(sc, kind, given)
+    type(mpm_scene_t), intent(inout) :: sc
+    class(scene_kind_t), intent(inout) :: kind
+    real(dp), intent(out) :: given(:)
+    real(dp) :: t0, fext(size(sc%grid%fext, 1), sc%grid%glo:sc%grid%ghi), end_given(size(given))
+    t0 = sc%t
+    fext = sc%grid%fext
+    given = 0.0_dp
+    call kind%conditions(sc, given)
+    sc%grid%fext = fext
+    sc%t = t0 + sc%dt
+    end_given = 0.0_dp
+    call kind%conditions(sc, end_given)
+    sc%t = t0
+  end subroutine step_loads
+
+  !> Free degrees of freedom dof(d, i): nodes in use (mass above the floor),
+  !> direction d neither fixed nor given, numbered 1 .. nfree (0: not free).
   subroutine number_dofs(sc, dof, nfree)
     type(mpm_scene_t), intent(in) :: sc
-    integer, allocatable, intent(out) :: dof(:)
+    integer, allocatable, intent(out) :: dof(:, :)
     integer, intent(out) :: nfree
-    integer :: i
+    integer :: i, d
     associate (g => sc%grid)
-      allocate (dof(g%glo:g%ghi), source=0)
+      allocate (dof(sc%ndim, g%glo:g%ghi), source=0)
       nfree = 0
       do i = g%glo, g%ghi
         if (.not. g%mass(i) > sc%mass_floor) cycle
-        if (g%fixed(1, i) .or. g%given(1, i)) cycle
-        nfree = nfree + 1
-        dof(i) = nfree
+        do d = 1, sc%ndim
+          if (g%fixed(d, i) .or. g%given(d, i)) cycle
+          nfree = nfree + 1
+          dof(d, i) = nfree
+        end do
       end do
     end associate
   end subroutine number_dofs
 
   !> Particle p's stress over its increment through the UMAT with the
   !> tangent asked for (our PROPS(14), the explicit host's slot, set to 0):
-  !> dtan = DDSDDE(1, 1), d sigma_11 / d eps_11 of the uniaxial increment.
+  !> dtan = DDSDDE (column-major, NTENS x NTENS).
   subroutine stress_tangent(sc, p, dtan, err)
     type(mpm_scene_t), intent(inout) :: sc
     integer, intent(in) :: p
-    real(dp), intent(out) :: dtan
+    real(dp), intent(out) :: dtan(:)
     type(error_t), allocatable, intent(out) :: err
     real(dp) :: props(size(sc%mats%props, 1)), dl
-    integer :: k, np, nsub, nt
+    integer :: k, np, nsub, nt, nd
     k = sc%mat(p)
     np = sc%mats%nprops(k)
     nt = sc%ntens
+    nd = sc%ndim
     props(1:np) = sc%mats%props(1:np, k)
     if (sc%mats%ours(k) .and. np >= 14) props(14) = 0.0_dp
     sc%host%ours = sc%mats%contract(k)
     sc%host%kinematics_given = .true.
     associate (pt => sc%parts)
-      if (allocated(sc%f_n)) call step_kinematics(sc%f_n(:, :, p), pt%defgrad(1:1, 1:1, p), &
+      if (allocated(sc%f_n)) call step_kinematics(sc%f_n(:, :, p), pt%defgrad(1:nd, 1:nd, p), &
         sc%host%dfgrd0, sc%host%dfgrd1, sc%host%drot)
       call umat_particle(sc%host, props(1:np), sc%t, sc%dt, sc%nstep + 1, pt%gid(p), &
                          pt%x(:, p), pt%stress(1:nt, p), pt%statev(:, p), pt%stran(1:nt, p), &
                          sc%de(:, p), 0.0_dp, dl, nsub, err)
     end associate
     if (allocated(err)) return
-    if (nsub > sc%max_substeps_step) sc%max_substeps_step = nsub
-    dtan = sc%host%ddsdde(1)
+    if (nsub > 1) then
+      ! PNEWDT < 1: the host split the increment, so DDSDDE is one part's;
+      ! the step is cut back instead (the stepper's step control)
+      call new_error(err, status_cutback, 'umat', 'the UMAT asked to cut back the '// &
+                     'increment of particle '//int_text(sc%parts%gid(p))//' (PNEWDT < 1)')
+      return
+    end if
+    dtan = sc%host%ddsdde(1:nt*nt)
   end subroutine stress_tangent
-
-  !> R = f_int + f_ext on the free nodes, f_int = -sum_p G_ip sigma_p V_p
-  !> (eq. 4.5) in the step's end configuration: G_ip V_p there is G_ip V_n,p
-  !> of the start (weights at x^n, vn); scale: the largest node sum of
-  !> |G_ip sigma_p V_n,p| and |f_ext|.
-  subroutine residual(sc, dof, vn, r, scale)
-    type(mpm_scene_t), intent(in) :: sc
-    integer, intent(in) :: dof(sc%grid%glo:)
-    real(dp), intent(in) :: vn(:)
-    real(dp), intent(out) :: r(:), scale
-    real(dp) :: mag(sc%grid%glo:sc%grid%ghi), f
-    integer :: p, a, i
-    associate (g => sc%grid, pt => sc%parts)
-      r = 0.0_dp
-      mag = abs(g%fext(1, :))
-      do p = 1, pt%n
-        do a = 1, sc%nnz(p)
-          i = pt%node(a, p)
-          f = pt%grad(1, a, p)*pt%stress(1, p)*vn(p)
-          mag(i) = mag(i) + abs(f)
-          if (dof(i) > 0) r(dof(i)) = r(dof(i)) - f
-        end do
-      end do
-      do i = g%glo, g%ghi
-        if (dof(i) > 0) r(dof(i)) = r(dof(i)) + g%fext(1, i)
-      end do
-      scale = maxval(mag)
-    end associate
-  end subroutine residual
-
-  !> A = -dR/du = sum_p G_ia G_ib D_p V_n,p, D_p the UMAT's tangent.
-  subroutine assemble(sc, solver, dof, dtan, vn)
-    type(mpm_scene_t), intent(in) :: sc
-    type(linear_solver_t), intent(inout) :: solver
-    integer, intent(in) :: dof(sc%grid%glo:)
-    real(dp), intent(in) :: dtan(:), vn(:)
-    real(dp) :: k
-    integer :: p, a, b, ia, ib
-    call solver%zero()
-    associate (pt => sc%parts)
-      do p = 1, pt%n
-        k = dtan(p)*vn(p)
-        do a = 1, sc%nnz(p)
-          ia = dof(pt%node(a, p))
-          if (ia == 0) cycle
-          do b = 1, sc%nnz(p)
-            ib = dof(pt%node(b, p))
-            if (ib == 0) cycle
-            call solver%add(ia, ib, pt%grad(1, a, p)*pt%grad(1, b, p)*k)
-          end do
-        end do
-      end do
-    end associate
-  end subroutine assemble
-
-  !> du += delta on the free nodes.
-  pure subroutine add_correction(dof, delta, du)
-    integer, intent(in) :: dof(:)
-    real(dp), intent(in) :: delta(:)
-    real(dp), intent(inout) :: du(:)
-    integer :: i
-    do i = 1, size(dof)
-      if (dof(i) > 0) du(i) = du(i) + delta(dof(i))
-    end do
-  end subroutine add_correction
 
 end module wellposed_mpm_implicit_step
