@@ -19,7 +19,8 @@ module wellposed_mpm_deck_shared
   use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_scheme_names, &
                                              nl_scheme_id, nl_sweep_names, nl_sweep_id
   use wellposed_mpm_nonlocal_deck, only: resolve_nonlocal
-  use wellposed_mpm_method, only: scheme_names, mass_names
+  use wellposed_mpm_method, only: scheme_names, mass_names, scheme_implicit
+  use wellposed_mpm_linear_solver, only: solver_names, linear_solver_available
   use wellposed_text, only: real_text
   implicit none
   private
@@ -47,6 +48,11 @@ module wellposed_mpm_deck_shared
     character(len=16) :: shape = 'gimp', far_end = 'fixed', scheme = 'musl', mass = 'lumped'
     integer :: shape_id = 0, far_end_id = 0, scheme_id = 0, mass_id = 0
     real(dp) :: t_end = 0.0_dp, cfl = 0.2_dp
+    !> &time dt, linear_solver: the implicit scheme's largest step (s; default
+    !> t_end/100) and its linear solver (wellposed_mpm_linear_solver's names)
+    real(dp) :: implicit_dt = 0.0_dp
+    character(len=16) :: linear_solver = 'direct'
+    integer :: linear_solver_id = 1
     logical :: mass_given = .false., cfl_given = .false.  !< by the deck or an override
     logical :: stop_on_cutback = .false.
     real(dp) :: visc_a1 = 0.0_dp, visc_a2 = 0.0_dp  !< &viscosity a1, a2
@@ -249,6 +255,7 @@ contains
     ! words: achar(0), so that a word given as '' is checked (and refused)
     sh%shape = achar(0); sh%far_end = achar(0); sh%scheme = achar(0); sh%mass = achar(0)
     sh%t_end = unset; sh%cfl = unset; sh%stop_on_cutback = .false.
+    sh%implicit_dt = unset; sh%linear_solver = achar(0)
     sh%visc_a1 = unset; sh%visc_a2 = unset
     sh%sample_dt = unset; sh%snapshot_dt = unset
     sh%band_y = unset; sh%band_x = unset; sh%band_time = unset
@@ -273,6 +280,8 @@ contains
     if (is_set(g%t_end)) sh%t_end = g%t_end
     if (is_set(g%cfl)) sh%cfl = g%cfl
     sh%cfl_given = is_set(g%cfl)
+    if (is_set(g%implicit_dt)) sh%implicit_dt = g%implicit_dt
+    if (g%linear_solver /= achar(0)) sh%linear_solver = g%linear_solver
     if (is_set(g%visc_a1)) sh%visc_a1 = g%visc_a1
     if (is_set(g%visc_a2)) sh%visc_a2 = g%visc_a2
     sh%stop_on_cutback = g%stop_on_cutback
@@ -311,6 +320,7 @@ contains
     if (allocated(err)) return
     call check_finite(path, 'time', 't_end', sh%t_end, err); if (allocated(err)) return
     call check_finite(path, 'time', 'cfl', sh%cfl, err); if (allocated(err)) return
+    call check_implicit(path, sh, err); if (allocated(err)) return
     call check_viscosity(path, 'a1', sh%visc_a1, err); if (allocated(err)) return
     call check_viscosity(path, 'a2', sh%visc_a2, err); if (allocated(err)) return
     call check_finite(path, 'output', 'sample_dt', sh%sample_dt, err); if (allocated(err)) return
@@ -328,6 +338,42 @@ contains
         trim(sh%band_axis)//"' is not one of 'x' (along y = band_y), 'y' (along x = band_x)")
     end select
   end subroutine check_shared
+
+  !> &time dt and linear_solver: the implicit scheme's (docs/research/implicit.md),
+  !> refused with an explicit scheme, without PETSc in the build, with bulk
+  !> viscosity; dt defaults to t_end/100 and must lie in (0, t_end].
+  subroutine check_implicit(path, sh, err)
+    character(len=*), intent(in) :: path
+    type(shared_deck_t), intent(inout) :: sh
+    type(error_t), allocatable, intent(out) :: err
+    call check_word(path, 'time', 'linear_solver', sh%linear_solver, solver_names, &
+                    sh%linear_solver_id, err)
+    if (allocated(err)) return
+    call check_finite(path, 'time', 'dt', sh%implicit_dt, err); if (allocated(err)) return
+    if (sh%scheme_id /= scheme_implicit) then
+      if (sh%implicit_dt /= 0.0_dp) call bad('dt', 'dt = '//real_text(sh%implicit_dt)// &
+        ' s is the implicit scheme''s step (scheme = ''implicit''); the explicit '// &
+        'step follows cfl')
+      return
+    end if
+    if (.not. linear_solver_available) then
+      call bad('scheme', 'scheme = ''implicit'' needs PETSc, which this build lacks: '// &
+               'install Debian''s petsc-dev and build again (docs/guide/building.md)'); return
+    end if
+    if (sh%implicit_dt == 0.0_dp) sh%implicit_dt = sh%t_end/100.0_dp
+    if (.not. (sh%implicit_dt > 0.0_dp .and. sh%implicit_dt <= sh%t_end)) then
+      call bad('dt', 'dt = '//real_text(sh%implicit_dt)//' s must lie in (0, t_end = '// &
+               real_text(sh%t_end)//' s]'); return
+    end if
+    if (sh%visc_a1 > 0.0_dp .or. sh%visc_a2 > 0.0_dp) &
+      call bad('scheme', 'scheme = ''implicit'' is quasi-static and has no bulk '// &
+               'viscosity: set &viscosity a1 = 0, a2 = 0')
+  contains
+    subroutine bad(key, what)
+      character(len=*), intent(in) :: key, what
+      call new_error(err, status_invalid, key, path//': &time: '//what)
+    end subroutine bad
+  end subroutine check_implicit
 
   !> &viscosity `key` = `a`: finite and >= 0.
   subroutine check_viscosity(path, key, a, err)
@@ -397,17 +443,17 @@ contains
     character(len=*), intent(inout) :: msg
     integer, intent(in), optional :: unit
     character(len=*), intent(in), optional :: line
-    real(dp) :: t_end, cfl
-    character(len=16) :: scheme, mass
+    real(dp) :: t_end, cfl, dt
+    character(len=16) :: scheme, mass, linear_solver
     logical :: stop_on_cutback
-    namelist /time/ t_end, cfl, scheme, stop_on_cutback, mass
+    namelist /time/ t_end, cfl, scheme, stop_on_cutback, mass, dt, linear_solver
     t_end = g%t_end; cfl = g%cfl; scheme = g%scheme; stop_on_cutback = g%stop_on_cutback
-    mass = g%mass
+    mass = g%mass; dt = g%implicit_dt; linear_solver = g%linear_solver
     ios = 0
     if (present(unit)) read (unit, nml=time, iostat=ios, iomsg=msg)
     if (present(line)) read (line, nml=time, iostat=ios, iomsg=msg)
     g%t_end = t_end; g%cfl = cfl; g%scheme = scheme; g%stop_on_cutback = stop_on_cutback
-    g%mass = mass
+    g%mass = mass; g%implicit_dt = dt; g%linear_solver = linear_solver
   end subroutine read_time
 
   subroutine read_output(g, ios, msg, unit, line)

@@ -5,7 +5,8 @@
 module wellposed_mpm_method
   implicit none
   private
-  public :: shape_linear, shape_gimp, shape_names, scheme_usl, scheme_musl, scheme_names, &
+  public :: shape_linear, shape_gimp, shape_names, scheme_usl, scheme_musl, scheme_implicit, &
+            scheme_names, &
             mass_lumped, mass_consistent, mass_blended, mass_names
 
   !> Shape function families (eq. 4.6-4.8): standard MPM (Dirac chi_p)
@@ -14,9 +15,11 @@ module wellposed_mpm_method
   character(len=6), parameter :: shape_names(2) = [character(len=6) :: 'linear', 'gimp']
   !> Update variants: USL (eq. 4.10-4.13 as written: strain rate from the
   !> grid velocity after the update) and MUSL (the same, with the grid velocity
-  !> rebuilt from the updated particle velocities before the strain rate).
-  integer, parameter :: scheme_usl = 1, scheme_musl = 2
-  character(len=4), parameter :: scheme_names(2) = [character(len=4) :: 'usl', 'musl']
+  !> rebuilt from the updated particle velocities before the strain rate),
+  !> and the implicit quasi-static step (mpm/implicit/, Newton on the grid).
+  integer, parameter :: scheme_usl = 1, scheme_musl = 2, scheme_implicit = 3
+  character(len=8), parameter :: scheme_names(3) = [character(len=8) :: 'usl', 'musl', &
+                                                    'implicit']
   !> The mass matrix of a bar's grid acceleration (wellposed_mpm_mass_matrix):
   !> 'lumped' (eq. 4.9), 'consistent' (the particles' M_P: the rebuilt grid
   !> velocity follows the lumped-mass finite-element update) or 'blended'

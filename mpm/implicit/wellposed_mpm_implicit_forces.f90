@@ -49,16 +49,20 @@ contains
   end subroutine residual
 
   !> A = -dR/du, A(id, je) = sum_p sum_bf G_ib C_dbef G_jf V_n,p (C = dP/dH
-  !> of each particle, dtan its DDSDDE, s0 its stress at the step's start).
+  !> of each particle, dtan its DDSDDE, s0 its stress at the step's start),
+  !> added particle by particle as a block over its support's dofs.
   subroutine assemble(sc, solver, dof, dtan, s0, vn)
     type(mpm_scene_t), intent(in) :: sc
     type(linear_solver_t), intent(inout) :: solver
     integer, intent(in) :: dof(:, sc%grid%glo:)
     real(dp), intent(in) :: dtan(:, :), s0(:, :), vn(:)
-    real(dp) :: c(sc%ndim, sc%ndim, sc%ndim, sc%ndim), t(sc%ndim, sc%ndim, sc%ndim), kde
-    integer :: p, a, b, ia, ib, d, e, q, nd, k
+    real(dp) :: c(sc%ndim, sc%ndim, sc%ndim, sc%ndim), t(sc%ndim, sc%ndim, sc%ndim)
+    real(dp), allocatable :: ke(:, :)
+    integer, allocatable :: idx(:)
+    integer :: p, a, b, d, e, q, nd, k, m
     nd = sc%ndim
     call solver%zero()
+    allocate (ke(nd*sc%parts%nsup, nd*sc%parts%nsup), idx(nd*sc%parts%nsup))
     associate (pt => sc%parts)
       do p = 1, pt%n
         k = sc%mat(p)
@@ -67,6 +71,10 @@ contains
         else
           call piola_tangent(sc, p, dtan(:, p), s0(:, p), c)
         end if
+        m = nd*sc%nnz(p)
+        do a = 1, sc%nnz(p)
+          idx(nd*(a - 1) + 1:nd*a) = dof(:, pt%node(a, p))
+        end do
         do b = 1, sc%nnz(p)
           ! t(d, q, e) = sum_f C_dqef G_jf, node j = node(b)
           do e = 1, nd
@@ -77,18 +85,15 @@ contains
             end do
           end do
           do a = 1, sc%nnz(p)
-            do d = 1, nd
-              ia = dof(d, pt%node(a, p))
-              if (ia == 0) cycle
-              do e = 1, nd
-                ib = dof(e, pt%node(b, p))
-                if (ib == 0) cycle
-                kde = dot_product(pt%grad(1:nd, a, p), t(d, :, e))
-                call solver%add(ia, ib, kde*vn(p))
+            do e = 1, nd
+              do d = 1, nd
+                ke(nd*(a - 1) + d, nd*(b - 1) + e) = &
+                  dot_product(pt%grad(1:nd, a, p), t(d, :, e))*vn(p)
               end do
             end do
           end do
         end do
+        call solver%add_block(idx(1:m), ke(1:m, 1:m))
       end do
     end associate
   end subroutine assemble
@@ -129,10 +134,11 @@ contains
     real(dp), intent(in), optional :: moduli(2)
     real(dp) :: f(sc%ndim, sc%ndim), finv(sc%ndim, sc%ndim), det, sig(sc%ndim, sc%ndim)
     real(dp) :: dh(sc%ndim, sc%ndim), ds(sc%ndim, sc%ndim), dp_(sc%ndim, sc%ndim)
-    real(dp) :: deps(sc%ntens), dsv(sc%ntens), dw
+    real(dp) :: deps(sc%ntens), dsv(sc%ntens), dw, dd_(sc%ntens, sc%ntens)
     integer :: cc, dd, nd, nt
     nd = sc%ndim
     nt = sc%ntens
+    dd_ = reshape(dtan(1:nt*nt), [nt, nt])
     call step_gradient(sc, p, f, finv, det)
     sig = in_plane(sc%parts%stress(:, p), nd)
     do dd = 1, nd
@@ -145,15 +151,14 @@ contains
           deps(2) = dh(2, 2)
           deps(4) = dh(1, 2) + dh(2, 1)
         end if
-        dsv = matmul(reshape(dtan(1:nt*nt), [nt, nt]), deps)
+        dsv = matmul(dd_, deps)
         ds = in_plane(dsv, nd)
         if (nd == 2) then
           ! the Jaumann rotation of the start's stress (plate_kinematics),
           ! through d sigma / d sigma_rot = DDSDDE C^-1 (see above)
           dw = 0.5_dp*(dh(1, 2) - dh(2, 1))
           dsv = [2.0_dp*dw*s0(4), -2.0_dp*dw*s0(4), 0.0_dp, dw*(s0(2) - s0(1))]
-          if (present(moduli)) dsv = matmul(reshape(dtan(1:nt*nt), [nt, nt]), &
-                                            compliance(moduli, dsv))
+          if (present(moduli)) dsv = matmul(dd_, compliance(moduli, dsv))
           ds = ds + in_plane(dsv, nd)
         end if
         dp_ = det*finv(dd, cc)*sig + det*ds - det*matmul(sig, matmul(transpose(finv), &

@@ -46,7 +46,7 @@ module wellposed_mpm_linear_solver
     Vec :: b, x
     KSP :: ksp
   contains
-    procedure :: setup, zero, add, solve, destroy
+    procedure :: setup, zero, add, add_block, solve, destroy
   end type linear_solver_t
 
   interface
@@ -206,6 +206,35 @@ contains
     end if
     self%dirty = .true.
   end subroutine add
+
+  !> K(idx(a), idx(b)) += block(a, b) for every idx > 0 (0: a row and
+  !> column left out, as a fixed node's), in one call: an element's block.
+  subroutine add_block(self, idx, block)
+    class(linear_solver_t), intent(inout) :: self
+    integer, intent(in) :: idx(:)
+    real(dp), intent(in) :: block(:, :)
+    PetscInt :: rows(size(idx))
+    PetscErrorCode :: ierr
+    integer :: a
+    if (self%stage < 1) then
+      call note(self, 'add before setup'); return
+    end if
+    do a = 1, size(idx)
+      if (idx(a) > self%n .or. idx(a) < 0) then
+        call note(self, 'index '//int_text(idx(a))//' outside the '//int_text(self%n)// &
+                  ' x '//int_text(self%n)//' matrix'); return
+      end if
+      ! PETSc skips negative indices: 0 becomes -1
+      rows(a) = to_petsc(idx(a) - 1)
+    end do
+    ! PETSc reads the values row by row: the transpose's columns
+    call MatSetValues(self%a, to_petsc(size(idx)), rows, to_petsc(size(idx)), rows, &
+                      transpose(block), ADD_VALUES, ierr)
+    if (ierr /= 0) then
+      call note_fault(self, 'MatSetValues', ierr); return
+    end if
+    self%dirty = .true.
+  end subroutine add_block
 
   !> Assemble K and solve K x = b with the method of setup; the operator is
   !> handed to the KSP on every call since its entries change between calls

@@ -29,7 +29,7 @@ module wellposed_mpm_linear_solver
     private
     integer :: n = 0
   contains
-    procedure :: setup, zero, add, solve, destroy
+    procedure :: setup, zero, add, add_block, solve, destroy
   end type linear_solver_t
 
 contains
@@ -57,6 +57,14 @@ contains
     real(dp), intent(in) :: v
     self%n = 0
   end subroutine add
+
+  !> Nothing to add to without a matrix.
+  subroutine add_block(self, idx, block)
+    class(linear_solver_t), intent(inout) :: self
+    integer, intent(in) :: idx(:)
+    real(dp), intent(in) :: block(:, :)
+    self%n = 0
+  end subroutine add_block
 
   !> Fails as setup does; x is zero.
   subroutine solve(self, b, x, err, iterations)

@@ -15,6 +15,7 @@ module wellposed_mpm_run_loop
   use wellposed_mpm_output, only: output_list_t, stage_sample
   use wellposed_mpm_checkpoints, only: run_checkpoints_t
   use wellposed_mpm_step_keeper, only: step_keeper_t
+  use wellposed_mpm_implicit_stepper, only: implicit_stepper_t
   implicit none
   private
   public :: run_clock_t, checkpoint_every, checkpoint_due, snapshot_due, run_steps, loop_end_t
@@ -43,8 +44,9 @@ contains
   !> asking `outs` to sample after every step and `cks` to checkpoint
   !> when due (collective). An error of a step or an output is returned;
   !> with stop_on_cutback, one of a material that gave out ends the steps
-  !> (`ended`) with `sc` at the last complete step.
-  subroutine run_steps(sc, t_end, outs, cks, comm, stop_on_cutback, ended, err)
+  !> (`ended`) with `sc` at the last complete step. With `implicit`, its
+  !> steps (&time scheme = 'implicit') instead of the explicit ones.
+  subroutine run_steps(sc, t_end, outs, cks, comm, stop_on_cutback, ended, err, implicit)
     type(mpm_scene_t), intent(inout) :: sc
     real(dp), intent(in) :: t_end
     type(output_list_t), intent(inout) :: outs
@@ -53,16 +55,23 @@ contains
     logical, intent(in) :: stop_on_cutback
     type(loop_end_t), intent(out) :: ended
     type(error_t), allocatable, intent(out) :: err
+    type(implicit_stepper_t), intent(inout), optional :: implicit
     type(step_keeper_t) :: keeper
     ended%message = ''
     do while (sc%t < t_end - 0.5_dp*sc%dt)
-      if (stop_on_cutback) call keeper%keep(sc)
-      call advance(sc, err)
+      ! (an implicit step that fails leaves the scene at its start itself)
+      if (stop_on_cutback .and. .not. present(implicit)) call keeper%keep(sc)
+      if (present(implicit)) then
+        call implicit%advance(sc, t_end, err)
+      else
+        call advance(sc, err)
+      end if
       if (allocated(err)) then
         if (.not. (stop_on_cutback .and. err%status == status_cutback)) return
         ended%message = err%message
         ended%early = .true.
-        call keeper%restore(sc, err)
+        deallocate (err)
+        if (.not. present(implicit)) call keeper%restore(sc, err)
         return
       end if
       call outs%ask(stage_sample, sc, comm, err)

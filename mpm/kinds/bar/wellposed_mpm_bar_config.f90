@@ -47,6 +47,8 @@ module wellposed_mpm_bar_config
     integer :: pad_cells = 3            !< empty cells beyond each end of the body
     integer :: shape = shape_gimp
     integer :: scheme = scheme_musl
+    real(dp) :: implicit_dt = 0.0_dp     !< the implicit scheme's largest step (s)
+    integer :: linear_solver = 1         !< its solver (wellposed_mpm_linear_solver)
     !> the grid acceleration's mass matrix: blended, which converges where the
     !> dissertation's lumped mass grows a grid-scale wake (docs/research/timestep.md)
     integer :: mass = mass_blended

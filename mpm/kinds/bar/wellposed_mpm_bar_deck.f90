@@ -128,6 +128,7 @@ contains
     cfg%length = sh%length; cfg%dx = sh%dx; cfg%ppc = sh%ppc
     cfg%pad_cells = sh%pad_cells
     cfg%shape = sh%shape_id; cfg%bc_far = sh%far_end_id; cfg%scheme = sh%scheme_id
+    cfg%implicit_dt = sh%implicit_dt; cfg%linear_solver = sh%linear_solver_id
     cfg%mass = sh%mass_id
     cfg%t_end = sh%t_end; cfg%cfl = sh%cfl
     cfg%visc_a1 = sh%visc_a1; cfg%visc_a2 = sh%visc_a2

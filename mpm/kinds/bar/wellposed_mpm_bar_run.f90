@@ -40,6 +40,9 @@ module wellposed_mpm_bar_run
   use wellposed_mpm_bar_outputs, only: bar_stations_t, bar_energy_t, bar_nonlocal_t, &
                                        bar_snapshots_t, bar_progress_t
   use wellposed_mpm_bar_dissipation, only: bar_dissipation_t
+  use wellposed_mpm_method, only: scheme_implicit
+  use wellposed_mpm_implicit_stepper, only: implicit_stepper_t
+  use wellposed_mpm_implicit_run, only: start_implicit, implicit_summary, write_newton_csv
   implicit none
   private
   public :: run_bar
@@ -64,6 +67,9 @@ module wellposed_mpm_bar_run
     type(run_checkpoints_t) :: cks
     character(len=:), allocatable :: deck_text
     integer :: ntotal = 0, ghost = 0, nsteps_est = 0
+    !> the implicit scheme's steps (&time scheme = 'implicit')
+    logical :: implicit = .false.
+    type(implicit_stepper_t) :: stepper
   end type bar_run_t
 
 contains
@@ -78,7 +84,11 @@ contains
     type(error_t), allocatable :: err, err2
     call open_bar(r, cli, comm)
     call begin_bar(r, cli, comm)
-    call run_steps(r%scene, r%cfg%t_end, r%outs, r%cks, comm, .false., ended, err)
+    if (r%implicit) then
+      call run_steps(r%scene, r%cfg%t_end, r%outs, r%cks, comm, .false., ended, err, r%stepper)
+    else
+      call run_steps(r%scene, r%cfg%t_end, r%outs, r%cks, comm, .false., ended, err)
+    end if
     if (allocated(err)) then
       ! (every rank has the error: the step's errors are collective) close
       ! what was written (under its temporary name) and report the error
@@ -104,6 +114,9 @@ contains
     ! every rank builds the scene and keeps its strip (errors: the same on all)
     call new_mpm_ranks(r%ranks, comm)
     call new_scene(r%scene, r%cfg, err, r%ranks)
+    r%implicit = r%cfg%scheme == scheme_implicit
+    if (.not. allocated(err) .and. r%implicit) &
+      call start_implicit(r%scene, r%cfg%implicit_dt, r%cfg%linear_solver, r%stepper, err)
     if (allocated(err)) call stop_all(comm, r%rd, cli%deck_path//': '//err%message)
     r%ghost = r%scene%exchange%ghost_layers()
     ! rank 0 makes the run folder; run.h5 in it is written by every rank
@@ -229,6 +242,10 @@ contains
     if (allocated(err)) call stop_all(comm, r%rd, err)
     call r%snaps%store%close()
     if (comm%rank /= 0) return
+    if (r%implicit) then
+      call write_newton_csv(r%rd%path('newton.csv'), r%stepper, err)
+      if (allocated(err)) call stop_alone(comm, r%rd, err)
+    end if
     ! the particle snapshots for ParaView: points on the x axis over time
     if (r%snaps%taken > 0) then
       call r%snaps%store%write_xdmf(r%rd%path('run.xdmf'), 'run.h5', 'particles', r%ntotal, &
@@ -245,7 +262,7 @@ contains
     call r%rd%commit(err)
     if (allocated(err)) call stop_alone(comm, r%rd, err)
     call r%cks%finish(cli%keep_checkpoints)
-    write (output_unit, '(a,f8.2,a,i0,a,f7.1,a)') '  done in ', wall, ' s (', r%scene%nstep, &
+    write (output_unit, '(a,f8.2,a,i0,a,g0.4,a)') '  done in ', wall, ' s (', r%scene%nstep, &
       ' steps, ', 1.0e9_dp*wall/max(1.0_dp, real(r%scene%nstep, dp)*r%ntotal), &
       ' ns per particle-step)'
     associate (st => r%stations%st, meas => r%stations%meas)
@@ -272,6 +289,7 @@ contains
       call sm%add('git_revision', wellposed_git_revision)
       call sm%add('shape', trim(shape_names(cfg%shape)))
       call sm%add('scheme', trim(scheme_names(cfg%scheme)))
+      if (r%implicit) call implicit_summary(sm, '', r%stepper)
       if (allocated(r%opts%mass_note)) then
         call sm%add('mass', trim(mass_names(cfg%mass)), r%opts%mass_note)
       else

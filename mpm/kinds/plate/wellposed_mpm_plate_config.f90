@@ -38,7 +38,9 @@ module wellposed_mpm_plate_config
     integer :: pad_cells = 2
     integer :: shape = shape2d_cpdi
     real(dp) :: t_end = 0.02_dp, cfl = 0.2_dp      !< s, fraction of the CFL step
-    integer :: scheme = scheme_musl                !< USL or MUSL (wellposed_mpm_method)
+    integer :: scheme = scheme_musl                !< USL, MUSL, implicit (wellposed_mpm_method)
+    real(dp) :: implicit_dt = 0.0_dp               !< the implicit scheme's largest step (s)
+    integer :: linear_solver = 1                   !< its solver (wellposed_mpm_linear_solver)
     real(dp) :: density = 1000.0_dp                !< kg/m^3
     integer :: nprops = 14
     real(dp) :: props(max_props2) = 0.0_dp

@@ -268,6 +268,7 @@ contains
     cfg%title = trim(sh%title)
     cfg%ppc = sh%ppc; cfg%pad_cells = sh%pad_cells
     cfg%shape = sh%shape_id; cfg%scheme = sh%scheme_id
+    cfg%implicit_dt = sh%implicit_dt; cfg%linear_solver = sh%linear_solver_id
     cfg%t_end = sh%t_end; cfg%cfl = sh%cfl
     cfg%visc_a1 = sh%visc_a1; cfg%visc_a2 = sh%visc_a2
     cfg%materials = sh%materials

@@ -41,6 +41,9 @@ module wellposed_mpm_plate_run
   use wellposed_mpm_output, only: output_list_t, stage_start, stage_finish
   use wellposed_mpm_checkpoints, only: run_checkpoints_t, new_run_checkpoints
   use wellposed_mpm_run_loop, only: checkpoint_every, run_steps, loop_end_t
+  use wellposed_mpm_method, only: scheme_implicit
+  use wellposed_mpm_implicit_stepper, only: implicit_stepper_t
+  use wellposed_mpm_implicit_run, only: start_implicit, implicit_summary, write_newton_csv
   use wellposed_mpm_plate_outputs, only: plate_curve_t, plate_band_t, plate_watch_t, &
                                          plate_stations_output_t, plate_snapshots_t, &
                                          plate_progress_t
@@ -79,6 +82,9 @@ module wellposed_mpm_plate_run
     !> every output, and those a --restart gets back into the case
     type(output_list_t) :: outs, resumed
     type(loop_end_t) :: ended
+    !> the implicit scheme's steps (&time scheme = 'implicit')
+    logical :: implicit = .false.
+    type(implicit_stepper_t) :: stepper
   end type plate_case_t
 
 contains
@@ -152,12 +158,14 @@ contains
     end if
   end subroutine open_plate
 
-  !> Every case's tag distinct and its scene buildable (collective).
+  !> Every case's tag distinct and its scene buildable (and steppable by
+  !> the implicit scheme when the deck asks for it; collective).
   subroutine check_cases(r, cli, comm)
     type(plate_run_t), intent(inout) :: r
     type(mpm_cli_t), intent(in) :: cli
     type(comm_t), intent(inout) :: comm
     type(mpm_scene_t) :: sc
+    type(implicit_stepper_t) :: st
     type(error_t), allocatable :: err
     integer :: i, ic
     do ic = 1, r%study%ncases
@@ -167,6 +175,8 @@ contains
           ' are both "'//trim(case_tag(r%study, ic))//'"; give distinct dx/scale or labels')
       end do
       call new_scene(sc, case_config(r%cfg0, r%study, ic), err, r%ranks)
+      if (.not. allocated(err) .and. r%cfg0%scheme == scheme_implicit) &
+        call start_implicit(sc, r%cfg0%implicit_dt, r%cfg0%linear_solver, st, err)
       if (allocated(err)) call stop_all(comm, r%rd, cli%deck_path//' (case '//int_text(ic)// &
                                         '): '//err%message)
     end do
@@ -179,7 +189,8 @@ contains
       call sm%add('scene', cfg0%name)
       call sm%add('cases', study%ncases)
       call sm%add('shape', trim(shape2d_names(cfg0%shape)))
-      call sm%add('scheme', trim(scheme_names(cfg0%scheme)), 'USL or MUSL (&time scheme)')
+      call sm%add('scheme', trim(scheme_names(cfg0%scheme)), 'USL, MUSL or implicit '// &
+                  '(&time scheme)')
       call sm%add('nonlocal_scheme', trim(nl_scheme_names(cfg0%nonlocal%scheme)))
       if (study%band_axis == 'x') then
         call sm%add('band_line', 'horizontal line y = band_y * scale through the band', &
@@ -240,7 +251,13 @@ contains
       call c%outs%ask(stage_start, c%sc, comm, err)
       if (allocated(err)) call stop_all(comm, r%rd, 'case '//c%tag//': '//err%message)
     end if
-    call run_steps(c%sc, c%cfg%t_end, c%outs, r%cks, comm, r%study%stop_on_cutback, c%ended, err)
+    if (c%implicit) then
+      call run_steps(c%sc, c%cfg%t_end, c%outs, r%cks, comm, r%study%stop_on_cutback, &
+                     c%ended, err, c%stepper)
+    else
+      call run_steps(c%sc, c%cfg%t_end, c%outs, r%cks, comm, r%study%stop_on_cutback, &
+                     c%ended, err)
+    end if
     if (allocated(err)) call stop_all(comm, r%rd, 'case '//c%tag//': '//err%message)
     ! the material gave out: the case ends at the last complete step
     if (c%ended%early .and. comm%rank == 0) write (output_unit, '(a)') '    '//c%tag// &
@@ -265,6 +282,11 @@ contains
     s = r%study%scale(ic)
     call new_scene(c%sc, c%cfg, err, r%ranks)
     if (allocated(err)) call stop_all(comm, r%rd, err)
+    c%implicit = c%cfg%scheme == scheme_implicit
+    if (c%implicit) then
+      call start_implicit(c%sc, c%cfg%implicit_dt, c%cfg%linear_solver, c%stepper, err)
+      if (allocated(err)) call stop_all(comm, r%rd, err)
+    end if
     c%nsteps_est = ceiling(c%cfg%t_end/c%sc%dt)
     r%cks%every = checkpoint_every(cli%ck_every, c%nsteps_est)
     r%done%current = ic
@@ -351,6 +373,10 @@ contains
     end associate
     r%done%st(c%ic) = c%stations%pst
     if (comm%rank == 0) call case_summary(r, c, nsub, moved, wall, comm%size)
+    if (comm%rank == 0 .and. c%implicit) then
+      call write_newton_csv(r%rd%path(c%tag//'_newton.csv'), c%stepper, err)
+      if (allocated(err)) call stop_alone(comm, r%rd, err)
+    end if
     call r%done%write_case(r%h5, c%ic)
   end subroutine end_case
 
@@ -378,6 +404,7 @@ contains
       call c%outs%summarise(sm)
       if (c%watch%bw%staged .and. c%watch%bw%fit%found) o%scal(8) = c%watch%bw%fit%fwhm
       call sm%add(tag//'.max_substeps', nsub)
+      if (c%implicit) call implicit_summary(sm, tag//'.', c%stepper)
       call sm%add(tag//'.ended_early', c%ended%early, 'true: the UMAT could not go on '// &
                   '(stop_on_cutback); the curve ends at final_strain')
       if (c%ended%early) call sm%add(tag//'.end_reason', trim(c%ended%message))

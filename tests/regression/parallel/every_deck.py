@@ -128,8 +128,11 @@ ACTIVE = 1e-6      # plastic strain, displacement, velocity: active above this o
 
 
 def deck_kind(path):
-    """'mpm' (&scene, 1D), 'mpm2d' (&plate) or 'point' (wellposed-point)."""
+    """'mpm' (&scene, 1D), 'mpm2d' (&plate), 'point' (wellposed-point) or
+    'implicit' (scheme = 'implicit': one rank only so far, not here)."""
     text = re.sub(r'!.*', '', open(path).read()).lower()
+    if re.search(r"scheme\s*=\s*'implicit'", text):
+        return 'implicit'
     if re.search(r'&plate\b', text):
         return 'mpm2d'
     if re.search(r'&scene\b', text):
@@ -351,12 +354,13 @@ def main():
         kind = deck_kind(p)
         ov = plan.get(stem, []) + extra.get(stem, [])
         if a.list:
-            print('%-36s %-8s %s' % (stem, kind if kind != 'point' else 'point (not here)',
-                                     ' '.join(ov)))
-        elif kind != 'point':
+            print('%-36s %-8s %s' % (stem, kind if kind not in ('point', 'implicit')
+                                     else kind + ' (not here)', ' '.join(ov)))
+        elif kind not in ('point', 'implicit'):
             decks.append((stem, p, kind, ov))
         elif a.decks:
-            sys.exit('%s is a wellposed-point deck' % p)
+            sys.exit('%s is a %s deck' % (p, 'wellposed-point' if kind == 'point' else
+                                          'one-rank implicit'))
     if a.list:
         return 0
 
