@@ -4,8 +4,8 @@
 !> from the UMAT over the increment du gives (eq. 4.11 with v = du/dt), the
 !> tangent from its DDSDDE (the consistent tangent; nonsymmetric for a
 !> nonassociative model; the forces: wellposed_mpm_implicit_forces). One
-!> rank, the bar and the plate, local models through the UMAT; the same
-!> scene, weights, kind and bookkeeping as the explicit step.
+!> rank, the bar and the plate; a nonlocal model runs Algorithm 1 in every
+!> iteration (Anderson-accelerated). The explicit step's scene and kind.
 module wellposed_mpm_implicit_step
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
@@ -13,6 +13,8 @@ module wellposed_mpm_implicit_step
   use wellposed_mpm_shape_weights, only: shape_weights
   use wellposed_mpm_transfer, only: p2g, velocity_gradients
   use wellposed_mpm_implicit_forces, only: residual, assemble, row_nonzeros
+  use wellposed_mpm_nonlocal, only: nonlocal_solve, nonlocal_average
+  use wellposed_anderson, only: anderson_t, new_anderson, anderson_step
   use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t, size_workspace
   use wellposed_mpm_bar_kind, only: bar_kind_t
   use wellposed_mpm_plate_kind, only: plate_kind_t
@@ -33,14 +35,20 @@ module wellposed_mpm_implicit_step
   type :: implicit_settings_t
     integer :: max_iterations = 20
     real(dp) :: rtol = 1.0e-10_dp
+    !> with Algorithm 1 the tangent leaves out the averages' coupling, so the
+    !> corrections converge linearly: Anderson acceleration of depth m on
+    !> the free dofs' map du -> du + A^-1 R (0: the plain corrections)
+    integer :: anderson_depth = 5
     integer :: method = solver_direct     !< the linear solver (wellposed_mpm_linear_solver)
   end type implicit_settings_t
 
   !> One step's Newton history: relative residual after each evaluation
-  !> (residual(1): at du = 0), the linear solver's iterations summed.
+  !> (residual(0): the predictor's), the linear solver's iterations and
+  !> Algorithm 1's sweeps (a nonlocal model) summed over the step.
   type :: newton_report_t
     integer :: iterations = 0             !< linear solves of the step
     integer :: linear_iterations = 0
+    integer :: sweeps = 0
     real(dp) :: residual(0:max_newton) = 0.0_dp
     logical :: converged = .false.
   end type newton_report_t
@@ -66,8 +74,6 @@ contains
       return
     else if (sc%exchange%nranks() /= 1) then
       why = 'the implicit scheme runs on one rank only so far'
-    else if (sc%nl%active) then
-      why = 'the implicit scheme has no nonlocal (Algorithm 1) iteration yet'
     else if (sc%visc_a1 > 0.0_dp .or. sc%visc_a2 > 0.0_dp) then
       why = 'a quasi-static step has no bulk viscosity (&viscosity a1 = a2 = 0)'
     end if
@@ -112,7 +118,9 @@ contains
     type(newton_report_t), intent(out) :: rep
     type(error_t), allocatable, intent(out) :: err
     real(dp), allocatable :: x0(:, :), f0(:, :, :), v0(:), s0(:, :), sv0(:, :), e0(:, :)
-    real(dp), allocatable :: du(:, :), r(:), delta(:), dtan(:, :)
+    real(dp), allocatable :: du(:, :), r(:), delta(:), dtan(:, :), avg(:), xf(:), xn(:)
+    type(anderson_t) :: acc
+    logical :: accelerate
     integer, allocatable :: dof(:, :)
     real(dp) :: given(sc%ndim), scale, rel
     integer :: n, nd, nfree, it, last, p, a
@@ -143,7 +151,10 @@ contains
         where (g%fixed(1:nd, a)) du(:, a) = 0.0_dp
         where (g%given(1:nd, a)) du(:, a) = given*sc%dt
       end do
-      allocate (r(nfree), delta(nfree), dtan(sc%ntens**2, n))
+      allocate (r(nfree), delta(nfree), dtan(sc%ntens**2, n), avg(n), xf(nfree), xn(nfree), &
+                source=0.0_dp)
+      accelerate = sc%nl%active .and. opt%anderson_depth > 0
+      if (accelerate) call new_anderson(acc, nfree, opt%anderson_depth, 1.0_dp)
       call solver%setup(nfree, row_nonzeros(nd, pt%nsup), opt%method, err)
       if (allocated(err)) return
       do it = 0, opt%max_iterations
@@ -156,8 +167,14 @@ contains
         if (last <= n) then
           call fail('particle '//int_text(pt%gid(last))//' was turned inside out'); return
         end if
+        if (sc%nl%active) then
+          call nonlocal_fixed_point(sc, x0, du, avg, rep%sweeps, err)
+          if (allocated(err)) then
+            call restore(); return
+          end if
+        end if
         do p = 1, n
-          call stress_tangent(sc, p, dtan(:, p), err)
+          call stress_tangent(sc, p, avg(p), dtan(:, p), err)
           if (allocated(err)) then
             call restore(); return
           end if
@@ -179,6 +196,12 @@ contains
         end if
         rep%iterations = rep%iterations + 1
         rep%linear_iterations = rep%linear_iterations + last
+        if (accelerate) then
+          ! Anderson on x -> x + delta, x the free dofs of du
+          call gather(dof, du, xf)
+          call anderson_step(acc, xf, xf + delta, xn)
+          delta = xn - xf
+        end if
         do a = g%glo, g%ghi
           where (dof(:, a) > 0) du(:, a) = du(:, a) + delta(max(dof(:, a), 1))
         end do
@@ -233,6 +256,19 @@ contains
     sc%t = t0
   end subroutine step_loads
 
+  !> The free dofs' values of du into x (dof(d, i) > 0: x(dof(d, i))).
+  pure subroutine gather(dof, du, x)
+    integer, intent(in) :: dof(:, :)
+    real(dp), intent(in) :: du(:, :)
+    real(dp), intent(out) :: x(:)
+    integer :: i, d
+    do i = 1, size(dof, 2)
+      do d = 1, size(dof, 1)
+        if (dof(d, i) > 0) x(dof(d, i)) = du(d, i)
+      end do
+    end do
+  end subroutine gather
+
   !> Free degrees of freedom dof(d, i): nodes in use (mass above the floor),
   !> direction d neither fixed nor given, numbered 1 .. nfree (0: not free).
   subroutine number_dofs(sc, dof, nfree)
@@ -254,12 +290,65 @@ contains
     end associate
   end subroutine number_dofs
 
+  !> Algorithm 1 at the iterate du (the dissertation's global fixed point
+  !> inside each Newton iteration): the sweeps of the explicit step from the
+  !> kinematics' start (the rotated stress), the averages at the end-of-step
+  !> positions x0 + sum phi du; avg(p), each particle's converged average
+  !> (0 for the elastic ones), for stress_tangent, which then redoes the
+  !> particle's update with it. `sweeps` counts Algorithm 1's sweeps.
+  subroutine nonlocal_fixed_point(sc, x0, du, avg, sweeps, err)
+    type(mpm_scene_t), intent(inout) :: sc
+    real(dp), intent(in) :: x0(:, :), du(:, sc%grid%glo:)
+    real(dp), intent(out) :: avg(:)
+    integer, intent(inout) :: sweeps
+    type(error_t), allocatable, intent(out) :: err
+    real(dp), allocatable :: start(:)
+    integer :: p, a, n, nt
+    logical :: warm
+    n = sc%parts%n
+    nt = sc%ntens
+    associate (pt => sc%parts)
+      do p = 1, n
+        sc%s0(:, p) = pt%stress(1:nt, p)
+        sc%sv0(:, p) = pt%statev(:, p)
+        sc%e0(:, p) = pt%stran(1:nt, p)
+        do a = 1, sc%ndim
+          pt%x(a, p) = x0(a, p) + sum(pt%phi(1:sc%nnz(p), p)*du(a, pt%node(1:sc%nnz(p), p)))
+        end do
+      end do
+      sc%max_substeps_step = 1
+      ! Algorithm 1 starts from the last solve's dlambda (the last iterate's,
+      ! or at a step's first iterate the last step's): fewer sweeps
+      warm = allocated(sc%nl%dl)
+      if (warm) warm = size(sc%nl%dl) == n
+      if (warm) then
+        start = sc%nl%dl
+        call nonlocal_solve(sc%nl, sc, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
+                            pt%phi(:, 1:n), err, ranks=sc%exchange, dl_start=start)
+      else
+        call nonlocal_solve(sc%nl, sc, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
+                            pt%phi(:, 1:n), err, ranks=sc%exchange)
+      end if
+      if (allocated(err)) return
+      sweeps = sweeps + sc%nl%last%iterations
+      do p = 1, n
+        avg(p) = 0.0_dp
+        if (sc%nl%plastic(p)) call nonlocal_average(sc%nl, pt%x(:, p), avg(p))
+        pt%stress(1:nt, p) = sc%s0(:, p)
+        pt%statev(:, p) = sc%sv0(:, p)
+        pt%stran(1:nt, p) = sc%e0(:, p)
+      end do
+    end associate
+  end subroutine nonlocal_fixed_point
+
   !> Particle p's stress over its increment through the UMAT with the
-  !> tangent asked for (our PROPS(14), the explicit host's slot, set to 0):
-  !> dtan = DDSDDE (column-major, NTENS x NTENS).
-  subroutine stress_tangent(sc, p, dtan, err)
+  !> tangent asked for (our PROPS(14), the explicit host's slot, set to 0),
+  !> the nonlocal average avg in our slot STATEV(3) (0: a local model):
+  !> dtan = DDSDDE (column-major, NTENS x NTENS), at fixed avg.
+  subroutine stress_tangent(sc, p, avg, dtan, err)
     type(mpm_scene_t), intent(inout) :: sc
     integer, intent(in) :: p
+    real(dp), intent(in) :: avg
     real(dp), intent(out) :: dtan(:)
     type(error_t), allocatable, intent(out) :: err
     real(dp) :: props(size(sc%mats%props, 1)), dl
@@ -277,7 +366,7 @@ contains
         sc%host%dfgrd0, sc%host%dfgrd1, sc%host%drot)
       call umat_particle(sc%host, props(1:np), sc%t, sc%dt, sc%nstep + 1, pt%gid(p), &
                          pt%x(:, p), pt%stress(1:nt, p), pt%statev(:, p), pt%stran(1:nt, p), &
-                         sc%de(:, p), 0.0_dp, dl, nsub, err)
+                         sc%de(:, p), avg, dl, nsub, err)
     end associate
     if (allocated(err)) return
     if (nsub > 1) then

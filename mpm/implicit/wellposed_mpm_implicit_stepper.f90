@@ -1,8 +1,8 @@
 !> The implicit scheme's step control (docs/research/implicit.md): steps of
 !> at most dt_max to t_end; a step whose Newton iteration fails or whose
 !> UMAT asks to cut back (PNEWDT < 1) is retried at half the size, down to
-!> dt_max/2**max_halvings; after a step that took at most `easy` solves the
-!> next may double, up to dt_max. It keeps each step's Newton history for
+!> dt_max/2**max_halvings; after a step that took at most half the
+!> iteration limit the next may double, up to dt_max. It keeps each step's Newton history for
 !> the run's newton.csv and the summary's keys.
 module wellposed_mpm_implicit_stepper
   use wellposed_kinds, only: dp
@@ -16,13 +16,14 @@ module wellposed_mpm_implicit_stepper
   private
   public :: implicit_stepper_t, step_log_t
 
-  integer, parameter :: max_halvings = 10, easy = 4
+  integer, parameter :: max_halvings = 10
 
   !> One accepted step: its end time, size, Newton solves, linear
-  !> iterations and the relative residual after each solve (0: at du = 0).
+  !> iterations, Algorithm 1's sweeps and the relative residual after each
+  !> solve (0: the predictor's).
   type :: step_log_t
     real(dp) :: t = 0.0_dp, dt = 0.0_dp
-    integer :: solves = 0, linear_iterations = 0
+    integer :: solves = 0, linear_iterations = 0, sweeps = 0
     real(dp), allocatable :: residual(:)
   end type step_log_t
 
@@ -86,7 +87,7 @@ contains
     end do
     call keep(self, sc%t, dt, rep)
     self%dt_next = dt
-    if (rep%iterations <= easy) self%dt_next = min(self%dt_max, 2.0_dp*dt)
+    if (2*rep%iterations <= self%opt%max_iterations) self%dt_next = min(self%dt_max, 2.0_dp*dt)
   end subroutine stepper_advance
 
   !> The step's history into the log (grown by doubling).
@@ -106,6 +107,7 @@ contains
       l%dt = dt
       l%solves = rep%iterations
       l%linear_iterations = rep%linear_iterations
+      l%sweeps = rep%sweeps
       l%residual = rep%residual(0:rep%iterations)
     end associate
   end subroutine keep

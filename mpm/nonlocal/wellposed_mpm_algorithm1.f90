@@ -35,7 +35,8 @@ contains
   !> divergence or host error is an error value; `log_unit` takes the
   !> warnings of eq. 4.43 and 4.45's bounds. Over ranks: `ranks` and `key`
   !> (sweep_key, unique), collective, errors and self%last alike on all.
-  subroutine nonlocal_solve(self, host, x, mass, node, phi, err, log_unit, ranks, key)
+  !> `dl_start` (n): a first iterate of step 2 in place of the local one.
+  subroutine nonlocal_solve(self, host, x, mass, node, phi, err, log_unit, ranks, key, dl_start)
     type(nonlocal_t), intent(inout) :: self
     class(nonlocal_host_t), intent(inout) :: host
     real(dp), intent(in), target :: x(:, :), mass(:), phi(:, :)
@@ -44,6 +45,7 @@ contains
     integer, intent(in), optional :: log_unit
     class(nonlocal_ranks_t), intent(inout), optional, target :: ranks
     integer(int64), intent(in), optional, target :: key(:)
+    real(dp), intent(in), optional :: dl_start(:)
     type(algorithm1_work_t) :: w
     integer :: round
     integer, allocatable :: act(:)
@@ -58,6 +60,9 @@ contains
     call local_estimate(self, host, w, err)
     if (allocated(err)) return
     if (.not. self%active .or. self%last%n_plastic == 0) return
+    ! a warm start (the implicit scheme's last Newton iterate): its dlambda
+    ! where it has one for the plastic set, the local estimate elsewhere
+    if (present(dl_start)) where (self%plastic .and. dl_start > 0.0_dp) self%dl = dl_start
     call serial_order(w)
     call project(self, w, self%dl)
     call check_bounds(self, w, log_unit)

@@ -50,6 +50,9 @@ contains
       call sm%add(tag//'newton_residual_max', st%worst_residual(), 'largest converged '// &
                   'residual over the force scale (tolerance '//real_text(st%opt%rtol)//')')
       call sm%add(tag//'implicit_cutbacks', st%cutbacks, 'steps halved and retried')
+      if (any(l%sweeps > 0)) call sm%add(tag//'nonlocal_sweeps_per_solve', &
+        real(sum(l%sweeps), dp)/max(1, st%total_solves() + st%nlog), 'Algorithm 1''s '// &
+        'sweeps per residual evaluation (one a Newton iterate)')
       if (st%nlog > 0) then
         call sm%add(tag//'implicit_dt_min', minval(l%dt), 's')
         call sm%add(tag//'implicit_dt_max', maxval(l%dt), 's (at most &time dt)')
@@ -59,7 +62,8 @@ contains
 
   !> Every accepted step's Newton history, one row per residual evaluation:
   !> step, its end time, size, the solves before it (0: the predictor's),
-  !> the relative residual and the step's linear-solver iterations.
+  !> the relative residual, the step's linear-solver iterations and
+  !> Algorithm 1's sweeps over the step (0: a local model).
   subroutine write_newton_csv(path, st, err)
     character(len=*), intent(in) :: path
     type(implicit_stepper_t), intent(in) :: st
@@ -69,12 +73,13 @@ contains
     integer :: k, j
     call out%open(path, err)
     if (allocated(err)) return
-    call out%put('step,time_s,dt_s,iteration,relative_residual,step_linear_iterations')
+    call out%put('step,time_s,dt_s,iteration,relative_residual,step_linear_iterations,'// &
+                 'step_nonlocal_sweeps')
     do k = 1, st%nlog
       associate (l => st%log(k))
         do j = 0, l%solves
-          write (row, '(i0,2(",",es15.7),",",i0,",",es12.4,",",i0)') k, l%t, l%dt, j, &
-            l%residual(j + 1), l%linear_iterations
+          write (row, '(i0,2(",",es15.7),",",i0,",",es12.4,2(",",i0))') k, l%t, l%dt, j, &
+            l%residual(j + 1), l%linear_iterations, l%sweeps
           call out%put(trim(row))
         end do
       end associate

@@ -108,6 +108,7 @@ module wellposed_mpm_plate_outputs
     logical :: on = .false.
     character(len=:), allocatable :: tag
     integer :: nsteps_est = 0
+    real(dp) :: t_end = 0.0_dp        !< the case's end (s): the time left from t
     type(plate_curve_t), pointer :: curve => null()
   contains
     procedure :: sample => plate_progress_sample
@@ -133,6 +134,8 @@ contains
     type(mpm_scene_t), intent(in) :: sc
     type(comm_t), intent(inout) :: comm
     type(error_t), allocatable, intent(out) :: err
+    ! an implicit run's step control may take more steps than estimated
+    if (self%nit == size(self%its)) call grow(self)
     self%nit = self%nit + 1
     self%its(self%nit) = sc%nl%last%iterations
     self%nplast(self%nit) = plastic_count(sc)     ! this rank's share, summed at the end
@@ -143,6 +146,24 @@ contains
       self%next_sample = self%next_sample + self%sample_dt
     end if
   end subroutine curve_sample
+
+  !> The per-step records twice as long (the samples with them).
+  subroutine grow(self)
+    type(plate_curve_t), intent(inout) :: self
+    real(dp), allocatable :: c(:, :), b(:, :)
+    integer, allocatable :: its(:), np(:)
+    integer :: m
+    m = 2*size(self%its)
+    allocate (c(3, m), b(3, m), its(m), np(m))
+    c(:, 1:self%ncurve) = self%curve(:, 1:self%ncurve)
+    b(:, 1:self%nit) = self%bounds(:, 1:self%nit)
+    its(1:self%nit) = self%its(1:self%nit)
+    np(1:self%nit) = self%nplast(1:self%nit)
+    call move_alloc(c, self%curve)
+    call move_alloc(b, self%bounds)
+    call move_alloc(its, self%its)
+    call move_alloc(np, self%nplast)
+  end subroutine grow
 
   !> The plastic counts summed over the ranks.
   subroutine curve_finish(self, sc, comm, err)
@@ -441,8 +462,8 @@ contains
         int_text(self%nsteps_est)//', t = '//real_text(sc%t)//' s, stress = '// &
         real_text(c%curve(3, max(c%ncurve, 1))*1.0e-6_dp)//' MPa, plastic '// &
         int_text(c%nplast(c%nit))//', iterations '//int_text(sc%nl%last%iterations)// &
-        ', ~'//int_text(nint(self%clock%elapsed()*(self%nsteps_est - sc%nstep)/ &
-        max(sc%nstep, 1)))//' s left'
+        ', ~'//int_text(nint(self%clock%elapsed()*max(self%t_end - sc%t, 0.0_dp)/ &
+        max(sc%t, tiny(1.0_dp))))//' s left'
     end associate
     flush (output_unit)
   end subroutine plate_progress_sample

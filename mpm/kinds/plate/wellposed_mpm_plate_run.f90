@@ -313,6 +313,7 @@ contains
     c%progress%on = r%study%progress .and. comm%rank == 0
     c%progress%tag = c%tag
     c%progress%nsteps_est = c%nsteps_est
+    c%progress%t_end = c%cfg%t_end
     c%progress%curve => c%curve
     call c%outs%add(c%curve)
     call c%outs%add(c%band)
