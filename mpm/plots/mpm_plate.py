@@ -10,7 +10,10 @@ Reads RUN_DIR/run.h5 and writes, beside it:
                       the fitted centre line and its +- FWHM/2 lines marked;
   stress_strain.png   applied stress against apparent axial strain, all
                       cases (as fig. 4.3, 4.5, 4.6);
-  iterations.png      nonlocal iterations per plastic step (when iterated).
+  iterations.png      nonlocal iterations per plastic step (when iterated);
+  newton.png          an implicit run's Newton histories (<tag>_newton.csv):
+                      the relative residual after each solve, every step,
+                      and the solves and step size against time.
 """
 import sys
 import os
@@ -153,7 +156,39 @@ def main(argv):
         fig.tight_layout()
         fig.savefig(os.path.join(run_dir, "iterations.png"), dpi=130)
     plt.close(fig)
+    newton_figure(run_dir, tags)
     return 0
+
+
+def newton_figure(run_dir, tags):
+    """newton.png from the cases' <tag>_newton.csv, when the run was implicit."""
+    runs = [(t, os.path.join(run_dir, t + "_newton.csv")) for t in tags]
+    runs = [(t, p) for t, p in runs if os.path.exists(p)]
+    if not runs:
+        return
+    fig, (a, b) = plt.subplots(1, 2, figsize=(10.0, 3.8))
+    c = b.twinx()
+    for tag, path in runs:
+        d = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+        step, t, dt, it, res = d[:, 0], d[:, 1], d[:, 2], d[:, 3], d[:, 4]
+        for k in np.unique(step):
+            m = step == k
+            a.semilogy(it[m], np.maximum(res[m], 1e-17), "-", lw=0.5, alpha=0.5)
+        last = np.r_[step[1:] != step[:-1], True]
+        b.plot(t[last], it[last], ".", ms=3, label=tag + ": solves")
+        c.semilogy(t[last], dt[last], "-", lw=0.8, label=tag + ": step size")
+    a.set_xlabel("Newton solve")
+    a.set_ylabel("residual / force scale")
+    a.grid(alpha=0.3)
+    b.set_xlabel("time (s)")
+    b.set_ylabel("solves in the step")
+    c.set_ylabel("step size (s)")
+    b.grid(alpha=0.3)
+    b.legend(fontsize=7, loc="upper left")
+    c.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    fig.savefig(os.path.join(run_dir, "newton.png"), dpi=130)
+    plt.close(fig)
 
 
 if __name__ == "__main__":
