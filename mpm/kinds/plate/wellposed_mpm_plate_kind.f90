@@ -362,13 +362,28 @@ contains
     end select
   end function apparent_strain
 
-  !> The platen's velocity v_top of the step ending at t + dt: the deck's,
-  !> ramped linearly over ramp_time (m/s).
+  !> The platen's velocity v_top of the step [t, t + dt]: the mean over it of
+  !> the deck's velocity ramped linearly over ramp_time (m/s), so that the
+  !> step moves the platen by the ramp's exact displacement whatever dt (an
+  !> implicit step may span the ramp).
   pure real(dp) function platen_velocity(cfg, t, dt) result(vtop)
     type(plate_config_t), intent(in) :: cfg
     real(dp), intent(in) :: t, dt
+    real(dp) :: r
     vtop = cfg%top_velocity
-    if (cfg%ramp_time > 0.0_dp) vtop = vtop*min(1.0_dp, (t + dt)/cfg%ramp_time)
+    r = cfg%ramp_time
+    if (r <= 0.0_dp) return
+    if (dt > 0.0_dp) then
+      vtop = vtop*(ramped(t + dt) - ramped(t))/dt
+    else
+      vtop = vtop*min(1.0_dp, t/r)
+    end if
+  contains
+    !> the ramp's displacement at time s over the full speed's
+    pure real(dp) function ramped(s)
+      real(dp), intent(in) :: s
+      ramped = merge(max(s, 0.0_dp)**2/(2.0_dp*r), s - 0.5_dp*r, s < r)
+    end function ramped
   end function platen_velocity
 
   !> The F and volume kernel of a plate's particle p over the step:
