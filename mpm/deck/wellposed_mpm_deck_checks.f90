@@ -1,16 +1,20 @@
 !> What every MPM kind's deck checks share (docs/guide/decks.md, "Refused
 !> decks"): samples and snapshots inside the run, and a step count t_end/dt,
 !> dt = cfl dx/c as the run sets it, of 1 to max_steps (beyond only with
-!> --force). Each kind's own checks: wellposed_mpm_bar_checks,
-!> wellposed_mpm_plate_checks.
+!> --force), and the implicit schemes' &time keys. Each kind's own checks:
+!> wellposed_mpm_bar_checks, wellposed_mpm_plate_checks.
 module wellposed_mpm_deck_checks
   use wellposed_kinds, only: dp
   use wellposed_finite, only: all_finite
   use wellposed_error, only: error_t, new_error, status_invalid
   use wellposed_text, only: int_text, real_text
+  use wellposed_deck, only: check_finite
+  use wellposed_mpm_method, only: scheme_names, implicit_scheme, no_viscosity, mass_lumped, &
+                                  mass_names
+  use wellposed_mpm_linear_solver, only: linear_solver_available
   implicit none
   private
-  public :: check_times, step_inputs, check_steps, max_steps
+  public :: check_times, step_inputs, check_steps, max_steps, check_implicit
 
   !> Most time steps a run takes without --force (docs/guide/decks.md).
   real(dp), parameter :: max_steps = 1.0e7_dp
@@ -71,4 +75,46 @@ contains
         '&time t_end, &grid dx and the &material density, or pass --force to run it')
     end if
   end subroutine check_steps
+  !> &time dt of the implicit schemes (docs/research/implicit.md): refused
+  !> with an explicit scheme (`scheme`, wellposed_mpm_method's id), without
+  !> PETSc in the build, with bulk viscosity `visc` (a1, a2) and with a
+  !> given &time mass other than the lumped one; dt defaults to t_end/100
+  !> and must lie in (0, t_end].
+  subroutine check_implicit(path, scheme, t_end, visc, mass_given, mass, dt, err)
+    character(len=*), intent(in) :: path
+    integer, intent(in) :: scheme, mass
+    real(dp), intent(in) :: t_end, visc(2)
+    logical, intent(in) :: mass_given
+    real(dp), intent(inout) :: dt
+    type(error_t), allocatable, intent(out) :: err
+    character(len=:), allocatable :: named
+    call check_finite(path, 'time', 'dt', dt, err); if (allocated(err)) return
+    if (.not. implicit_scheme(scheme)) then
+      if (dt /= 0.0_dp) call bad('dt', 'dt = '//real_text(dt)//' s is the implicit '// &
+        'schemes'' step (scheme = ''implicit'' or ''newmark''); the explicit step follows cfl')
+      return
+    end if
+    named = 'scheme = '''//trim(scheme_names(scheme))//''''
+    if (.not. linear_solver_available) then
+      call bad('scheme', named//' needs PETSc, which this build lacks: install Debian''s '// &
+               'petsc-dev and build again (docs/guide/building.md)'); return
+    end if
+    if (dt == 0.0_dp) dt = t_end/100.0_dp
+    if (.not. (dt > 0.0_dp .and. dt <= t_end)) then
+      call bad('dt', 'dt = '//real_text(dt)//' s must lie in (0, t_end = '// &
+               real_text(t_end)//' s]'); return
+    end if
+    if (any(visc > 0.0_dp)) then
+      call bad('scheme', named//': '//no_viscosity); return
+    end if
+    if (mass_given .and. mass /= mass_lumped) call bad('mass', 'mass = '''// &
+      trim(mass_names(mass))//''' is the explicit bar''s grid acceleration; '//named// &
+      ' takes the lumped mass (eq. 4.9): leave mass out or set it to ''lumped''')
+  contains
+    subroutine bad(key, what)
+      character(len=*), intent(in) :: key, what
+      call new_error(err, status_invalid, key, path//': &time: '//what)
+    end subroutine bad
+  end subroutine check_implicit
+
 end module wellposed_mpm_deck_checks

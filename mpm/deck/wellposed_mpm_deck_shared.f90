@@ -19,8 +19,9 @@ module wellposed_mpm_deck_shared
   use wellposed_mpm_nonlocal_settings, only: nonlocal_settings_t, nl_scheme_names, &
                                              nl_scheme_id, nl_sweep_names, nl_sweep_id
   use wellposed_mpm_nonlocal_deck, only: resolve_nonlocal
-  use wellposed_mpm_method, only: scheme_names, mass_names, scheme_implicit
-  use wellposed_mpm_linear_solver, only: solver_names, linear_solver_available
+  use wellposed_mpm_method, only: scheme_names, mass_names
+  use wellposed_mpm_linear_solver, only: solver_names
+  use wellposed_mpm_deck_checks, only: check_implicit
   use wellposed_text, only: real_text
   implicit none
   private
@@ -320,7 +321,12 @@ contains
     if (allocated(err)) return
     call check_finite(path, 'time', 't_end', sh%t_end, err); if (allocated(err)) return
     call check_finite(path, 'time', 'cfl', sh%cfl, err); if (allocated(err)) return
-    call check_implicit(path, sh, err); if (allocated(err)) return
+    call check_word(path, 'time', 'linear_solver', sh%linear_solver, solver_names, &
+                    sh%linear_solver_id, err)
+    if (allocated(err)) return
+    call check_implicit(path, sh%scheme_id, sh%t_end, [sh%visc_a1, sh%visc_a2], &
+                        sh%mass_given, sh%mass_id, sh%implicit_dt, err)
+    if (allocated(err)) return
     call check_viscosity(path, 'a1', sh%visc_a1, err); if (allocated(err)) return
     call check_viscosity(path, 'a2', sh%visc_a2, err); if (allocated(err)) return
     call check_finite(path, 'output', 'sample_dt', sh%sample_dt, err); if (allocated(err)) return
@@ -338,42 +344,6 @@ contains
         trim(sh%band_axis)//"' is not one of 'x' (along y = band_y), 'y' (along x = band_x)")
     end select
   end subroutine check_shared
-
-  !> &time dt and linear_solver: the implicit scheme's (docs/research/implicit.md),
-  !> refused with an explicit scheme, without PETSc in the build, with bulk
-  !> viscosity; dt defaults to t_end/100 and must lie in (0, t_end].
-  subroutine check_implicit(path, sh, err)
-    character(len=*), intent(in) :: path
-    type(shared_deck_t), intent(inout) :: sh
-    type(error_t), allocatable, intent(out) :: err
-    call check_word(path, 'time', 'linear_solver', sh%linear_solver, solver_names, &
-                    sh%linear_solver_id, err)
-    if (allocated(err)) return
-    call check_finite(path, 'time', 'dt', sh%implicit_dt, err); if (allocated(err)) return
-    if (sh%scheme_id /= scheme_implicit) then
-      if (sh%implicit_dt /= 0.0_dp) call bad('dt', 'dt = '//real_text(sh%implicit_dt)// &
-        ' s is the implicit scheme''s step (scheme = ''implicit''); the explicit '// &
-        'step follows cfl')
-      return
-    end if
-    if (.not. linear_solver_available) then
-      call bad('scheme', 'scheme = ''implicit'' needs PETSc, which this build lacks: '// &
-               'install Debian''s petsc-dev and build again (docs/guide/building.md)'); return
-    end if
-    if (sh%implicit_dt == 0.0_dp) sh%implicit_dt = sh%t_end/100.0_dp
-    if (.not. (sh%implicit_dt > 0.0_dp .and. sh%implicit_dt <= sh%t_end)) then
-      call bad('dt', 'dt = '//real_text(sh%implicit_dt)//' s must lie in (0, t_end = '// &
-               real_text(sh%t_end)//' s]'); return
-    end if
-    if (sh%visc_a1 > 0.0_dp .or. sh%visc_a2 > 0.0_dp) &
-      call bad('scheme', 'scheme = ''implicit'' is quasi-static and has no bulk '// &
-               'viscosity: set &viscosity a1 = 0, a2 = 0')
-  contains
-    subroutine bad(key, what)
-      character(len=*), intent(in) :: key, what
-      call new_error(err, status_invalid, key, path//': &time: '//what)
-    end subroutine bad
-  end subroutine check_implicit
 
   !> &viscosity `key` = `a`: finite and >= 0.
   subroutine check_viscosity(path, key, a, err)

@@ -21,7 +21,7 @@ module wellposed_mpm_scene
   implicit none
   private
   public :: mpm_scene_t, scene_kind_t, probe_kind, size_workspace, max_substeps, timer_transfer, &
-            timer_grid, timer_umat, ntimers
+            timer_grid, timer_umat, ntimers, keep_start, restore_start
 
   integer, parameter :: timer_transfer = 1, timer_grid = 2, timer_umat = 3, ntimers = 3
 
@@ -277,6 +277,19 @@ contains
       if (allocated(err)) return
     end do
   end subroutine scene_update_list
+
+  !> The start of particle p's stress update: Algorithm 1's sweeps restart
+  !> from copies; a local model updates in place.
+  subroutine keep_start(self, p)
+    type(mpm_scene_t), intent(inout) :: self
+    integer, intent(in) :: p
+    integer :: nt
+    if (.not. self%nl%active) return
+    nt = self%ntens
+    self%s0(:, p) = self%parts%stress(1:nt, p)
+    self%sv0(:, p) = self%parts%statev(:, p)
+    self%e0(:, p) = self%parts%stran(1:nt, p)
+  end subroutine keep_start
 
   !> Particle p back at its start of step when Algorithm 1 iterates (the
   !> copies s0, sv0, e0); a local model updates each particle once, in place.

@@ -18,7 +18,7 @@ module wellposed_mpm_step
                                     velocity_gradients
   use wellposed_mpm_nonlocal, only: nonlocal_solve, sweep_key
   use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t, size_workspace, timer_transfer, &
-                                 timer_grid, timer_umat
+                                 timer_grid, timer_umat, keep_start
   implicit none
   private
   public :: advance
@@ -145,19 +145,6 @@ contains
       ': particle '//int_text(self%parts%gid(p))//' was turned inside out (det F <= 0); '// &
       'a smaller &time cfl may help')
   end subroutine inside_out
-
-  !> The start of particle p's stress update: Algorithm 1's sweeps restart
-  !> from copies; a local model updates in place.
-  subroutine keep_start(self, p)
-    type(mpm_scene_t), intent(inout) :: self
-    integer, intent(in) :: p
-    integer :: nt
-    if (.not. self%nl%active) return
-    nt = self%ntens
-    self%s0(:, p) = self%parts%stress(1:nt, p)
-    self%sv0(:, p) = self%parts%statev(:, p)
-    self%e0(:, p) = self%parts%stran(1:nt, p)
-  end subroutine keep_start
 
   !> The clock since t0 added to the scene's timer; t0 becomes now.
   subroutine tick(self, timer, t0)

@@ -15,19 +15,22 @@ module wellposed_mpm_implicit_forces
 
 contains
 
-  !> R = f_ext + f_int on the free degrees of freedom dof(d, i) (0: not
-  !> free); scale: the largest nodal sum of |P G V_n| terms and |f_ext|.
-  subroutine residual(sc, dof, vn, r, scale)
+  !> R = f_ext + f_int (- inertia: the dynamic step's m a) on the free
+  !> degrees of freedom dof(d, i) (0: not free); scale: the largest nodal
+  !> sum of |P G V_n| terms, |f_ext| and |inertia|.
+  subroutine residual(sc, dof, vn, r, scale, inertia)
     type(mpm_scene_t), intent(in) :: sc
     integer, intent(in) :: dof(:, sc%grid%glo:)
     real(dp), intent(in) :: vn(:)
     real(dp), intent(out) :: r(:), scale
+    real(dp), intent(in), optional :: inertia(:, sc%grid%glo:)
     real(dp) :: mag(sc%ndim, sc%grid%glo:sc%grid%ghi), pk(sc%ndim, sc%ndim), f
     integer :: p, a, i, d, nd
     nd = sc%ndim
     associate (g => sc%grid, pt => sc%parts)
       r = 0.0_dp
       mag = abs(g%fext(1:nd, :))
+      if (present(inertia)) mag = mag + abs(inertia)
       do p = 1, pt%n
         pk = first_piola(sc, p)
         do a = 1, sc%nnz(p)
@@ -41,7 +44,9 @@ contains
       end do
       do i = g%glo, g%ghi
         do d = 1, nd
-          if (dof(d, i) > 0) r(dof(d, i)) = r(dof(d, i)) + g%fext(d, i)
+          if (dof(d, i) <= 0) cycle
+          r(dof(d, i)) = r(dof(d, i)) + g%fext(d, i)
+          if (present(inertia)) r(dof(d, i)) = r(dof(d, i)) - inertia(d, i)
         end do
       end do
       scale = maxval(mag)

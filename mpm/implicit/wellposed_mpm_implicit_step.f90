@@ -1,9 +1,9 @@
-!> The implicit quasi-static MPM step (docs/research/implicit.md): Newton on
-!> the step's grid displacement increment du, R(du) = f_int + f_ext(t + dt)
-!> = 0 on the free nodes (eq. 4.5 without inertia), each iteration's stress
-!> from the UMAT over the increment du gives (eq. 4.11 with v = du/dt), the
-!> tangent from its DDSDDE (the consistent tangent; nonsymmetric for a
-!> nonassociative model; the forces: wellposed_mpm_implicit_forces). One
+!> The implicit MPM step (docs/research/implicit.md): Newton on the step's
+!> grid displacement increment du, R(du) = f_int + f_ext(t + dt) = 0 on the
+!> free nodes (eq. 4.5 without inertia; dynamic: minus the trapezoidal rule's
+!> m a, wellposed_mpm_newmark), the stress from the UMAT over du (eq. 4.11
+!> with v = du/dt), the tangent from its DDSDDE (consistent; nonsymmetric
+!> for a nonassociative model; forces: wellposed_mpm_implicit_forces). One
 !> rank, the bar and the plate; a nonlocal model runs Algorithm 1 in every
 !> iteration (Anderson-accelerated). The explicit step's scene and kind.
 module wellposed_mpm_implicit_step
@@ -15,13 +15,17 @@ module wellposed_mpm_implicit_step
   use wellposed_mpm_implicit_forces, only: residual, assemble, row_nonzeros
   use wellposed_mpm_nonlocal, only: nonlocal_solve, nonlocal_average
   use wellposed_anderson, only: anderson_t, new_anderson, anderson_step
-  use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t, size_workspace
+  use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t, size_workspace, keep_start, &
+                                 restore_start
   use wellposed_mpm_bar_kind, only: bar_kind_t
   use wellposed_mpm_plate_kind, only: plate_kind_t
   use wellposed_mpm_plate_config, only: platen_contact
+  use wellposed_mpm_method, only: no_viscosity
   use wellposed_mpm_particle_umat, only: umat_particle
   use wellposed_umat_host, only: umat_is_ours
   use wellposed_mpm_linear_solver, only: linear_solver_t, solver_direct
+  use wellposed_mpm_newmark, only: newmark_t, newmark_start, newmark_inertia, &
+                                   newmark_tangent, newmark_particles
   use wellposed_step_kinematics, only: step_kinematics
   implicit none
   private
@@ -75,7 +79,7 @@ contains
     else if (sc%exchange%nranks() /= 1) then
       why = 'the implicit scheme runs on one rank only so far'
     else if (sc%visc_a1 > 0.0_dp .or. sc%visc_a2 > 0.0_dp) then
-      why = 'a quasi-static step has no bulk viscosity (&viscosity a1 = a2 = 0)'
+      why = no_viscosity
     end if
     if (len(why) > 0) return
     ! our VUMAT's material is our UMAT's (same PROPS): the UMAT gives DDSDDE
@@ -87,36 +91,48 @@ contains
     end do
   end function implicit_refusal
 
-  !> One quasi-static step of length sc%dt (see the module comment), the
-  !> load at t + dt; on return the particles hold the converged state, their
-  !> positions moved by the interpolated du and v = du/dt. An error leaves
-  !> the scene at its start of step (status_cutback: Newton did not
-  !> converge, or the UMAT asked for a smaller step).
-  subroutine advance_implicit(sc, solver, opt, rep, err)
+  !> One step of length sc%dt (see the module comment), the load at t + dt:
+  !> quasi-static, or with `accel` (the particles' accelerations, ndim x n)
+  !> the trapezoidal rule's dynamic step. On return the particles hold the
+  !> converged state, their positions moved by the interpolated du and v =
+  !> du/dt (dynamic: the trapezoidal update, accel the end's). An error
+  !> leaves the scene and accel at the step's start (status_cutback: Newton
+  !> did not converge, or the UMAT asked for a smaller step).
+  subroutine advance_implicit(sc, solver, opt, rep, err, accel)
     type(mpm_scene_t), intent(inout) :: sc
     type(linear_solver_t), intent(inout) :: solver
     type(implicit_settings_t), intent(in) :: opt
     type(newton_report_t), intent(out) :: rep
     type(error_t), allocatable, intent(out) :: err
+    real(dp), intent(inout), optional :: accel(:, :)
     class(scene_kind_t), allocatable :: kind
     character(len=:), allocatable :: why
     why = implicit_refusal(sc)
     if (len(why) > 0) then
       call new_error(err, status_invalid, 'time%scheme', why); return
     end if
+    if (present(accel)) then
+      if (size(accel, 1) /= sc%ndim .or. size(accel, 2) < sc%parts%n) then
+        call new_error(err, status_invalid, 'time%scheme', 'the dynamic implicit step '// &
+                       'holds accelerations of '//int_text(size(accel, 2))//' particles, '// &
+                       'the scene has '//int_text(sc%parts%n)); return
+      end if
+    end if
     call move_alloc(sc%kind, kind)
-    call newton_step(sc, kind, solver, opt, rep, err)
+    call newton_step(sc, kind, solver, opt, rep, err, accel)
     call move_alloc(kind, sc%kind)
   end subroutine advance_implicit
 
   !> advance_implicit's step, the scene's kind in `kind`.
-  subroutine newton_step(sc, kind, solver, opt, rep, err)
+  subroutine newton_step(sc, kind, solver, opt, rep, err, accel)
     type(mpm_scene_t), intent(inout) :: sc
     class(scene_kind_t), intent(inout) :: kind
     type(linear_solver_t), intent(inout) :: solver
     type(implicit_settings_t), intent(in) :: opt
     type(newton_report_t), intent(out) :: rep
     type(error_t), allocatable, intent(out) :: err
+    real(dp), intent(inout), optional :: accel(:, :)
+    type(newmark_t) :: nm
     real(dp), allocatable :: x0(:, :), f0(:, :, :), v0(:), s0(:, :), sv0(:, :), e0(:, :)
     real(dp), allocatable :: du(:, :), r(:), delta(:), dtan(:, :), avg(:), xf(:), xn(:)
     type(anderson_t) :: acc
@@ -144,10 +160,13 @@ contains
       s0 = pt%stress(:, 1:n); sv0 = pt%statev(:, 1:n); e0 = pt%stran(:, 1:n)
       ! du to start: the given motion on its nodes, elsewhere the particles'
       ! velocity of the last step mapped to the grid (p2g's momentum), so
-      ! Newton starts on the last step's loading path (its plastic set)
+      ! Newton starts on the last step's loading path (its plastic set);
+      ! dynamic: dt v + dt^2 a / 4, the start's acceleration kept
       allocate (du(nd, g%glo:g%ghi), source=0.0_dp)
+      if (present(accel)) call newmark_start(sc, accel, given, nm, du)
       do a = g%glo, g%ghi
-        if (g%mass(a) > sc%mass_floor) du(:, a) = sc%dt*g%momentum(1:nd, a)/g%mass(a)
+        if (g%mass(a) > sc%mass_floor .and. .not. present(accel)) &
+          du(:, a) = sc%dt*g%momentum(1:nd, a)/g%mass(a)
         where (g%fixed(1:nd, a)) du(:, a) = 0.0_dp
         where (g%given(1:nd, a)) du(:, a) = given*sc%dt
       end do
@@ -180,7 +199,11 @@ contains
           end if
         end do
         ! --- the residual on the free nodes and its scale
-        call residual(sc, dof, v0, r, scale)
+        if (present(accel)) then
+          call residual(sc, dof, v0, r, scale, newmark_inertia(sc, nm, du))
+        else
+          call residual(sc, dof, v0, r, scale)
+        end if
         rel = maxval(abs(r))/max(scale, tiny(1.0_dp))
         rep%residual(it) = rel
         if (rel <= opt%rtol) then
@@ -190,6 +213,7 @@ contains
         if (it == opt%max_iterations) exit
         ! --- the tangent A = -dR/du and the Newton correction A delta = R
         call assemble(sc, solver, dof, dtan, s0, v0)
+        if (present(accel)) call newmark_tangent(sc, solver, dof)
         call solver%solve(r, delta, err, last)
         if (allocated(err)) then
           call restore(); return
@@ -214,9 +238,10 @@ contains
       do p = 1, n
         do a = 1, nd
           pt%x(a, p) = x0(a, p) + sum(pt%phi(1:sc%nnz(p), p)*du(a, pt%node(1:sc%nnz(p), p)))
-          pt%v(a, p) = (pt%x(a, p) - x0(a, p))/sc%dt
+          if (.not. present(accel)) pt%v(a, p) = (pt%x(a, p) - x0(a, p))/sc%dt
         end do
       end do
+      if (present(accel)) call newmark_particles(sc, nm, du, accel)
       call kind%bookkeeping(sc)
     end associate
     sc%t = sc%t + sc%dt
@@ -303,15 +328,12 @@ contains
     integer, intent(inout) :: sweeps
     type(error_t), allocatable, intent(out) :: err
     real(dp), allocatable :: start(:)
-    integer :: p, a, n, nt
+    integer :: p, a, n
     logical :: warm
     n = sc%parts%n
-    nt = sc%ntens
     associate (pt => sc%parts)
       do p = 1, n
-        sc%s0(:, p) = pt%stress(1:nt, p)
-        sc%sv0(:, p) = pt%statev(:, p)
-        sc%e0(:, p) = pt%stran(1:nt, p)
+        call keep_start(sc, p)
         do a = 1, sc%ndim
           pt%x(a, p) = x0(a, p) + sum(pt%phi(1:sc%nnz(p), p)*du(a, pt%node(1:sc%nnz(p), p)))
         end do
@@ -334,9 +356,7 @@ contains
       do p = 1, n
         avg(p) = 0.0_dp
         if (sc%nl%plastic(p)) call nonlocal_average(sc%nl, pt%x(:, p), avg(p))
-        pt%stress(1:nt, p) = sc%s0(:, p)
-        pt%statev(:, p) = sc%sv0(:, p)
-        pt%stran(1:nt, p) = sc%e0(:, p)
+        call restore_start(sc, p)
       end do
     end associate
   end subroutine nonlocal_fixed_point

@@ -33,6 +33,10 @@ module wellposed_mpm_implicit_stepper
     type(linear_solver_t) :: solver
     real(dp) :: dt_max = 0.0_dp, dt_next = 0.0_dp
     integer :: cutbacks = 0, nlog = 0
+    !> the trapezoidal rule's dynamic steps: the particles' accelerations
+    !> (ndim, n; from rest: zero at the start)
+    logical :: dynamic = .false.
+    real(dp), allocatable :: accel(:, :)
     type(step_log_t), allocatable :: log(:)
   contains
     procedure :: start => stepper_start
@@ -42,11 +46,22 @@ module wellposed_mpm_implicit_stepper
 
 contains
 
-  !> Steps of at most dt_max, linear solver `method`.
-  subroutine stepper_start(self, dt_max, method)
+  !> Steps of at most dt_max of scene sc, linear solver `method`; `dynamic`:
+  !> the trapezoidal rule's steps from the particles' zero acceleration. A
+  !> stepper started before (a study's earlier case) starts afresh.
+  subroutine stepper_start(self, dt_max, method, sc, dynamic)
     class(implicit_stepper_t), intent(inout) :: self
     real(dp), intent(in) :: dt_max
     integer, intent(in) :: method
+    type(mpm_scene_t), intent(in) :: sc
+    logical, intent(in) :: dynamic
+    call self%solver%destroy()
+    if (allocated(self%log)) deallocate (self%log)
+    if (allocated(self%accel)) deallocate (self%accel)
+    self%dynamic = dynamic
+    if (dynamic) then
+      allocate (self%accel(sc%ndim, sc%parts%n), source=0.0_dp)
+    end if
     self%dt_max = dt_max
     self%dt_next = dt_max
     self%opt%method = method
@@ -72,7 +87,11 @@ contains
     if (t_end - sc%t - dt < 1.0e-3_dp*dt) dt = t_end - sc%t
     do
       sc%dt = dt
-      call advance_implicit(sc, self%solver, self%opt, rep, err)
+      if (self%dynamic) then
+        call advance_implicit(sc, self%solver, self%opt, rep, err, self%accel)
+      else
+        call advance_implicit(sc, self%solver, self%opt, rep, err)
+      end if
       if (.not. allocated(err)) exit
       if (err%status /= status_cutback) return
       self%cutbacks = self%cutbacks + 1

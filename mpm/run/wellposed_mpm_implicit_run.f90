@@ -1,4 +1,4 @@
-!> What a run of the implicit scheme (&time scheme = 'implicit') adds to a
+!> What a run of an implicit scheme (&time scheme = 'implicit' or 'newmark') adds to a
 !> kind's run: the stepper's start on the scene (refused with the reason
 !> when the scene cannot take the step), its summary keys and the Newton
 !> history file <case>_newton.csv. The scheme: docs/research/implicit.md.
@@ -18,22 +18,25 @@ module wellposed_mpm_implicit_run
 
 contains
 
-  !> The stepper of scene sc: steps of at most dt, linear solver `method`;
-  !> sc%dt = dt. A scene the scheme cannot step is the error.
-  subroutine start_implicit(sc, dt, method, st, err)
+  !> The stepper of scene sc: steps of at most dt, linear solver `method`,
+  !> the trapezoidal rule's dynamic steps when `dynamic`; sc%dt = dt. A
+  !> scene the scheme cannot step is the error.
+  subroutine start_implicit(sc, dt, method, dynamic, st, err)
     type(mpm_scene_t), intent(inout) :: sc
     real(dp), intent(in) :: dt
     integer, intent(in) :: method
+    logical, intent(in) :: dynamic
     type(implicit_stepper_t), intent(inout) :: st
     type(error_t), allocatable, intent(out) :: err
     character(len=:), allocatable :: why
     why = implicit_refusal(sc)
     if (len(why) > 0) then
-      call new_error(err, status_invalid, 'scheme', '&time scheme = ''implicit'': '//why)
+      call new_error(err, status_invalid, 'scheme', '&time scheme = '''// &
+                     trim(merge('newmark ', 'implicit', dynamic))//''': '//why)
       return
     end if
     sc%dt = dt
-    call st%start(dt, method)
+    call st%start(dt, method, sc, dynamic)
   end subroutine start_implicit
 
   !> The summary keys of the stepper's run, each prefixed by `tag`.
@@ -42,7 +45,8 @@ contains
     character(len=*), intent(in) :: tag
     type(implicit_stepper_t), intent(in) :: st
     associate (l => st%log(1:st%nlog))
-      call sm%add(tag//'implicit_steps', st%nlog, 'accepted Newton steps')
+      call sm%add(tag//'implicit_steps', st%nlog, 'accepted Newton steps ('// &
+                  trim(merge('dynamic, trapezoidal', 'quasi-static        ', st%dynamic))//')')
       call sm%add(tag//'linear_solver', trim(solver_names(st%opt%method)))
       call sm%add(tag//'newton_solves', st%total_solves(), 'linear solves over the steps')
       call sm%add(tag//'newton_solves_max', st%max_solves(), 'the most in one step')

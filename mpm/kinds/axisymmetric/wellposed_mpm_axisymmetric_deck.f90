@@ -7,7 +7,7 @@
 module wellposed_mpm_axisymmetric_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_mpm_method, only: scheme_implicit
+  use wellposed_mpm_method, only: implicit_scheme, scheme_names
   use wellposed_text, only: real_text, int_text
   use wellposed_deck, only: check_finite, lower, check_word, unset, is_set
   use wellposed_mpm_cli, only: mpm_cli_t
@@ -78,9 +78,10 @@ contains
     if (allocated(err)) return
     call read_sources(k, path, text, overrides, axi_groups, err)
     if (allocated(err)) return
-    if (sh%scheme_id == scheme_implicit) then
-      call new_error(err, status_invalid, 'scheme', path//': &time: scheme = ''implicit'' '// &
-                     'runs the bar and the plate only so far'); return
+    if (implicit_scheme(sh%scheme_id)) then
+      call new_error(err, status_invalid, 'scheme', path//': &time: scheme = '''// &
+                     trim(scheme_names(sh%scheme_id))//''' runs the bar and the plate '// &
+                     'only so far'); return
     end if
     associate (s => cfg%section)
       s%name = trim(sh%name); s%title = trim(sh%title)

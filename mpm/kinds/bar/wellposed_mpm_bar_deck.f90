@@ -19,6 +19,7 @@ module wellposed_mpm_bar_deck
   use wellposed_mpm_bar_config
   use wellposed_mpm_bar_reference, only: check_reference
   use wellposed_mpm_bar_cfl_limit, only: cfl_limit
+  use wellposed_mpm_method, only: implicit_scheme
   use wellposed_text, only: int_text, real_text
   implicit none
   private
@@ -152,7 +153,9 @@ contains
     character(len=:), allocatable, intent(out) :: note
     real(dp) :: limit
     character(len=12) :: lim_text, cfl_text
-    if (.not. mass_given) then
+    if (.not. mass_given .and. implicit_scheme(cfg%scheme)) then
+      cfg%mass = mass_lumped        ! the implicit schemes' (eq. 4.9), check_implicit
+    else if (.not. mass_given) then
       cfg%mass = mass_blended
       limit = cfl_limit(cfg%scheme, mass_blended, cfg%ppc)
       if (cfg%ppc == 1) then

@@ -40,7 +40,7 @@ module wellposed_mpm_bar_run
   use wellposed_mpm_bar_outputs, only: bar_stations_t, bar_energy_t, bar_nonlocal_t, &
                                        bar_snapshots_t, bar_progress_t
   use wellposed_mpm_bar_dissipation, only: bar_dissipation_t
-  use wellposed_mpm_method, only: scheme_implicit
+  use wellposed_mpm_method, only: implicit_scheme, scheme_newmark
   use wellposed_mpm_implicit_stepper, only: implicit_stepper_t
   use wellposed_mpm_implicit_run, only: start_implicit, implicit_summary, write_newton_csv
   implicit none
@@ -114,9 +114,10 @@ contains
     ! every rank builds the scene and keeps its strip (errors: the same on all)
     call new_mpm_ranks(r%ranks, comm)
     call new_scene(r%scene, r%cfg, err, r%ranks)
-    r%implicit = r%cfg%scheme == scheme_implicit
+    r%implicit = implicit_scheme(r%cfg%scheme)
     if (.not. allocated(err) .and. r%implicit) &
-      call start_implicit(r%scene, r%cfg%implicit_dt, r%cfg%linear_solver, r%stepper, err)
+      call start_implicit(r%scene, r%cfg%implicit_dt, r%cfg%linear_solver, &
+                         r%cfg%scheme == scheme_newmark, r%stepper, err)
     if (allocated(err)) call stop_all(comm, r%rd, cli%deck_path//': '//err%message)
     r%ghost = r%scene%exchange%ghost_layers()
     ! rank 0 makes the run folder; run.h5 in it is written by every rank

@@ -41,7 +41,7 @@ module wellposed_mpm_plate_run
   use wellposed_mpm_output, only: output_list_t, stage_start, stage_finish
   use wellposed_mpm_checkpoints, only: run_checkpoints_t, new_run_checkpoints
   use wellposed_mpm_run_loop, only: checkpoint_every, run_steps, loop_end_t
-  use wellposed_mpm_method, only: scheme_implicit
+  use wellposed_mpm_method, only: implicit_scheme, scheme_newmark
   use wellposed_mpm_implicit_stepper, only: implicit_stepper_t
   use wellposed_mpm_implicit_run, only: start_implicit, implicit_summary, write_newton_csv
   use wellposed_mpm_plate_outputs, only: plate_curve_t, plate_band_t, plate_watch_t, &
@@ -175,8 +175,9 @@ contains
           ' are both "'//trim(case_tag(r%study, ic))//'"; give distinct dx/scale or labels')
       end do
       call new_scene(sc, case_config(r%cfg0, r%study, ic), err, r%ranks)
-      if (.not. allocated(err) .and. r%cfg0%scheme == scheme_implicit) &
-        call start_implicit(sc, r%cfg0%implicit_dt, r%cfg0%linear_solver, st, err)
+      if (.not. allocated(err) .and. implicit_scheme(r%cfg0%scheme)) &
+        call start_implicit(sc, r%cfg0%implicit_dt, r%cfg0%linear_solver, &
+                           r%cfg0%scheme == scheme_newmark, st, err)
       if (allocated(err)) call stop_all(comm, r%rd, cli%deck_path//' (case '//int_text(ic)// &
                                         '): '//err%message)
     end do
@@ -189,8 +190,8 @@ contains
       call sm%add('scene', cfg0%name)
       call sm%add('cases', study%ncases)
       call sm%add('shape', trim(shape2d_names(cfg0%shape)))
-      call sm%add('scheme', trim(scheme_names(cfg0%scheme)), 'USL, MUSL or implicit '// &
-                  '(&time scheme)')
+      call sm%add('scheme', trim(scheme_names(cfg0%scheme)), 'USL, MUSL, implicit '// &
+                  'or newmark (&time scheme)')
       call sm%add('nonlocal_scheme', trim(nl_scheme_names(cfg0%nonlocal%scheme)))
       if (study%band_axis == 'x') then
         call sm%add('band_line', 'horizontal line y = band_y * scale through the band', &
@@ -282,9 +283,10 @@ contains
     s = r%study%scale(ic)
     call new_scene(c%sc, c%cfg, err, r%ranks)
     if (allocated(err)) call stop_all(comm, r%rd, err)
-    c%implicit = c%cfg%scheme == scheme_implicit
+    c%implicit = implicit_scheme(c%cfg%scheme)
     if (c%implicit) then
-      call start_implicit(c%sc, c%cfg%implicit_dt, c%cfg%linear_solver, c%stepper, err)
+      call start_implicit(c%sc, c%cfg%implicit_dt, c%cfg%linear_solver, &
+                          c%cfg%scheme == scheme_newmark, c%stepper, err)
       if (allocated(err)) call stop_all(comm, r%rd, err)
     end if
     c%nsteps_est = ceiling(c%cfg%t_end/c%sc%dt)
