@@ -43,6 +43,7 @@ module wellposed_mpm_scene
     procedure :: set_partial_sums => kind_set_no_sums
     procedure :: scalars => kind_no_sums
     procedure :: set_scalars => kind_set_no_sums
+    procedure :: radius => kind_no_radius
   end type scene_kind_t
 
   !> One running scene of `ndim` dimensions; its kind in `kind`, the
@@ -382,6 +383,14 @@ contains
     class(scene_kind_t), intent(inout) :: self
     class(mpm_scene_t), intent(inout) :: sc
   end subroutine kind_no_forces
+
+  !> Particle p's radius about the kind's axis of revolution at its position
+  !> x (0: the kind has none; the implicit step's hoop terms then vanish).
+  pure real(dp) function kind_no_radius(self, x) result(r)
+    class(scene_kind_t), intent(in) :: self
+    real(dp), intent(in) :: x(:)
+    r = 0.0_dp
+  end function kind_no_radius
 
   !> After the grid update, before G2P: a kind's change to the grid's
   !> answer (none by default); `reaction` (ndim) the fixed nodes' force.

@@ -11,20 +11,22 @@ module wellposed_mpm_implicit_forces
   use wellposed_mpm_linear_solver, only: linear_solver_t
   implicit none
   private
-  public :: residual, assemble, row_nonzeros
+  public :: residual, assemble, assemble_hoop, row_nonzeros
 
 contains
 
   !> R = f_ext + f_int (- inertia: the dynamic step's m a) on the free
   !> degrees of freedom dof(d, i) (0: not free); scale: the largest nodal
-  !> sum of |P G V_n| terms, |f_ext| and |inertia|.
-  subroutine residual(sc, dof, vn, r, scale, inertia)
+  !> sum of |P G V_n| terms, |f_ext| and |inertia|. An axisymmetric scene
+  !> gives each particle's radius and its step's hoop stretch r / r_n: J
+  !> takes the stretch and f_r,i the hoop stress's -phi_ip sigma_tt V / r.
+  subroutine residual(sc, dof, vn, r, scale, inertia, radius, stretch)
     type(mpm_scene_t), intent(in) :: sc
     integer, intent(in) :: dof(:, sc%grid%glo:)
     real(dp), intent(in) :: vn(:)
     real(dp), intent(out) :: r(:), scale
-    real(dp), intent(in), optional :: inertia(:, sc%grid%glo:)
-    real(dp) :: mag(sc%ndim, sc%grid%glo:sc%grid%ghi), pk(sc%ndim, sc%ndim), f
+    real(dp), intent(in), optional :: inertia(:, sc%grid%glo:), radius(:), stretch(:)
+    real(dp) :: mag(sc%ndim, sc%grid%glo:sc%grid%ghi), pk(sc%ndim, sc%ndim), f, hoop
     integer :: p, a, i, d, nd
     nd = sc%ndim
     associate (g => sc%grid, pt => sc%parts)
@@ -33,10 +35,16 @@ contains
       if (present(inertia)) mag = mag + abs(inertia)
       do p = 1, pt%n
         pk = first_piola(sc, p)
+        hoop = 0.0_dp
+        if (present(radius)) then
+          pk = pk*stretch(p)
+          hoop = pt%stress(3, p)*pt%vol(p)/radius(p)
+        end if
         do a = 1, sc%nnz(p)
           i = pt%node(a, p)
           do d = 1, nd
             f = dot_product(pk(d, :), pt%grad(1:nd, a, p))*vn(p)
+            if (d == 1) f = f + pt%phi(a, p)*hoop
             mag(d, i) = mag(d, i) + abs(f)
             if (dof(d, i) > 0) r(dof(d, i)) = r(dof(d, i)) - f
           end do
@@ -102,6 +110,54 @@ contains
       end do
     end associate
   end subroutine assemble
+
+  !> The hoop terms of A for an axisymmetric scene (radius(p): each
+  !> particle's): with the hoop strain's row of B, phi_b / r on the radial
+  !> dof, the entries of sum_p B^T DDSDDE B V that involve it (the in-plane
+  !> ones are assemble's). Small-strain: the hoop's geometric terms, of the
+  !> order of the stress over the stiffness, are left out.
+  subroutine assemble_hoop(sc, solver, dof, dtan, radius)
+    type(mpm_scene_t), intent(in) :: sc
+    type(linear_solver_t), intent(inout) :: solver
+    integer, intent(in) :: dof(:, sc%grid%glo:)
+    real(dp), intent(in) :: dtan(:, :), radius(:)
+    real(dp), allocatable :: ke(:, :), b(:, :, :)
+    integer, allocatable :: idx(:)
+    real(dp) :: dd(4, 4), v
+    integer :: p, a, c, d, e, m
+    allocate (ke(2*sc%parts%nsup, 2*sc%parts%nsup), idx(2*sc%parts%nsup), &
+              b(4, 2, sc%parts%nsup))
+    associate (pt => sc%parts)
+      do p = 1, pt%n
+        dd = reshape(dtan(1:16, p), [4, 4])
+        v = pt%vol(p)
+        m = sc%nnz(p)
+        ! B of node a: rows rr, zz, hoop, rz (engineering) by dofs r, z
+        b = 0.0_dp
+        do a = 1, m
+          idx(2*a - 1:2*a) = dof(:, pt%node(a, p))
+          b(1, 1, a) = pt%grad(1, a, p)
+          b(2, 2, a) = pt%grad(2, a, p)
+          b(3, 1, a) = pt%phi(a, p)/radius(p)
+          b(4, :, a) = [pt%grad(2, a, p), pt%grad(1, a, p)]
+        end do
+        do c = 1, m
+          do a = 1, m
+            do e = 1, 2
+              do d = 1, 2
+                ! the hoop row of node a against every row of node c, then
+                ! the in-plane rows of a against the hoop row of c
+                ke(2*(a - 1) + d, 2*(c - 1) + e) = v*(b(3, d, a)*dot_product(dd(3, :), &
+                  b(:, e, c)) + (b(1, d, a)*dd(1, 3) + b(2, d, a)*dd(2, 3) + &
+                  b(4, d, a)*dd(4, 3))*b(3, e, c))
+              end do
+            end do
+          end do
+        end do
+        call solver%add_block(idx(1:2*m), ke(1:2*m, 1:2*m))
+      end do
+    end associate
+  end subroutine assemble_hoop
 
   !> The largest number of entries in a row of A: ndim times the nodes
   !> within two particle supports (w nodes wide) of a node, (2w - 1)^ndim.

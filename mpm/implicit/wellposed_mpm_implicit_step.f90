@@ -12,7 +12,7 @@ module wellposed_mpm_implicit_step
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_shape_weights, only: shape_weights
   use wellposed_mpm_transfer, only: p2g, velocity_gradients
-  use wellposed_mpm_implicit_forces, only: residual, assemble, row_nonzeros
+  use wellposed_mpm_implicit_forces, only: residual, assemble, assemble_hoop, row_nonzeros
   use wellposed_mpm_nonlocal, only: nonlocal_solve, nonlocal_average
   use wellposed_anderson, only: anderson_t, new_anderson, anderson_step
   use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t, size_workspace, keep_start, &
@@ -68,11 +68,12 @@ contains
     why = ''
     select type (k => sc%kind)
     type is (bar_kind_t)
-    type is (plate_kind_t)
+    class is (plate_kind_t)
+      ! the plate and the axisymmetric cylinder (whose kind extends it)
       if (k%cfg%platen == platen_contact) why = 'the implicit scheme has no contact '// &
         'platen yet (&boundary platen = ''grid'' or ''surface'')'
     class default
-      why = 'the implicit scheme runs the bar and the plate only so far'
+      why = 'the implicit scheme runs the bar, the plate and the cylinder only so far'
     end select
     if (len(why) > 0) then
       return
@@ -138,8 +139,10 @@ contains
     type(anderson_t) :: acc
     logical :: accelerate
     integer, allocatable :: dof(:, :)
+    real(dp), allocatable :: radius(:), stretch(:)
     real(dp) :: given(sc%ndim), scale, rel
     integer :: n, nd, nfree, it, last, p, a
+    logical :: axi
     call size_workspace(sc)
     nd = sc%ndim
     associate (g => sc%grid, pt => sc%parts)
@@ -171,7 +174,10 @@ contains
         where (g%given(1:nd, a)) du(:, a) = given*sc%dt
       end do
       allocate (r(nfree), delta(nfree), dtan(sc%ntens**2, n), avg(n), xf(nfree), xn(nfree), &
-                source=0.0_dp)
+                radius(n), stretch(n), source=0.0_dp)
+      ! an axisymmetric kind: the hoop terms, from each particle's radius
+      axi = .false.
+      if (n > 0) axi = kind%radius(x0(:, 1)) > 0.0_dp
       accelerate = sc%nl%active .and. opt%anderson_depth > 0
       if (accelerate) call new_anderson(acc, nfree, opt%anderson_depth, 1.0_dp)
       call solver%setup(nfree, row_nonzeros(nd, pt%nsup), opt%method, err)
@@ -182,9 +188,17 @@ contains
         call restore()
         g%velocity(1:nd, :) = du/sc%dt
         call velocity_gradients(g, pt, n, sc%lgrad, sc%nnz)
+        ! the hoop strain is the radius's: the iterate's positions first
+        if (axi) call move_particles(sc, x0, du)
         last = kind%kinematics(sc)
         if (last <= n) then
           call fail('particle '//int_text(pt%gid(last))//' was turned inside out'); return
+        end if
+        if (axi) then
+          do p = 1, n
+            radius(p) = kind%radius(pt%x(:, p))
+            stretch(p) = pt%defgrad(3, 3, p)/f0(3, 3, p)
+          end do
         end if
         if (sc%nl%active) then
           call nonlocal_fixed_point(sc, x0, du, avg, rep%sweeps, err)
@@ -199,8 +213,12 @@ contains
           end if
         end do
         ! --- the residual on the free nodes and its scale
-        if (present(accel)) then
+        if (present(accel) .and. axi) then
+          call residual(sc, dof, v0, r, scale, newmark_inertia(sc, nm, du), radius, stretch)
+        else if (present(accel)) then
           call residual(sc, dof, v0, r, scale, newmark_inertia(sc, nm, du))
+        else if (axi) then
+          call residual(sc, dof, v0, r, scale, radius=radius, stretch=stretch)
         else
           call residual(sc, dof, v0, r, scale)
         end if
@@ -213,6 +231,7 @@ contains
         if (it == opt%max_iterations) exit
         ! --- the tangent A = -dR/du and the Newton correction A delta = R
         call assemble(sc, solver, dof, dtan, s0, v0)
+        if (axi) call assemble_hoop(sc, solver, dof, dtan, radius)
         if (present(accel)) call newmark_tangent(sc, solver, dof)
         call solver%solve(r, delta, err, last)
         if (allocated(err)) then
@@ -235,12 +254,12 @@ contains
                   ' iterations (relative residual '//real_text(rel)//')'); return
       end if
       ! --- the converged step: positions and velocities from du
-      do p = 1, n
-        do a = 1, nd
-          pt%x(a, p) = x0(a, p) + sum(pt%phi(1:sc%nnz(p), p)*du(a, pt%node(1:sc%nnz(p), p)))
-          if (.not. present(accel)) pt%v(a, p) = (pt%x(a, p) - x0(a, p))/sc%dt
+      call move_particles(sc, x0, du)
+      if (.not. present(accel)) then
+        do p = 1, n
+          pt%v(1:nd, p) = (pt%x(1:nd, p) - x0(1:nd, p))/sc%dt
         end do
-      end do
+      end if
       if (present(accel)) call newmark_particles(sc, nm, du, accel)
       call kind%bookkeeping(sc)
     end associate
@@ -281,6 +300,20 @@ contains
     sc%t = t0
   end subroutine step_loads
 
+  !> The particles at the step's grid displacement du from x0: x0 + sum phi du.
+  subroutine move_particles(sc, x0, du)
+    type(mpm_scene_t), intent(inout) :: sc
+    real(dp), intent(in) :: x0(:, :), du(:, sc%grid%glo:)
+    integer :: p, a
+    associate (pt => sc%parts)
+      do p = 1, pt%n
+        do a = 1, sc%ndim
+          pt%x(a, p) = x0(a, p) + sum(pt%phi(1:sc%nnz(p), p)*du(a, pt%node(1:sc%nnz(p), p)))
+        end do
+      end do
+    end associate
+  end subroutine move_particles
+
   !> The free dofs' values of du into x (dof(d, i) > 0: x(dof(d, i))).
   pure subroutine gather(dof, du, x)
     integer, intent(in) :: dof(:, :)
@@ -294,18 +327,27 @@ contains
     end do
   end subroutine gather
 
-  !> Free degrees of freedom dof(d, i): nodes in use (mass above the floor),
-  !> direction d neither fixed nor given, numbered 1 .. nfree (0: not free).
+  !> The free degrees of freedom: each direction of a node neither fixed nor
+  !> given, of mass above `touched` of the grid's largest, numbered 1 ..
+  !> nfree (0: not free). A node a particle's domain barely reaches (a
+  !> deformed CPDI corner past a node line) has next to no stiffness; as a
+  !> dof its displacement is whatever keeps its residual under the tolerance
+  !> (metres, next to a cylinder's end). Below `touched` a node keeps the
+  !> predictor's du, its particles' motion, as the explicit step moves it
+  !> (docs/research/implicit.md, "Nodes a particle barely reaches").
   subroutine number_dofs(sc, dof, nfree)
     type(mpm_scene_t), intent(in) :: sc
     integer, allocatable, intent(out) :: dof(:, :)
     integer, intent(out) :: nfree
+    real(dp), parameter :: touched = 1.0e-6_dp
+    real(dp) :: floor
     integer :: i, d
     associate (g => sc%grid)
       allocate (dof(sc%ndim, g%glo:g%ghi), source=0)
+      floor = max(sc%mass_floor, touched*maxval(g%mass))
       nfree = 0
       do i = g%glo, g%ghi
-        if (.not. g%mass(i) > sc%mass_floor) cycle
+        if (.not. g%mass(i) > floor) cycle
         do d = 1, sc%ndim
           if (g%fixed(d, i) .or. g%given(d, i)) cycle
           nfree = nfree + 1
@@ -328,16 +370,14 @@ contains
     integer, intent(inout) :: sweeps
     type(error_t), allocatable, intent(out) :: err
     real(dp), allocatable :: start(:)
-    integer :: p, a, n
+    integer :: p, n
     logical :: warm
     n = sc%parts%n
     associate (pt => sc%parts)
       do p = 1, n
         call keep_start(sc, p)
-        do a = 1, sc%ndim
-          pt%x(a, p) = x0(a, p) + sum(pt%phi(1:sc%nnz(p), p)*du(a, pt%node(1:sc%nnz(p), p)))
-        end do
       end do
+      call move_particles(sc, x0, du)
       sc%max_substeps_step = 1
       ! Algorithm 1 starts from the last solve's dlambda (the last iterate's,
       ! or at a step's first iterate the last step's): fewer sweeps

@@ -7,7 +7,6 @@
 module wellposed_mpm_axisymmetric_deck
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid
-  use wellposed_mpm_method, only: implicit_scheme, scheme_names
   use wellposed_text, only: real_text, int_text
   use wellposed_deck, only: check_finite, lower, check_word, unset, is_set
   use wellposed_mpm_cli, only: mpm_cli_t
@@ -78,16 +77,12 @@ contains
     if (allocated(err)) return
     call read_sources(k, path, text, overrides, axi_groups, err)
     if (allocated(err)) return
-    if (implicit_scheme(sh%scheme_id)) then
-      call new_error(err, status_invalid, 'scheme', path//': &time: scheme = '''// &
-                     trim(scheme_names(sh%scheme_id))//''' runs the bar and the plate '// &
-                     'only so far'); return
-    end if
     associate (s => cfg%section)
       s%name = trim(sh%name); s%title = trim(sh%title)
       s%dx = sh%dx; s%ppc = sh%ppc; s%pad_cells = sh%pad_cells
       s%shape = sh%shape_id; s%scheme = sh%scheme_id
       s%t_end = sh%t_end; s%cfl = sh%cfl
+      s%implicit_dt = sh%implicit_dt; s%linear_solver = sh%linear_solver_id
       s%visc_a1 = sh%visc_a1; s%visc_a2 = sh%visc_a2
       s%materials = sh%materials; s%density = sh%density; s%nonlocal = sh%nonlocal
       cfg%snapshot_dt = sh%snapshot_dt; cfg%sample_dt = sh%sample_dt

@@ -27,6 +27,7 @@ module wellposed_mpm_axisymmetric_kind
     procedure :: forces => axi_forces
     procedure :: conditions => axi_conditions
     procedure :: kinematics => axi_kinematics
+    procedure :: radius => axi_radius
   end type axi_kind_t
 
 contains
@@ -156,6 +157,13 @@ contains
       end if
     end do
   end subroutine axi_conditions
+
+  !> The radius of the section's point x (x(1) = r - r_inner).
+  pure real(dp) function axi_radius(self, x) result(r)
+    class(axi_kind_t), intent(in) :: self
+    real(dp), intent(in) :: x(:)
+    r = x(1) + self%axi%r_inner
+  end function axi_radius
 
   !> The plate's kinematics in the section, then the hoop part of each
   !> particle: the hoop stretch F_33 = r/r_0, the increment de_33 =

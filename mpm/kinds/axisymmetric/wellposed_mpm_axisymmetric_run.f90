@@ -39,6 +39,9 @@ module wellposed_mpm_axisymmetric_run
   use wellposed_mpm_plate_stations, only: new_plate_stations
   use wellposed_mpm_axisymmetric_closed_forms, only: axi_closed_form_t
   use wellposed_checked_io, only: out_file_t
+  use wellposed_mpm_method, only: implicit_scheme, scheme_newmark, scheme_names
+  use wellposed_mpm_implicit_stepper, only: implicit_stepper_t
+  use wellposed_mpm_implicit_run, only: start_implicit, implicit_summary, write_newton_csv
   implicit none
   private
   public :: run_axi
@@ -62,6 +65,9 @@ module wellposed_mpm_axisymmetric_run
     type(axi_stations_t) :: stations
     type(output_list_t) :: outs, resumed
     type(loop_end_t) :: ended
+    !> the implicit schemes' steps (&time scheme = 'implicit' or 'newmark')
+    logical :: implicit = .false.
+    type(implicit_stepper_t) :: stepper
   end type axi_run_t
 
 contains
@@ -89,8 +95,13 @@ contains
       call r%outs%ask(stage_start, r%sc, comm, err)
       if (allocated(err)) call stop_all(comm, r%rd, err)
     end if
-    call run_steps(r%sc, r%cfg%section%t_end, r%outs, r%cks, comm, r%cfg%stop_on_cutback, &
-                   r%ended, err)
+    if (r%implicit) then
+      call run_steps(r%sc, r%cfg%section%t_end, r%outs, r%cks, comm, r%cfg%stop_on_cutback, &
+                     r%ended, err, r%stepper)
+    else
+      call run_steps(r%sc, r%cfg%section%t_end, r%outs, r%cks, comm, r%cfg%stop_on_cutback, &
+                     r%ended, err)
+    end if
     if (allocated(err)) call stop_all(comm, r%rd, err)
     if (r%ended%early .and. comm%rank == 0) write (output_unit, '(a)') '  ended at t = '// &
       real_text(r%sc%t)//' s (&time stop_on_cutback): '//trim(r%ended%message)
@@ -114,6 +125,12 @@ contains
     if (len(cli%run_name) > 0) r%cfg%section%name = cli%run_name
     call new_axi_scene(r%sc, r%cfg, err, r%ranks)
     if (allocated(err)) call stop_all(comm, r%rd, err)
+    r%implicit = implicit_scheme(r%cfg%section%scheme)
+    if (r%implicit) then
+      call start_implicit(r%sc, r%cfg%section%implicit_dt, r%cfg%section%linear_solver, &
+                          r%cfg%section%scheme == scheme_newmark, r%stepper, err)
+      if (allocated(err)) call stop_all(comm, r%rd, cli%deck_path//': '//err%message)
+    end if
     nsteps_est = ceiling(r%cfg%section%t_end/r%sc%dt)
     r%cks = new_run_checkpoints(cli%out_root, r%cfg%section%name, cli%ck_every, cli%ck_file, &
                                 r%deck_text, r%rd)
@@ -163,6 +180,8 @@ contains
       call r%sm%add('scene', s%name)
       call r%sm%add('kind', 'axisymmetric')
       call r%sm%add('shape', trim(shape2d_names(s%shape)))
+      call r%sm%add('scheme', trim(scheme_names(s%scheme)), 'USL, MUSL, implicit or '// &
+                    'newmark (&time scheme)')
       call r%sm%add('r_inner', r%cfg%r_inner, 'm')
       call r%sm%add('r_outer', r%cfg%r_inner + s%width, 'm')
       call r%sm%add('height', s%height, 'm')
@@ -200,6 +219,7 @@ contains
       call sm%add('ns_per_particle_step', &
                   wall*1.0e9_dp/max(1.0_dp, real(sc%ntotal, dp)*sc%nstep))
       call sm%add('max_substeps', nsub)
+      if (r%implicit) call implicit_summary(sm, '', r%stepper)
       call sm%add('max_plastic_strain', r%curve%peak_at(1))
       call sm%add('ended_early', r%ended%early, 'true: the UMAT could not go on '// &
                   '(&time stop_on_cutback); the run ends at final_time')
@@ -212,6 +232,8 @@ contains
                                     2, 'rz', err)
       if (allocated(err)) call stop_alone(comm, r%rd, err)
       call write_curve(r%rd%path('curve.csv'), r%curve, err)
+      if (allocated(err)) call stop_alone(comm, r%rd, err)
+      if (r%implicit) call write_newton_csv(r%rd%path('newton.csv'), r%stepper, err)
       if (allocated(err)) call stop_alone(comm, r%rd, err)
     end associate
     if (r%cfg%plot .and. .not. cli%no_plot) then

@@ -3,7 +3,7 @@
 
 check_closed_form.py --form lame|hill --program wellposed-mpm --deck DECK --out DIR
                      --dx H1 H2 [...] --stress-bound B1 B2 [...] --hoop-bound C1 C2 [...]
-                     --min-order P [--u-bound U] [--radius-tol R]
+                     --min-order P [--u-bound U] [--radius-tol R] [--override KEY=VALUE ...]
 
 Runs DECK once per cell size H (overrides grid.dx=H, --no-plot) into DIR and
 reads each summary.txt: <form>_stress_error (relative L2 of the normal
@@ -34,6 +34,7 @@ def main():
     ap.add_argument("--min-order", type=float, required=True)
     ap.add_argument("--u-bound", type=float)
     ap.add_argument("--radius-tol", type=float)
+    ap.add_argument("--override", nargs="+", default=[])
     a = ap.parse_args()
     if not (len(a.dx) == len(a.stress_bound) == len(a.hoop_bound)):
         sys.exit("check_closed_form.py: give one stress and one hoop bound per --dx")
@@ -44,7 +45,7 @@ def main():
     for h in a.dx:
         name = "%s_dx%g" % (a.form, h)
         p = subprocess.run([a.program, a.deck, "--out", a.out, "--name", name, "--no-plot",
-                            "grid.dx=%r" % h], capture_output=True, text=True)
+                            "grid.dx=%r" % h] + a.override, capture_output=True, text=True)
         if p.returncode != 0:
             sys.exit("run at dx = %g failed:\n%s%s" % (h, p.stdout, p.stderr))
         s = read_summary(os.path.join(a.out, name))
