@@ -49,21 +49,31 @@ contains
   !> Error unless the run takes 1 to max_steps steps of dt = cfl dx /
   !> sqrt(modulus/density) to t_end (more only with `force`): a run of no
   !> step would write a finished-looking result, one of too many would not end.
-  subroutine check_steps(path, t_end, cfl, dx, density, modulus, force, err)
+  !> `implicit_dt` > 0: the implicit schemes' largest step in its place.
+  subroutine check_steps(path, t_end, cfl, dx, density, modulus, force, err, implicit_dt)
     character(len=*), intent(in) :: path
     real(dp), intent(in) :: t_end, cfl, dx, density, modulus
     logical, intent(in) :: force
     type(error_t), allocatable, intent(out) :: err
+    real(dp), intent(in), optional :: implicit_dt
     real(dp) :: dt, nsteps
-    character(len=:), allocatable :: how
+    character(len=:), allocatable :: how, keys
     dt = cfl*dx/sqrt(modulus/density)
-    nsteps = t_end/dt
     how = ' (dt = cfl dx / c = '//real_text(dt)//' s with c = sqrt(M/density) = '// &
       real_text(sqrt(modulus/density))//' m/s, M probed through the UMAT)'
+    keys = '&time t_end, &grid dx and the &material density'
+    if (present(implicit_dt)) then
+      if (implicit_dt > 0.0_dp) then
+        dt = implicit_dt
+        how = ' (&time dt = '//real_text(dt)//' s, the implicit schemes'' largest step)'
+        keys = '&time t_end and dt'
+      end if
+    end if
+    nsteps = t_end/dt
     if (.not. nsteps >= 1.0_dp) then
       call new_error(err, status_invalid, 't_end', path//': &time: t_end = '// &
         real_text(t_end)//' s is shorter than one time step'//how//': the run would take '// &
-        'no step (check &time t_end, &grid dx and the &material density)')
+        'no step (check '//keys//')')
     else if (nsteps > real(huge(1), dp)) then
       call new_error(err, status_invalid, 't_end', path//': &time: t_end = '// &
         real_text(t_end)//' s needs about '//real_text(nsteps)//' time steps'//how// &
@@ -72,7 +82,7 @@ contains
       call new_error(err, status_invalid, 't_end', path//': &time: t_end = '// &
         real_text(t_end)//' s needs about '//real_text(nsteps)//' time steps'//how// &
         ', more than the limit of '//real_text(max_steps)//' (docs/guide/decks.md): check '// &
-        '&time t_end, &grid dx and the &material density, or pass --force to run it')
+        keys//', or pass --force to run it')
     end if
   end subroutine check_steps
   !> &time dt of the implicit schemes (docs/research/implicit.md): refused

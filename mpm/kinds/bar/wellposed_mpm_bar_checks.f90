@@ -14,6 +14,7 @@ module wellposed_mpm_bar_checks
   use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_text, only: int_text, real_text
   use wellposed_deck, only: unheld_stress_note
+  use wellposed_mpm_method, only: implicit_scheme
   use wellposed_mpm_deck_checks, only: check_times, step_inputs, check_steps
   use wellposed_mpm_bar_config, only: bar_config_t, bc_free, pulse_ramp_sine
   use wellposed_mpm_bar_deck, only: read_bar_deck, bar_options_t
@@ -299,7 +300,8 @@ contains
       end if
       m = max(m, m_el, m_pl)
     end do
-    call check_steps(path, cfg%t_end, cfg%cfl, cfg%dx, cfg%density, m, force, err)
+    call check_steps(path, cfg%t_end, cfg%cfl, cfg%dx, cfg%density, m, force, err, &
+                     merge(cfg%implicit_dt, 0.0_dp, implicit_scheme(cfg%scheme)))
   end subroutine bar_steps
 
   !> Why a bar's probed moduli give no time step: the elastic one or the

@@ -10,6 +10,7 @@ module wellposed_mpm_plate_checks
   use wellposed_mpm_cli, only: mpm_cli_t
   use wellposed_text, only: int_text, real_text
   use wellposed_umat_host, only: umat_host_t, new_umat_host
+  use wellposed_mpm_method, only: implicit_scheme
   use wellposed_mpm_deck_checks, only: check_times, step_inputs, check_steps
   use wellposed_mpm_plate_config, only: plate_config_t
   use wellposed_mpm_plate_deck, only: read_plate_deck, plate_study_t
@@ -91,7 +92,8 @@ contains
       m = max(m, -ds(1)/1.0e-7_dp)
     end do
     if (.not. (m > 0.0_dp .and. ieee_is_finite(m))) return   ! the scene's check says why
-    call check_steps(path, cfg%t_end, cfg%cfl, dx, cfg%density, m, force, err)
+    call check_steps(path, cfg%t_end, cfg%cfl, dx, cfg%density, m, force, err, &
+                     merge(cfg%implicit_dt, 0.0_dp, implicit_scheme(cfg%scheme)))
     if (allocated(err)) return
     c = sqrt(m/cfg%density)
     if (.not. abs(cfg%top_velocity) < c) then
