@@ -4,8 +4,8 @@
 !> m a, wellposed_mpm_newmark), the stress from the UMAT over du (eq. 4.11
 !> with v = du/dt), the tangent from its DDSDDE (consistent; nonsymmetric
 !> for a nonassociative model; forces: wellposed_mpm_implicit_forces). One
-!> rank, the bar and the plate; a nonlocal model runs Algorithm 1 in every
-!> iteration (Anderson-accelerated). The explicit step's scene and kind.
+!> rank; the bar, the plate and the cylinder; a nonlocal model runs Algorithm 1 in
+!> every iteration (Anderson-accelerated). The explicit step's scene and kind.
 module wellposed_mpm_implicit_step
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
