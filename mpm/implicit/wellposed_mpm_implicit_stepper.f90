@@ -33,6 +33,8 @@ module wellposed_mpm_implicit_stepper
     type(linear_solver_t) :: solver
     real(dp) :: dt_max = 0.0_dp, dt_next = 0.0_dp
     integer :: cutbacks = 0, nlog = 0
+    !> continued from a checkpoint: the log holds the steps since
+    logical :: restarted = .false.
     !> the trapezoidal rule's dynamic steps: the particles' accelerations
     !> (ndim, n; from rest: zero at the start)
     logical :: dynamic = .false.

@@ -20,15 +20,23 @@ contains
 
   !> The stepper of scene sc: steps of at most dt, linear solver `method`,
   !> the trapezoidal rule's dynamic steps when `dynamic`; sc%dt = dt. A
-  !> scene the scheme cannot step is the error.
-  subroutine start_implicit(sc, dt, method, dynamic, st, err)
+  !> scene the scheme cannot step is the error, and so is a dynamic run
+  !> that `restart`s: a checkpoint lacks the particles' accelerations.
+  subroutine start_implicit(sc, dt, method, dynamic, restart, st, err)
     type(mpm_scene_t), intent(inout) :: sc
     real(dp), intent(in) :: dt
     integer, intent(in) :: method
-    logical, intent(in) :: dynamic
+    logical, intent(in) :: dynamic, restart
     type(implicit_stepper_t), intent(inout) :: st
     type(error_t), allocatable, intent(out) :: err
     character(len=:), allocatable :: why
+    if (dynamic .and. restart) then
+      call new_error(err, status_invalid, 'restart', '--restart: a run of &time scheme = '// &
+        '''newmark'' cannot continue from a checkpoint yet: the checkpoint lacks the '// &
+        'particles'' accelerations, and starting them from zero would change the run; '// &
+        'run the deck again from its start')
+      return
+    end if
     why = implicit_refusal(sc)
     if (len(why) > 0) then
       call new_error(err, status_invalid, 'scheme', '&time scheme = '''// &
@@ -37,6 +45,7 @@ contains
     end if
     sc%dt = dt
     call st%start(dt, method, sc, dynamic)
+    st%restarted = restart
   end subroutine start_implicit
 
   !> The summary keys of the stepper's run, each prefixed by `tag`.
@@ -47,6 +56,8 @@ contains
     associate (l => st%log(1:st%nlog))
       call sm%add(tag//'implicit_steps', st%nlog, 'accepted Newton steps ('// &
                   trim(merge('dynamic, trapezoidal', 'quasi-static        ', st%dynamic))//')')
+      if (st%restarted) call sm%add(tag//'implicit_since_restart', .true., 'the implicit '// &
+        'keys and the Newton history count the steps since the run continued')
       call sm%add(tag//'linear_solver', trim(solver_names(st%opt%method)))
       call sm%add(tag//'newton_solves', st%total_solves(), 'linear solves over the steps')
       call sm%add(tag//'newton_solves_max', st%max_solves(), 'the most in one step')

@@ -128,7 +128,7 @@ contains
     r%implicit = implicit_scheme(r%cfg%section%scheme)
     if (r%implicit) then
       call start_implicit(r%sc, r%cfg%section%implicit_dt, r%cfg%section%linear_solver, &
-                          r%cfg%section%scheme == scheme_newmark, r%stepper, err)
+                          r%cfg%section%scheme == scheme_newmark, cli%restart, r%stepper, err)
       if (allocated(err)) call stop_all(comm, r%rd, cli%deck_path//': '//err%message)
     end if
     nsteps_est = ceiling(r%cfg%section%t_end/r%sc%dt)

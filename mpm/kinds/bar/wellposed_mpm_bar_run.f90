@@ -117,7 +117,7 @@ contains
     r%implicit = implicit_scheme(r%cfg%scheme)
     if (.not. allocated(err) .and. r%implicit) &
       call start_implicit(r%scene, r%cfg%implicit_dt, r%cfg%linear_solver, &
-                         r%cfg%scheme == scheme_newmark, r%stepper, err)
+                         r%cfg%scheme == scheme_newmark, cli%restart, r%stepper, err)
     if (allocated(err)) call stop_all(comm, r%rd, cli%deck_path//': '//err%message)
     r%ghost = r%scene%exchange%ghost_layers()
     ! rank 0 makes the run folder; run.h5 in it is written by every rank

@@ -177,7 +177,7 @@ contains
       call new_scene(sc, case_config(r%cfg0, r%study, ic), err, r%ranks)
       if (.not. allocated(err) .and. implicit_scheme(r%cfg0%scheme)) &
         call start_implicit(sc, r%cfg0%implicit_dt, r%cfg0%linear_solver, &
-                           r%cfg0%scheme == scheme_newmark, st, err)
+                           r%cfg0%scheme == scheme_newmark, cli%restart, st, err)
       if (allocated(err)) call stop_all(comm, r%rd, cli%deck_path//' (case '//int_text(ic)// &
                                         '): '//err%message)
     end do
@@ -286,7 +286,8 @@ contains
     c%implicit = implicit_scheme(c%cfg%scheme)
     if (c%implicit) then
       call start_implicit(c%sc, c%cfg%implicit_dt, c%cfg%linear_solver, &
-                          c%cfg%scheme == scheme_newmark, c%stepper, err)
+                          c%cfg%scheme == scheme_newmark, cli%restart .and. ic == r%ic0, &
+                          c%stepper, err)
       if (allocated(err)) call stop_all(comm, r%rd, err)
     end if
     c%nsteps_est = ceiling(c%cfg%t_end/c%sc%dt)
