@@ -139,7 +139,8 @@ contains
     type(anderson_t) :: acc
     logical :: accelerate
     integer, allocatable :: dof(:, :)
-    real(dp), allocatable :: radius(:), stretch(:)
+    ! the optional terms of the residual: unallocated, they are absent there
+    real(dp), allocatable :: radius(:), stretch(:), inertia(:, :)
     real(dp) :: given(sc%ndim), scale, rel
     integer :: n, nd, nfree, it, last, p, a
     logical :: axi
@@ -174,10 +175,11 @@ contains
         where (g%given(1:nd, a)) du(:, a) = given*sc%dt
       end do
       allocate (r(nfree), delta(nfree), dtan(sc%ntens**2, n), avg(n), xf(nfree), xn(nfree), &
-                radius(n), stretch(n), source=0.0_dp)
+                source=0.0_dp)
       ! an axisymmetric kind: the hoop terms, from each particle's radius
       axi = .false.
       if (n > 0) axi = kind%radius(x0(:, 1)) > 0.0_dp
+      if (axi) allocate (radius(n), stretch(n))
       accelerate = sc%nl%active .and. opt%anderson_depth > 0
       if (accelerate) call new_anderson(acc, nfree, opt%anderson_depth, 1.0_dp)
       call solver%setup(nfree, row_nonzeros(nd, pt%nsup), opt%method, err)
@@ -213,15 +215,8 @@ contains
           end if
         end do
         ! --- the residual on the free nodes and its scale
-        if (present(accel) .and. axi) then
-          call residual(sc, dof, v0, r, scale, newmark_inertia(sc, nm, du), radius, stretch)
-        else if (present(accel)) then
-          call residual(sc, dof, v0, r, scale, newmark_inertia(sc, nm, du))
-        else if (axi) then
-          call residual(sc, dof, v0, r, scale, radius=radius, stretch=stretch)
-        else
-          call residual(sc, dof, v0, r, scale)
-        end if
+        if (present(accel)) inertia = newmark_inertia(sc, nm, du)
+        call residual(sc, dof, v0, r, scale, inertia, radius, stretch)
         rel = maxval(abs(r))/max(scale, tiny(1.0_dp))
         rep%residual(it) = rel
         if (rel <= opt%rtol) then

@@ -89,11 +89,8 @@ contains
     if (t_end - sc%t - dt < 1.0e-3_dp*dt) dt = t_end - sc%t
     do
       sc%dt = dt
-      if (self%dynamic) then
-        call advance_implicit(sc, self%solver, self%opt, rep, err, self%accel)
-      else
-        call advance_implicit(sc, self%solver, self%opt, rep, err)
-      end if
+      ! quasi-static: accel unallocated, so absent in advance_implicit
+      call advance_implicit(sc, self%solver, self%opt, rep, err, self%accel)
       if (.not. allocated(err)) exit
       if (err%status /= status_cutback) return
       self%cutbacks = self%cutbacks + 1
