@@ -21,7 +21,7 @@ module wellposed_mpm_step
                                  timer_grid, timer_umat, keep_start
   implicit none
   private
-  public :: advance
+  public :: advance, hand_off
 
 contains
 
@@ -158,20 +158,28 @@ contains
   end subroutine tick
 
   !> Particles to the rank of their cell layer (collective), with their
-  !> material and viscous pressure; the workspace follows the capacity.
-  subroutine hand_off(self, err)
+  !> material and viscous pressure and, given, the columns of `carry` (rows
+  !> x particles: what else travels with them, such as the implicit
+  !> dynamic step's accelerations); the workspace follows the capacity.
+  subroutine hand_off(self, err, carry)
     type(mpm_scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
+    real(dp), allocatable, intent(inout), optional :: carry(:, :)
     real(dp), allocatable :: extra(:, :)
-    integer :: n, moved
+    integer :: n, moved, nc
     if (self%exchange%nranks() == 1) then
       call size_workspace(self)
       return
     end if
     n = self%parts%n
-    allocate (extra(2, size(self%parts%gid)))
+    nc = 0
+    if (present(carry)) then
+      if (allocated(carry)) nc = size(carry, 1)
+    end if
+    allocate (extra(2 + nc, size(self%parts%gid)))
     extra(1, 1:n) = self%q(1:n)
     extra(2, 1:n) = real(self%mat(1:n), dp)
+    if (nc > 0) extra(3:, 1:n) = carry(:, 1:n)
     call self%exchange%hand_off(self%parts, extra, err, moved)
     if (allocated(err)) return
     self%moved = self%moved + moved
@@ -179,6 +187,7 @@ contains
     call size_workspace(self)
     self%q(1:n) = extra(1, 1:n)
     self%mat(1:n) = nint(extra(2, 1:n))
+    if (nc > 0) carry = extra(3:, 1:n)
   end subroutine hand_off
 
   !> Bulk artificial viscosity of particle p (shared reference B): q = rho

@@ -47,6 +47,9 @@ module wellposed_mpm_exchange
     procedure(ex_int), deferred :: rank
     !> ghost node layers of the patches
     procedure(ex_int), deferred :: ghost_layers
+    !> the Fortran handle of the ranks' MPI communicator (MPI_Comm%MPI_VAL,
+    !> for a library such as PETSc); -1 for one process without MPI
+    procedure(ex_int), deferred :: mpi_handle
   end type mpm_exchange_t
 
   abstract interface
@@ -121,6 +124,7 @@ module wellposed_mpm_exchange
     procedure :: rank => serial_rank
     procedure :: nranks => serial_nranks
     procedure :: ghost_layers => serial_ghost
+    procedure :: mpi_handle => serial_handle
     procedure :: nodes_from_lower => serial_nodes
     procedure :: nodes_to_higher => serial_nodes
     procedure :: nodes_from_highest => serial_nodes
@@ -254,6 +258,11 @@ contains
     class(mpm_serial_t), intent(in) :: self
     serial_ghost = 0
   end function serial_ghost
+
+  integer function serial_handle(self)
+    class(mpm_serial_t), intent(in) :: self
+    serial_handle = -1
+  end function serial_handle
 
   subroutine serial_nodes(self, values)
     class(mpm_serial_t), intent(inout) :: self

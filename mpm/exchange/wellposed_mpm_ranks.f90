@@ -10,7 +10,8 @@ module wellposed_mpm_ranks
   use wellposed_error, only: error_t
   use wellposed_text, only: int_text
   use wellposed_mpi, only: comm_t, allreduce_sum, allreduce_max, allreduce_any, gatherv_real, &
-                           broadcast, sendrecv_real, allreduce_min
+                           broadcast, sendrecv_real, allreduce_min, &
+                           legacy_handles
   use wellposed_mpm_grid, only: grid_t
   use wellposed_mpm_particles, only: particles_t
   use wellposed_mpm_exchange, only: mpm_exchange_t, check_patch_support
@@ -43,6 +44,7 @@ module wellposed_mpm_ranks
     procedure :: rank => ranks_rank
     procedure :: nranks => ranks_nranks
     procedure :: ghost_layers => ranks_ghost
+    procedure :: mpi_handle => ranks_handle
     procedure :: nodes_from_lower => ranks_from_lower
     procedure :: nodes_to_higher => ranks_to_higher
     procedure :: nodes_from_highest => ranks_from_highest
@@ -186,6 +188,12 @@ contains
     class(mpm_ranks_t), intent(in) :: self
     ranks_nranks = self%comm%size
   end function ranks_nranks
+
+  integer function ranks_handle(self)
+    class(mpm_ranks_t), intent(in) :: self
+    integer :: info
+    call legacy_handles(self%comm, ranks_handle, info)
+  end function ranks_handle
 
   integer function ranks_ghost(self)
     class(mpm_ranks_t), intent(in) :: self

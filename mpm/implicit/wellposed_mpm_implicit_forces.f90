@@ -16,23 +16,29 @@ module wellposed_mpm_implicit_forces
 contains
 
   !> R = f_ext + f_int (- inertia: the dynamic step's m a) on the free
-  !> degrees of freedom dof(d, i) (0: not free); scale: the largest nodal
-  !> sum of |P G V_n| terms, |f_ext| and |inertia|. An axisymmetric scene
-  !> gives each particle's radius and its step's hoop stretch r / r_n: J
-  !> takes the stretch and f_r,i the hoop stress's -phi_ip sigma_tt V / r.
-  subroutine residual(sc, dof, vn, r, scale, inertia, radius, stretch)
+  !> degrees of freedom dof(d, i) (0: not free), this rank's share: its
+  !> particles' forces, and the loads and inertia of the nodes it owns
+  !> (g%ilo .. g%ihi: every node on one rank); mag, the same share of each
+  !> node's sum of |P G V_n| terms, |f_ext| and |inertia|, whose largest is
+  !> the residual's scale (wellposed_mpm_implicit_dofs sums the shares). An
+  !> axisymmetric scene gives each particle's radius and its step's hoop
+  !> stretch r / r_n: J takes the stretch and f_r,i the hoop stress's
+  !> -phi_ip sigma_tt V / r.
+  subroutine residual(sc, dof, vn, r, mag, inertia, radius, stretch)
     type(mpm_scene_t), intent(in) :: sc
     integer, intent(in) :: dof(:, sc%grid%glo:)
     real(dp), intent(in) :: vn(:)
-    real(dp), intent(out) :: r(:), scale
+    real(dp), intent(out) :: r(:), mag(:, sc%grid%glo:)
     real(dp), intent(in), optional :: inertia(:, sc%grid%glo:), radius(:), stretch(:)
-    real(dp) :: mag(sc%ndim, sc%grid%glo:sc%grid%ghi), pk(sc%ndim, sc%ndim), f, hoop
+    real(dp) :: pk(sc%ndim, sc%ndim), f, hoop
     integer :: p, a, i, d, nd
     nd = sc%ndim
     associate (g => sc%grid, pt => sc%parts)
       r = 0.0_dp
-      mag = abs(g%fext(1:nd, :))
-      if (present(inertia)) mag = mag + abs(inertia)
+      mag = 0.0_dp
+      mag(:, g%ilo:g%ihi) = abs(g%fext(1:nd, g%ilo:g%ihi))
+      if (present(inertia)) mag(:, g%ilo:g%ihi) = mag(:, g%ilo:g%ihi) + &
+        abs(inertia(:, g%ilo:g%ihi))
       do p = 1, pt%n
         pk = first_piola(sc, p)
         hoop = 0.0_dp
@@ -50,14 +56,13 @@ contains
           end do
         end do
       end do
-      do i = g%glo, g%ghi
+      do i = g%ilo, g%ihi
         do d = 1, nd
           if (dof(d, i) <= 0) cycle
           r(dof(d, i)) = r(dof(d, i)) + g%fext(d, i)
           if (present(inertia)) r(dof(d, i)) = r(dof(d, i)) - inertia(d, i)
         end do
       end do
-      scale = maxval(mag)
     end associate
   end subroutine residual
 

@@ -2,18 +2,21 @@
 !> grid displacement increment du, R(du) = f_int + f_ext(t + dt) = 0 on the
 !> free nodes (eq. 4.5 without inertia; dynamic: minus the trapezoidal rule's
 !> m a, wellposed_mpm_newmark), the stress from the UMAT over du (eq. 4.11
-!> with v = du/dt), the tangent from its DDSDDE (consistent; nonsymmetric
-!> for a nonassociative model; forces: wellposed_mpm_implicit_forces). One
-!> rank; the bar, the plate and the cylinder; a nonlocal model runs Algorithm 1 in
-!> every iteration (Anderson-accelerated). The explicit step's scene and kind.
+!> with v = du/dt), the tangent from its DDSDDE (consistent, nonsymmetric
+!> for a nonassociative model; wellposed_mpm_implicit_forces). The bar, the
+!> plate and the cylinder, on any ranks (wellposed_mpm_implicit_dofs); a
+!> nonlocal model runs Algorithm 1 in every iteration (Anderson-accelerated).
 module wellposed_mpm_implicit_step
+  use, intrinsic :: iso_fortran_env, only: int64
   use wellposed_kinds, only: dp
   use wellposed_error, only: error_t, new_error, status_invalid, status_cutback
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_shape_weights, only: shape_weights
   use wellposed_mpm_transfer, only: p2g, velocity_gradients
   use wellposed_mpm_implicit_forces, only: residual, assemble, assemble_hoop, row_nonzeros
-  use wellposed_mpm_nonlocal, only: nonlocal_solve, nonlocal_average
+  use wellposed_mpm_implicit_dofs, only: number_dofs, gather_free, complete_residual
+  use wellposed_mpm_grid, only: cell_layer
+  use wellposed_mpm_nonlocal, only: nonlocal_solve, nonlocal_average, sweep_key
   use wellposed_anderson, only: anderson_t, new_anderson, anderson_step
   use wellposed_mpm_scene, only: mpm_scene_t, scene_kind_t, size_workspace, keep_start, &
                                  restore_start
@@ -77,8 +80,6 @@ contains
     end select
     if (len(why) > 0) then
       return
-    else if (sc%exchange%nranks() /= 1) then
-      why = 'the implicit scheme runs on one rank only so far'
     else if (sc%visc_a1 > 0.0_dp .or. sc%visc_a2 > 0.0_dp) then
       why = no_viscosity
     end if
@@ -98,7 +99,9 @@ contains
   !> converged state, their positions moved by the interpolated du and v =
   !> du/dt (dynamic: the trapezoidal update, accel the end's). An error
   !> leaves the scene and accel at the step's start (status_cutback: Newton
-  !> did not converge, or the UMAT asked for a smaller step).
+  !> did not converge, or the UMAT asked for a smaller step). Collective
+  !> over the scene's ranks (the particles already on their ranks: hand_off
+  !> of wellposed_mpm_step), an error on one rank an error on every rank.
   subroutine advance_implicit(sc, solver, opt, rep, err, accel)
     type(mpm_scene_t), intent(inout) :: sc
     type(linear_solver_t), intent(inout) :: solver
@@ -139,10 +142,11 @@ contains
     type(anderson_t) :: acc
     logical :: accelerate
     integer, allocatable :: dof(:, :)
+    integer(int64), allocatable :: skey(:)
     ! the optional terms of the residual: unallocated, they are absent there
-    real(dp), allocatable :: radius(:), stretch(:), inertia(:, :)
+    real(dp), allocatable :: radius(:), stretch(:), inertia(:, :), mag(:, :)
     real(dp) :: given(sc%ndim), scale, rel
-    integer :: n, nd, nfree, it, last, p, a
+    integer :: n, nd, nfree, it, last, p, a, rows(2)
     logical :: axi
     call size_workspace(sc)
     nd = sc%ndim
@@ -150,12 +154,14 @@ contains
       n = pt%n
       call shape_weights(sc%shape, pt, sc%origin, sc%dx, sc%nx, sc%nnz)
       call sc%exchange%check_support(pt, g, err)
+      call sc%exchange%sync_error(err)
       if (allocated(err)) return
       ! the grid's mass (the nodes in use), the step's conditions and loads
       call p2g(g, pt, n, nnz=sc%nnz)
       call kind%forces(sc)
+      call sc%exchange%sum_grid(g, .false.)
       call step_loads(sc, kind, given)
-      call number_dofs(sc, dof, nfree)
+      call number_dofs(sc, dof, nfree, rows)
       if (nfree == 0) then
         call new_error(err, status_invalid, 'time%scheme', 'the implicit step has no free '// &
                        'node: every node in use is fixed'); return
@@ -175,14 +181,24 @@ contains
         where (g%given(1:nd, a)) du(:, a) = given*sc%dt
       end do
       allocate (r(nfree), delta(nfree), dtan(sc%ntens**2, n), avg(n), xf(nfree), xn(nfree), &
-                source=0.0_dp)
+                mag(nd, g%glo:g%ghi), source=0.0_dp)
+      ! Algorithm 1's sweep order: the explicit step's keys (the start's cell layer, the id)
+      allocate (skey(n))
+      do p = 1, n
+        skey(p) = sweep_key(cell_layer(x0(nd, p), sc%origin(nd), sc%dx, sc%nlayers), pt%gid(p))
+      end do
       ! an axisymmetric kind: the hoop terms, from each particle's radius
       axi = .false.
       if (n > 0) axi = kind%radius(x0(:, 1)) > 0.0_dp
       if (axi) allocate (radius(n), stretch(n))
       accelerate = sc%nl%active .and. opt%anderson_depth > 0
       if (accelerate) call new_anderson(acc, nfree, opt%anderson_depth, 1.0_dp)
-      call solver%setup(nfree, row_nonzeros(nd, pt%nsup), opt%method, err)
+      if (sc%exchange%nranks() > 1) then
+        call solver%setup(nfree, row_nonzeros(nd, pt%nsup), opt%method, err, &
+                          comm=sc%exchange%mpi_handle(), rows=rows)
+      else
+        call solver%setup(nfree, row_nonzeros(nd, pt%nsup), opt%method, err)
+      end if
       if (allocated(err)) return
       do it = 0, opt%max_iterations
         ! --- the state at du from the start's: F, V, the UMAT's stress and
@@ -193,9 +209,8 @@ contains
         ! the hoop strain is the radius's: the iterate's positions first
         if (axi) call move_particles(sc, x0, du)
         last = kind%kinematics(sc)
-        if (last <= n) then
-          call fail('particle '//int_text(pt%gid(last))//' was turned inside out'); return
-        end if
+        if (last <= n) call fail('particle '//int_text(pt%gid(last))//' was turned inside out')
+        if (stopped()) return
         if (axi) then
           do p = 1, n
             radius(p) = kind%radius(pt%x(:, p))
@@ -203,20 +218,18 @@ contains
           end do
         end if
         if (sc%nl%active) then
-          call nonlocal_fixed_point(sc, x0, du, avg, rep%sweeps, err)
-          if (allocated(err)) then
-            call restore(); return
-          end if
+          call nonlocal_fixed_point(sc, x0, du, skey, avg, rep%sweeps, err)
+          if (stopped()) return
         end if
         do p = 1, n
           call stress_tangent(sc, p, avg(p), dtan(:, p), err)
-          if (allocated(err)) then
-            call restore(); return
-          end if
+          if (allocated(err)) exit
         end do
+        if (stopped()) return
         ! --- the residual on the free nodes and its scale
         if (present(accel)) inertia = newmark_inertia(sc, nm, du)
-        call residual(sc, dof, v0, r, scale, inertia, radius, stretch)
+        call residual(sc, dof, v0, r, mag, inertia, radius, stretch)
+        call complete_residual(sc, r, mag, scale)
         rel = maxval(abs(r))/max(scale, tiny(1.0_dp))
         rep%residual(it) = rel
         if (rel <= opt%rtol) then
@@ -229,14 +242,12 @@ contains
         if (axi) call assemble_hoop(sc, solver, dof, dtan, radius)
         if (present(accel)) call newmark_tangent(sc, solver, dof)
         call solver%solve(r, delta, err, last)
-        if (allocated(err)) then
-          call restore(); return
-        end if
+        if (stopped()) return
         rep%iterations = rep%iterations + 1
         rep%linear_iterations = rep%linear_iterations + last
         if (accelerate) then
           ! Anderson on x -> x + delta, x the free dofs of du
-          call gather(dof, du, xf)
+          call gather_free(sc, dof, du, xf)
           call anderson_step(acc, xf, xf + delta, xn)
           delta = xn - xf
         end if
@@ -246,7 +257,8 @@ contains
       end do
       if (.not. rep%converged) then
         call fail('Newton did not converge in '//int_text(opt%max_iterations)// &
-                  ' iterations (relative residual '//real_text(rel)//')'); return
+                  ' iterations (relative residual '//real_text(rel)//')')
+        if (stopped()) return
       end if
       ! --- the converged step: positions and velocities from du
       call move_particles(sc, x0, du)
@@ -269,10 +281,16 @@ contains
     end subroutine restore
     subroutine fail(what)
       character(len=*), intent(in) :: what
-      call restore()
       call new_error(err, status_cutback, 'time', 'implicit step '//int_text(sc%nstep + 1)// &
                      ', t = '//real_text(sc%t + sc%dt)//' s: '//what)
     end subroutine fail
+    !> An error on any rank, made every rank's (the lowest rank's message):
+    !> the particles back at the step's start. Collective.
+    logical function stopped()
+      call sc%exchange%sync_error(err)
+      stopped = allocated(err)
+      if (stopped) call restore()
+    end function stopped
   end subroutine newton_step
 
   !> The kind's conditions of the step (the node flags and given velocity,
@@ -309,58 +327,16 @@ contains
     end associate
   end subroutine move_particles
 
-  !> The free dofs' values of du into x (dof(d, i) > 0: x(dof(d, i))).
-  pure subroutine gather(dof, du, x)
-    integer, intent(in) :: dof(:, :)
-    real(dp), intent(in) :: du(:, :)
-    real(dp), intent(out) :: x(:)
-    integer :: i, d
-    do i = 1, size(dof, 2)
-      do d = 1, size(dof, 1)
-        if (dof(d, i) > 0) x(dof(d, i)) = du(d, i)
-      end do
-    end do
-  end subroutine gather
-
-  !> The free degrees of freedom: each direction of a node neither fixed nor
-  !> given, of mass above `touched` of the grid's largest, numbered 1 ..
-  !> nfree (0: not free). A node a particle's domain barely reaches (a
-  !> deformed CPDI corner past a node line) has next to no stiffness; as a
-  !> dof its displacement is whatever keeps its residual under the tolerance
-  !> (metres, next to a cylinder's end). Below `touched` a node keeps the
-  !> predictor's du, its particles' motion, as the explicit step moves it
-  !> (docs/research/implicit.md, "Nodes a particle barely reaches").
-  subroutine number_dofs(sc, dof, nfree)
-    type(mpm_scene_t), intent(in) :: sc
-    integer, allocatable, intent(out) :: dof(:, :)
-    integer, intent(out) :: nfree
-    real(dp), parameter :: touched = 1.0e-6_dp
-    real(dp) :: floor
-    integer :: i, d
-    associate (g => sc%grid)
-      allocate (dof(sc%ndim, g%glo:g%ghi), source=0)
-      floor = max(sc%mass_floor, touched*maxval(g%mass))
-      nfree = 0
-      do i = g%glo, g%ghi
-        if (.not. g%mass(i) > floor) cycle
-        do d = 1, sc%ndim
-          if (g%fixed(d, i) .or. g%given(d, i)) cycle
-          nfree = nfree + 1
-          dof(d, i) = nfree
-        end do
-      end do
-    end associate
-  end subroutine number_dofs
-
   !> Algorithm 1 at the iterate du (the dissertation's global fixed point
   !> inside each Newton iteration): the sweeps of the explicit step from the
   !> kinematics' start (the rotated stress), the averages at the end-of-step
   !> positions x0 + sum phi du; avg(p), each particle's converged average
   !> (0 for the elastic ones), for stress_tangent, which then redoes the
   !> particle's update with it. `sweeps` counts Algorithm 1's sweeps.
-  subroutine nonlocal_fixed_point(sc, x0, du, avg, sweeps, err)
+  subroutine nonlocal_fixed_point(sc, x0, du, skey, avg, sweeps, err)
     type(mpm_scene_t), intent(inout) :: sc
     real(dp), intent(in) :: x0(:, :), du(:, sc%grid%glo:)
+    integer(int64), intent(in) :: skey(:)
     real(dp), intent(out) :: avg(:)
     integer, intent(inout) :: sweeps
     type(error_t), allocatable, intent(out) :: err
@@ -381,10 +357,10 @@ contains
       if (warm) then
         start = sc%nl%dl
         call nonlocal_solve(sc%nl, sc, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
-                            pt%phi(:, 1:n), err, ranks=sc%exchange, dl_start=start)
+                            pt%phi(:, 1:n), err, ranks=sc%exchange, key=skey, dl_start=start)
       else
         call nonlocal_solve(sc%nl, sc, pt%x(:, 1:n), pt%mass(1:n), pt%node(:, 1:n), &
-                            pt%phi(:, 1:n), err, ranks=sc%exchange)
+                            pt%phi(:, 1:n), err, ranks=sc%exchange, key=skey)
       end if
       if (allocated(err)) return
       sweeps = sweeps + sc%nl%last%iterations

@@ -9,6 +9,7 @@ module wellposed_mpm_implicit_stepper
   use wellposed_error, only: error_t, new_error, status_cutback
   use wellposed_text, only: int_text, real_text
   use wellposed_mpm_scene, only: mpm_scene_t
+  use wellposed_mpm_step, only: hand_off
   use wellposed_mpm_linear_solver, only: linear_solver_t
   use wellposed_mpm_implicit_step, only: implicit_settings_t, newton_report_t, &
                                          advance_implicit
@@ -74,7 +75,8 @@ contains
 
   !> One accepted step of sc towards t_end (sc%dt set to its size); an
   !> error other than a cut-back, or a cut-back below the smallest size,
-  !> leaves sc at its start and is returned.
+  !> leaves sc at its start and is returned. Collective: first the
+  !> particles to their ranks, with their accelerations.
   subroutine stepper_advance(self, sc, t_end, err)
     class(implicit_stepper_t), intent(inout) :: self
     type(mpm_scene_t), intent(inout) :: sc
@@ -83,6 +85,19 @@ contains
     type(newton_report_t) :: rep
     real(dp) :: dt, dt_min
     character(len=:), allocatable :: why
+    integer, allocatable :: before(:)
+    allocate (before(sc%parts%n))
+    before(:) = sc%parts%gid(1:sc%parts%n)
+    call hand_off(sc, err, self%accel)
+    if (allocated(err)) return
+    ! Algorithm 1's warm start holds the last solve's particles in their order
+    if (allocated(sc%nl%dl)) then
+      if (size(before) /= sc%parts%n) then
+        deallocate (sc%nl%dl)
+      else if (any(before /= sc%parts%gid(1:sc%parts%n))) then
+        deallocate (sc%nl%dl)
+      end if
+    end if
     dt_min = self%dt_max/2.0_dp**max_halvings
     dt = min(self%dt_next, t_end - sc%t)
     ! no sliver of a step left for the end

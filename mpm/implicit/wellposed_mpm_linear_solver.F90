@@ -1,9 +1,10 @@
 !> The linear systems of the MPM's implicit scheme, K x = b with K sparse,
 !> n x n and possibly nonsymmetric (a nonassociative model's tangent), over
-!> PETSc: a sequential AIJ matrix on PETSC_COMM_SELF filled entry by entry
-!> (1-based), then LU through MUMPS or GMRES(50) with ILU(0). PETSc starts
-!> once per process without the program's command line; a build without
-!> PETSc compiles wellposed_mpm_linear_solver_none.f90 instead.
+!> PETSc: an AIJ matrix filled entry by entry (1-based, global indices), on
+!> PETSC_COMM_SELF, or over the ranks of an MPI communicator, each holding a
+!> block of rows; then LU through MUMPS, or GMRES(50) with ILU(0) (block
+!> Jacobi over ranks). PETSc starts once per process without the program's
+!> command line; a build without PETSc compiles ..._none.f90 instead.
 module wellposed_mpm_linear_solver
 #include <petsc/finclude/petscksp.h>
   use, intrinsic :: iso_c_binding, only: c_int, c_char, c_ptr, c_null_ptr, c_null_char
@@ -35,15 +36,17 @@ module wellposed_mpm_linear_solver
   logical :: petsc_started_here = .false.
 
   !> One system: its matrix, right-hand side and solution vectors and the
-  !> KSP. `stage` says how far setup got (0: nothing to free), `fault` the
-  !> first failed `add`, reported by the next solve.
+  !> KSP; distributed, this rank's rows first .. last and the scatter of x
+  !> to every rank (`whole`). `stage` says how far setup got (0: nothing to
+  !> free), `fault` the first failed `add`, reported by the next solve.
   type :: linear_solver_t
     private
-    integer :: n = 0, method = 0, stage = 0
-    logical :: dirty = .false.
+    integer :: n = 0, method = 0, stage = 0, first = 1, last = 0
+    logical :: dirty = .false., distributed = .false.
     character(len=:), allocatable :: fault
     Mat :: a
-    Vec :: b, x
+    Vec :: b, x, whole
+    VecScatter :: to_all
     KSP :: ksp
   contains
     procedure :: setup, zero, add, add_block, solve, destroy
@@ -76,20 +79,28 @@ contains
 
   !> Create the n x n matrix (max_row_nonzeros entries a row preallocated),
   !> its vectors and the KSP of `method` (solver_direct, solver_gmres; rtol
-  !> the relative residual reduction of GMRES, default 1e-10). Starts PETSc
-  !> on first use: collective over MPI_COMM_WORLD when the driver runs MPI on
-  !> several ranks (PetscInitialize is), so all of them set up first then.
-  !> A solver already set up is destroyed first, so the caller may set up
-  !> again whenever n or the sparsity changes.
-  subroutine setup(self, n, max_row_nonzeros, method, err, rtol)
+  !> the relative residual reduction of GMRES, default 1e-10). With `comm`
+  !> (an MPI communicator's Fortran handle) and `rows` (this rank's rows
+  !> [first, last], 1-based; the ranks' blocks in rank order cover 1 .. n)
+  !> the system is shared over the ranks of comm, and setup, zero and solve
+  !> are collective; add and add_block take any row. Starts PETSc on first
+  !> use: collective over MPI_COMM_WORLD when the driver runs MPI on several
+  !> ranks (PetscInitialize is), so all of them set up first then. A solver
+  !> already set up is destroyed first, so the caller may set up again
+  !> whenever n or the sparsity changes.
+  subroutine setup(self, n, max_row_nonzeros, method, err, rtol, comm, rows)
     class(linear_solver_t), intent(inout) :: self
     integer, intent(in) :: n, max_row_nonzeros, method
     type(error_t), allocatable, intent(out) :: err
     real(dp), intent(in), optional :: rtol
+    integer, intent(in), optional :: comm, rows(2)
     real(dp) :: tol
     PetscErrorCode :: ierr
     PetscBool :: given
+    PetscInt :: lo, hi
+    MPI_Comm :: pcomm
     PC :: pc
+    integer :: nloc, m
     call self%destroy()
     tol = 1.0e-10_dp
     if (present(rtol)) tol = rtol
@@ -105,28 +116,64 @@ contains
     else if (.not. (tol > 0.0_dp .and. tol < 1.0_dp)) then
       call new_error(err, status_invalid, 'rtol', 'linear solver: rtol must lie in (0, 1)')
       return
+    else if (present(comm) .neqv. present(rows)) then
+      call new_error(err, status_invalid, 'rows', 'linear solver: a shared system needs '// &
+                     'both the communicator and this rank''s rows'); return
+    end if
+    self%first = 1
+    self%last = n
+    self%distributed = present(comm)
+    pcomm = PETSC_COMM_SELF
+    if (self%distributed) then
+      if (rows(1) < 1 .or. rows(2) > n .or. rows(2) < rows(1) - 1) then
+        call new_error(err, status_invalid, 'rows', 'linear solver: rows '// &
+          int_text(rows(1))//' .. '//int_text(rows(2))//' of a system of '//int_text(n)// &
+          ' (need 1 <= first <= last + 1 <= n + 1)'); return
+      end if
+      self%first = rows(1)
+      self%last = rows(2)
+      pcomm = comm
     end if
     call start_petsc(err)
     if (allocated(err)) return
     self%n = n
     self%method = method
-    call MatCreateSeqAIJ(PETSC_COMM_SELF, to_petsc(n), to_petsc(n), &
-                         to_petsc(min(max_row_nonzeros, n)), PETSC_NULL_INTEGER, self%a, ierr)
-    if (failed(ierr, 'MatCreateSeqAIJ', self, err)) return
+    nloc = self%last - self%first + 1
+    m = min(max_row_nonzeros, n)
+    if (self%distributed) then
+      ! preallocation: the diagonal block holds at most nloc columns
+      call MatCreateAIJ(pcomm, to_petsc(nloc), to_petsc(nloc), to_petsc(n), to_petsc(n), &
+                        to_petsc(min(m, nloc)), PETSC_NULL_INTEGER, to_petsc(min(m, n - nloc)), &
+                        PETSC_NULL_INTEGER, self%a, ierr)
+    else
+      call MatCreateSeqAIJ(pcomm, to_petsc(n), to_petsc(n), to_petsc(m), PETSC_NULL_INTEGER, &
+                           self%a, ierr)
+    end if
+    if (failed(ierr, 'MatCreateAIJ', self, err)) return
     self%stage = 1
+    call MatGetOwnershipRange(self%a, lo, hi, ierr)
+    if (failed(ierr, 'MatGetOwnershipRange', self, err)) return
+    if (lo /= self%first - 1 .or. hi /= self%last) then
+      call new_error(err, status_invalid, 'rows', 'linear solver: PETSc gave this rank rows '// &
+        int_text(int(lo) + 1)//' .. '//int_text(int(hi))//', not '//int_text(self%first)// &
+        ' .. '//int_text(self%last)//' (the ranks'' rows must follow in rank order)'); return
+    end if
     ! Particles crossing cells change the pattern between assemblies: an
     ! entry new to it is stored (PETSc would otherwise refuse it).
     call MatSetOption(self%a, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE, ierr)
     if (failed(ierr, 'MatSetOption', self, err)) return
-    call VecCreateSeq(PETSC_COMM_SELF, to_petsc(n), self%b, ierr)
-    if (failed(ierr, 'VecCreateSeq', self, err)) return
-    self%stage = 2
-    call VecDuplicate(self%b, self%x, ierr)
-    if (failed(ierr, 'VecDuplicate', self, err)) return
+    call MatCreateVecs(self%a, self%x, self%b, ierr)
+    if (failed(ierr, 'MatCreateVecs', self, err)) return
     self%stage = 3
-    call KSPCreate(PETSC_COMM_SELF, self%ksp, ierr)
+    call KSPCreate(pcomm, self%ksp, ierr)
     if (failed(ierr, 'KSPCreate', self, err)) return
     self%stage = 4
+    if (self%distributed) then
+      ! every rank takes the whole solution (its patch's unknowns among them)
+      call VecScatterCreateToAll(self%x, self%to_all, self%whole, ierr)
+      if (failed(ierr, 'VecScatterCreateToAll', self, err)) return
+      self%stage = 5
+    end if
     call KSPGetPC(self%ksp, pc, ierr)
     if (failed(ierr, 'KSPGetPC', self, err)) return
     if (method == solver_direct) then
@@ -152,10 +199,16 @@ contains
       if (failed(ierr, 'KSPSetType', self, err)) return
       call KSPGMRESSetRestart(self%ksp, to_petsc(50), ierr)
       if (failed(ierr, 'KSPGMRESSetRestart', self, err)) return
-      call PCSetType(pc, PCILU, ierr)
-      if (failed(ierr, 'PCSetType', self, err)) return
-      call PCFactorSetLevels(pc, to_petsc(0), ierr)
-      if (failed(ierr, 'PCFactorSetLevels', self, err)) return
+      if (self%distributed) then
+        ! ILU(0) of each rank's diagonal block (PETSc's ILU is sequential)
+        call PCSetType(pc, PCBJACOBI, ierr)
+        if (failed(ierr, 'PCSetType', self, err)) return
+      else
+        call PCSetType(pc, PCILU, ierr)
+        if (failed(ierr, 'PCSetType', self, err)) return
+        call PCFactorSetLevels(pc, to_petsc(0), ierr)
+        if (failed(ierr, 'PCFactorSetLevels', self, err)) return
+      end if
       call KSPSetTolerances(self%ksp, tol, PETSC_DEFAULT_REAL, PETSC_DEFAULT_REAL, &
                             PETSC_DEFAULT_INTEGER, ierr)
       if (failed(ierr, 'KSPSetTolerances', self, err)) return
@@ -275,7 +328,7 @@ contains
     if (failed(ierr, 'MatAssemblyBegin/End', self, err)) return
     call VecGetArrayF90(self%b, p, ierr)
     if (failed(ierr, 'VecGetArrayF90', self, err)) return
-    p = b
+    p = b(self%first:self%last)
     call VecRestoreArrayF90(self%b, p, ierr)
     if (failed(ierr, 'VecRestoreArrayF90', self, err)) return
     call KSPSetOperators(self%ksp, self%a, self%a, ierr)
@@ -306,6 +359,18 @@ contains
                      '): the matrix is singular (MUMPS found '//int_text(nnull)// &
                      ' null pivot(s): a node or mode nothing holds)'); return
     end if
+    if (self%distributed) then
+      call VecScatterBegin(self%to_all, self%x, self%whole, INSERT_VALUES, SCATTER_FORWARD, ierr)
+      if (ierr == 0) call VecScatterEnd(self%to_all, self%x, self%whole, INSERT_VALUES, &
+                                        SCATTER_FORWARD, ierr)
+      if (failed(ierr, 'VecScatterBegin/End', self, err)) return
+      call VecGetArrayReadF90(self%whole, p, ierr)
+      if (failed(ierr, 'VecGetArrayReadF90', self, err)) return
+      x = p
+      call VecRestoreArrayReadF90(self%whole, p, ierr)
+      if (failed(ierr, 'VecRestoreArrayReadF90', self, err)) return
+      return
+    end if
     call VecGetArrayReadF90(self%x, p, ierr)
     if (failed(ierr, 'VecGetArrayReadF90', self, err)) return
     x = p
@@ -322,6 +387,8 @@ contains
     if (self%stage > 0) then
       call PetscFinalized(finished, ierr)
       if (.not. finished) then
+        if (self%stage >= 5) call VecScatterDestroy(self%to_all, ierr)
+        if (self%stage >= 5) call VecDestroy(self%whole, ierr)
         if (self%stage >= 4) call KSPDestroy(self%ksp, ierr)
         if (self%stage >= 3) call VecDestroy(self%x, ierr)
         if (self%stage >= 2) call VecDestroy(self%b, ierr)
@@ -332,6 +399,7 @@ contains
     self%n = 0
     self%method = 0
     self%dirty = .false.
+    self%distributed = .false.
     if (allocated(self%fault)) deallocate (self%fault)
   end subroutine destroy
 
@@ -392,9 +460,9 @@ contains
     if (ierr == 0) nnull = int(infog)
   end subroutine null_pivots
 
-  !> Add 0 to every diagonal entry: PETSc's ILU refuses a row without one
-  !> (a node nothing stiffens) as an error; stored, it is a zero pivot, a
-  !> divergence the solve reports as a singular matrix.
+  !> Add 0 to every diagonal entry of this rank's rows: PETSc's ILU refuses
+  !> a row without one (a node nothing stiffens) as an error; stored, it is
+  !> a zero pivot, a divergence the solve reports as a singular matrix.
   subroutine diagonal_entries(self, ierr)
     type(linear_solver_t), intent(inout) :: self
     PetscErrorCode, intent(out) :: ierr
@@ -402,7 +470,7 @@ contains
     PetscScalar, parameter :: nothing(1) = 0.0_dp
     integer :: i
     ierr = 0
-    do i = 1, self%n
+    do i = self%first, self%last
       k(1) = to_petsc(i - 1)
       call MatSetValues(self%a, to_petsc(1), k, to_petsc(1), k, nothing, ADD_VALUES, ierr)
       if (ierr /= 0) return

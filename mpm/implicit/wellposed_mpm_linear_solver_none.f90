@@ -35,11 +35,12 @@ module wellposed_mpm_linear_solver
 contains
 
   !> Always fails: this build has no PETSc (see no_petsc).
-  subroutine setup(self, n, max_row_nonzeros, method, err, rtol)
+  subroutine setup(self, n, max_row_nonzeros, method, err, rtol, comm, rows)
     class(linear_solver_t), intent(inout) :: self
     integer, intent(in) :: n, max_row_nonzeros, method
     type(error_t), allocatable, intent(out) :: err
     real(dp), intent(in), optional :: rtol
+    integer, intent(in), optional :: comm, rows(2)
     self%n = 0
     call new_error(err, status_invalid, 'petsc', no_petsc)
   end subroutine setup

@@ -20,14 +20,16 @@ module wellposed_mpm_newmark
 
 contains
 
-  !> The start's nodal v and a of scene sc (after p2g: g%mass, g%momentum),
-  !> the particles' accelerations `accel` (ndim, n); `given`, the given
-  !> velocity; du, the predictor dt v + dt^2 a / 4 (a1 = a).
+  !> The start's nodal v and a of scene sc (after p2g and the ranks' sum:
+  !> g%mass, g%momentum), the particles' accelerations `accel` (ndim, n),
+  !> their m a summed at the nodes the ranks share; `given`, the given
+  !> velocity; du, the predictor dt v + dt^2 a / 4 (a1 = a). Collective.
   subroutine newmark_start(sc, accel, given, nm, du)
-    type(mpm_scene_t), intent(in) :: sc
+    type(mpm_scene_t), intent(inout) :: sc
     real(dp), intent(in) :: accel(:, :), given(:)
     type(newmark_t), intent(out) :: nm
     real(dp), intent(out) :: du(:, sc%grid%glo:)
+    real(dp) :: col(sc%grid%ghi - sc%grid%glo + 1)
     integer :: p, k, i, d, nd
     nd = sc%ndim
     associate (g => sc%grid, pt => sc%parts)
@@ -38,6 +40,13 @@ contains
           nm%a(:, i) = nm%a(:, i) + pt%mass(p)*pt%phi(k, p)*accel(:, p)
         end do
       end do
+      if (sc%exchange%nranks() > 1) then
+        do d = 1, nd
+          col = nm%a(d, :)
+          call sc%exchange%nodes_sum(col)
+          nm%a(d, :) = col
+        end do
+      end if
       do i = g%glo, g%ghi
         if (g%mass(i) > sc%mass_floor) then
           nm%v(:, i) = g%momentum(1:nd, i)/g%mass(i)
@@ -74,15 +83,15 @@ contains
     end associate
   end function newmark_inertia
 
-  !> 4 m_i / dt^2 on the diagonal of each free dof (dof > 0): the inertia's
-  !> share of A = -dR/du.
+  !> 4 m_i / dt^2 on the diagonal of each free dof (dof > 0) of the nodes
+  !> this rank owns: the inertia's share of A = -dR/du.
   subroutine newmark_tangent(sc, solver, dof)
     type(mpm_scene_t), intent(in) :: sc
     type(linear_solver_t), intent(inout) :: solver
     integer, intent(in) :: dof(:, sc%grid%glo:)
     integer :: i, d
     associate (g => sc%grid)
-      do i = g%glo, g%ghi
+      do i = g%ilo, g%ihi
         do d = 1, sc%ndim
           if (dof(d, i) > 0) call solver%add(dof(d, i), dof(d, i), 4.0_dp*g%mass(i)/sc%dt**2)
         end do
