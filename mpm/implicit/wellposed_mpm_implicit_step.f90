@@ -14,7 +14,9 @@ module wellposed_mpm_implicit_step
   use wellposed_mpm_shape_weights, only: shape_weights
   use wellposed_mpm_transfer, only: p2g, velocity_gradients
   use wellposed_mpm_implicit_forces, only: residual, assemble, assemble_hoop, row_nonzeros
-  use wellposed_mpm_implicit_dofs, only: number_dofs, gather_free, complete_residual
+  use wellposed_mpm_implicit_dofs, only: number_dofs, gather_free, complete_residual, &
+                                        zero_mean_motion
+  use wellposed_mpm_implicit_contact, only: contact_platen, contact_residual, contact_tangent
   use wellposed_mpm_grid, only: cell_layer
   use wellposed_mpm_nonlocal, only: nonlocal_solve, nonlocal_average, sweep_key
   use wellposed_anderson, only: anderson_t, new_anderson, anderson_step
@@ -22,7 +24,6 @@ module wellposed_mpm_implicit_step
                                  restore_start
   use wellposed_mpm_bar_kind, only: bar_kind_t
   use wellposed_mpm_plate_kind, only: plate_kind_t
-  use wellposed_mpm_plate_config, only: platen_contact
   use wellposed_mpm_method, only: no_viscosity
   use wellposed_mpm_particle_umat, only: umat_particle
   use wellposed_umat_host, only: umat_is_ours
@@ -33,7 +34,7 @@ module wellposed_mpm_implicit_step
   implicit none
   private
   public :: implicit_settings_t, newton_report_t, advance_implicit, implicit_refusal, &
-            max_newton
+            dynamic_refusal, max_newton
 
   integer, parameter :: max_newton = 50
 
@@ -73,8 +74,6 @@ contains
     type is (bar_kind_t)
     class is (plate_kind_t)
       ! the plate and the axisymmetric cylinder (whose kind extends it)
-      if (k%cfg%platen == platen_contact) why = 'the implicit scheme has no contact '// &
-        'platen yet (&boundary platen = ''grid'' or ''surface'')'
     class default
       why = 'the implicit scheme runs the bar, the plate and the cylinder only so far'
     end select
@@ -92,6 +91,18 @@ contains
               'tangent (DDSDDE): the implicit scheme needs a UMAT'
     end do
   end function implicit_refusal
+
+  !> Why scene sc cannot take the dynamic (Newmark) step beyond
+  !> implicit_refusal's reasons (empty: it can).
+  function dynamic_refusal(sc) result(why)
+    type(mpm_scene_t), intent(in) :: sc
+    character(len=:), allocatable :: why
+    real(dp) :: plane(2)
+    why = ''
+    if (contact_platen(sc, sc%kind, plane)) why = 'the Newmark step has no contact platen '// &
+      'yet (its penalty would ring undamped): &boundary platen = ''grid'' or ''surface'', '// &
+      'or scheme = ''implicit'''
+  end function dynamic_refusal
 
   !> One step of length sc%dt (see the module comment), the load at t + dt:
   !> quasi-static, or with `accel` (the particles' accelerations, ndim x n)
@@ -111,7 +122,9 @@ contains
     real(dp), intent(inout), optional :: accel(:, :)
     class(scene_kind_t), allocatable :: kind
     character(len=:), allocatable :: why
-    why = implicit_refusal(sc)
+    why = ''
+    if (present(accel)) why = dynamic_refusal(sc)
+    if (len(why) == 0) why = implicit_refusal(sc)
     if (len(why) > 0) then
       call new_error(err, status_invalid, 'time%scheme', why); return
     end if
@@ -147,7 +160,8 @@ contains
     real(dp), allocatable :: radius(:), stretch(:), inertia(:, :), mag(:, :)
     real(dp) :: given(sc%ndim), scale, rel
     integer :: n, nd, nfree, it, last, p, a, rows(2)
-    logical :: axi
+    real(dp) :: plane(2)
+    logical :: axi, contact, pinned(sc%ndim)
     call size_workspace(sc)
     nd = sc%ndim
     associate (g => sc%grid, pt => sc%parts)
@@ -158,10 +172,25 @@ contains
       if (allocated(err)) return
       ! the grid's mass (the nodes in use), the step's conditions and loads
       call p2g(g, pt, n, nnz=sc%nnz)
+      contact = contact_platen(sc, kind, plane)
+      call push(.false.)
       call kind%forces(sc)
+      call push(.true.)
       call sc%exchange%sum_grid(g, .false.)
       call step_loads(sc, kind, given)
-      call number_dofs(sc, dof, nfree, rows)
+      ! an axisymmetric kind: the hoop terms, from each particle's radius
+      ! (any rank's particles tell: every rank numbers the dofs alike)
+      axi = .false.
+      if (n > 0) axi = kind%radius(pt%x(:, 1)) > 0.0_dp
+      axi = sc%exchange%any_true(axi)
+      ! quasi-static: a rigid translation nothing holds is pinned (the hoop
+      ! terms hold the cylinder's radial one)
+      pinned = .false.
+      if (present(accel) .or. axi) then
+        call number_dofs(sc, dof, nfree, rows)
+      else
+        call number_dofs(sc, dof, nfree, rows, pinned)
+      end if
       if (nfree == 0) then
         call new_error(err, status_invalid, 'time%scheme', 'the implicit step has no free '// &
                        'node: every node in use is fixed'); return
@@ -187,9 +216,6 @@ contains
       do p = 1, n
         skey(p) = sweep_key(cell_layer(x0(nd, p), sc%origin(nd), sc%dx, sc%nlayers), pt%gid(p))
       end do
-      ! an axisymmetric kind: the hoop terms, from each particle's radius
-      axi = .false.
-      if (n > 0) axi = kind%radius(x0(:, 1)) > 0.0_dp
       if (axi) allocate (radius(n), stretch(n))
       accelerate = sc%nl%active .and. opt%anderson_depth > 0
       if (accelerate) call new_anderson(acc, nfree, opt%anderson_depth, 1.0_dp)
@@ -229,6 +255,7 @@ contains
         ! --- the residual on the free nodes and its scale
         if (present(accel)) inertia = newmark_inertia(sc, nm, du)
         call residual(sc, dof, v0, r, mag, inertia, radius, stretch)
+        if (contact) call contact_residual(sc, plane, x0, f0, du, dof, r, mag)
         call complete_residual(sc, r, mag, scale)
         rel = maxval(abs(r))/max(scale, tiny(1.0_dp))
         rep%residual(it) = rel
@@ -240,6 +267,7 @@ contains
         ! --- the tangent A = -dR/du and the Newton correction A delta = R
         call assemble(sc, solver, dof, dtan, s0, v0)
         if (axi) call assemble_hoop(sc, solver, dof, dtan, radius)
+        if (contact) call contact_tangent(sc, plane, x0, f0, du, dof, solver)
         if (present(accel)) call newmark_tangent(sc, solver, dof)
         call solver%solve(r, delta, err, last)
         if (stopped()) return
@@ -261,6 +289,7 @@ contains
         if (stopped()) return
       end if
       ! --- the converged step: positions and velocities from du
+      call zero_mean_motion(sc, pinned, du)
       call move_particles(sc, x0, du)
       if (.not. present(accel)) then
         do p = 1, n
@@ -284,6 +313,14 @@ contains
       call new_error(err, status_cutback, 'time', 'implicit step '//int_text(sc%nstep + 1)// &
                      ', t = '//real_text(sc%t + sc%dt)//' s: '//what)
     end subroutine fail
+    !> The contact platen's explicit push in kind%forces on or off.
+    subroutine push(on)
+      logical, intent(in) :: on
+      select type (kind)
+      class is (plate_kind_t)
+        kind%push = on
+      end select
+    end subroutine push
     !> An error on any rank, made every rank's (the lowest rank's message):
     !> the particles back at the step's start. Collective.
     logical function stopped()

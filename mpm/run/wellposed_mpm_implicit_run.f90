@@ -10,7 +10,7 @@ module wellposed_mpm_implicit_run
   use wellposed_text, only: real_text
   use wellposed_mpm_scene, only: mpm_scene_t
   use wellposed_mpm_linear_solver, only: solver_names
-  use wellposed_mpm_implicit_step, only: implicit_refusal
+  use wellposed_mpm_implicit_step, only: implicit_refusal, dynamic_refusal
   use wellposed_mpm_implicit_stepper, only: implicit_stepper_t
   implicit none
   private
@@ -37,7 +37,10 @@ contains
         'run the deck again from its start')
       return
     end if
-    why = implicit_refusal(sc)
+    ! the scheme's own refusals first: they hold whatever the materials
+    why = ''
+    if (dynamic) why = dynamic_refusal(sc)
+    if (len(why) == 0) why = implicit_refusal(sc)
     if (len(why) > 0) then
       call new_error(err, status_invalid, 'scheme', '&time scheme = '''// &
                      trim(merge('newmark ', 'implicit', dynamic))//''': '//why)

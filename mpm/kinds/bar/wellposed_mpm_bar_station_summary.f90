@@ -11,6 +11,7 @@ module wellposed_mpm_bar_station_summary
   use wellposed_text, only: int_text, real_text
   use wellposed_summary, only: summary_t
   use wellposed_mpm_bar_config, only: bar_config_t, pulse_ramp_sine
+  use wellposed_mpm_method, only: scheme_implicit
   use wellposed_mpm_stations, only: station_measures_t, find_apex, phase_speed
   use wellposed_umat_host, only: umat_is_ours
   use wellposed_error, only: error_t
@@ -91,6 +92,9 @@ contains
       no_speed = no_pulse
       no_ideal = no_pulse
     end if
+    ! the quasi-static step has no inertia: every station loads at once
+    if (cfg%scheme == scheme_implicit) no_speed = 'scheme = ''implicit'' is quasi-static: '// &
+      'no wave, every station loads at once'
     c_h = head%c
     no_head = no_speed
     if (.not. c_h > 0.0_dp) no_head = head%what

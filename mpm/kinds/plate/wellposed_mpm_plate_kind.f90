@@ -31,6 +31,9 @@ module wellposed_mpm_plate_kind
     real(dp) :: top_disp = 0.0_dp
     integer :: platen_row = -huge(1)
     real(dp) :: bulk = 0.0_dp
+    !> the contact platen's explicit push in `forces` (off: the implicit
+    !> step puts its own in the residual, wellposed_mpm_implicit_contact)
+    logical :: push = .true.
   contains
     procedure :: probe => plate_probe
     procedure :: forces => platen_push
@@ -193,7 +196,7 @@ contains
     integer :: p, k, e, nodes(4)
     real(dp) :: y_pl, r1(2), r2(2), edge(2), gap, stiff, force, phi(4), grad(2, 4), vtop
     associate (cfg => self%cfg, pt => sc%parts, g => sc%grid)
-      if (cfg%top /= bc_velocity .or. cfg%platen /= platen_contact) return
+      if (cfg%top /= bc_velocity .or. cfg%platen /= platen_contact .or. .not. self%push) return
       vtop = platen_velocity(cfg, sc%t, sc%dt)
       y_pl = cfg%height + self%top_disp
       do p = 1, pt%n
