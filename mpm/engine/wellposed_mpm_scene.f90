@@ -81,6 +81,9 @@ module wellposed_mpm_scene
     ! per particle, beside particles_t (they travel with it: hand-off, checkpoint)
     integer, allocatable :: mat(:)        !< material of each particle
     real(dp), allocatable :: q(:)         !< artificial viscous pressure (Pa)
+    !> the implicit dynamic (Newmark) step's accelerations (ndim, capacity;
+    !> unallocated in any other run)
+    real(dp), allocatable :: accel(:, :)
     ! workspace: start-of-step copies (s0, sv0, e0 when Algorithm 1
     ! iterates; the bar's s0(1, :) always), increments, volume at the start,
     ! velocity gradients (ndim x ndim each, eq. 4.11)
@@ -161,7 +164,7 @@ contains
     type(mpm_scene_t), intent(inout) :: self
     integer :: cap, n, ns, st
     integer, allocatable :: mat(:)
-    real(dp), allocatable :: q(:)
+    real(dp), allocatable :: q(:), accel(:, :)
     cap = size(self%parts%gid)
     ns = self%parts%nstatv
     if (allocated(self%q)) then
@@ -169,6 +172,12 @@ contains
       n = min(self%parts%n, size(self%q))
       mat = self%mat(1:n)
       q = self%q(1:n)
+      if (allocated(self%accel)) then
+        accel = self%accel(:, 1:n)
+        deallocate (self%accel)
+        allocate (self%accel(self%ndim, cap), source=0.0_dp)
+        self%accel(:, 1:n) = accel
+      end if
       deallocate (self%mat, self%q, self%s0, self%sv0, self%e0, self%de, self%vol_n, &
                   self%lgrad, self%block_idx, self%block_pos, self%block_done, self%done, &
                   self%nnz, self%block_avg, self%block_dl)

@@ -158,28 +158,24 @@ contains
   end subroutine tick
 
   !> Particles to the rank of their cell layer (collective), with their
-  !> material and viscous pressure and, given, the columns of `carry` (rows
-  !> x particles: what else travels with them, such as the implicit
-  !> dynamic step's accelerations); the workspace follows the capacity.
-  subroutine hand_off(self, err, carry)
+  !> material, viscous pressure and (a Newmark run) acceleration; the
+  !> workspace follows the capacity.
+  subroutine hand_off(self, err)
     type(mpm_scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
-    real(dp), allocatable, intent(inout), optional :: carry(:, :)
     real(dp), allocatable :: extra(:, :)
-    integer :: n, moved, nc
+    integer :: n, moved, na
     if (self%exchange%nranks() == 1) then
       call size_workspace(self)
       return
     end if
     n = self%parts%n
-    nc = 0
-    if (present(carry)) then
-      if (allocated(carry)) nc = size(carry, 1)
-    end if
-    allocate (extra(2 + nc, size(self%parts%gid)))
+    na = 0
+    if (allocated(self%accel)) na = self%ndim
+    allocate (extra(2 + na, size(self%parts%gid)))
     extra(1, 1:n) = self%q(1:n)
     extra(2, 1:n) = real(self%mat(1:n), dp)
-    if (nc > 0) extra(3:, 1:n) = carry(:, 1:n)
+    if (na > 0) extra(3:, 1:n) = self%accel(:, 1:n)
     call self%exchange%hand_off(self%parts, extra, err, moved)
     if (allocated(err)) return
     self%moved = self%moved + moved
@@ -187,7 +183,7 @@ contains
     call size_workspace(self)
     self%q(1:n) = extra(1, 1:n)
     self%mat(1:n) = nint(extra(2, 1:n))
-    if (nc > 0) carry = extra(3:, 1:n)
+    if (na > 0) self%accel(:, 1:n) = extra(3:, 1:n)
   end subroutine hand_off
 
   !> Bulk artificial viscosity of particle p (shared reference B): q = rho

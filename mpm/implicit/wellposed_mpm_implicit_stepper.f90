@@ -36,10 +36,9 @@ module wellposed_mpm_implicit_stepper
     integer :: cutbacks = 0, nlog = 0
     !> continued from a checkpoint: the log holds the steps since
     logical :: restarted = .false.
-    !> the trapezoidal rule's dynamic steps: the particles' accelerations
-    !> (ndim, n; from rest: zero at the start)
+    !> the trapezoidal rule's dynamic steps (the particles' accelerations
+    !> are the scene's, sc%accel: from rest, zero at the start)
     logical :: dynamic = .false.
-    real(dp), allocatable :: accel(:, :)
     type(step_log_t), allocatable :: log(:)
   contains
     procedure :: start => stepper_start
@@ -56,15 +55,13 @@ contains
     class(implicit_stepper_t), intent(inout) :: self
     real(dp), intent(in) :: dt_max
     integer, intent(in) :: method
-    type(mpm_scene_t), intent(in) :: sc
+    type(mpm_scene_t), intent(inout) :: sc
     logical, intent(in) :: dynamic
     call self%solver%destroy()
     if (allocated(self%log)) deallocate (self%log)
-    if (allocated(self%accel)) deallocate (self%accel)
+    if (allocated(sc%accel)) deallocate (sc%accel)
     self%dynamic = dynamic
-    if (dynamic) then
-      allocate (self%accel(sc%ndim, sc%parts%n), source=0.0_dp)
-    end if
+    if (dynamic) allocate (sc%accel(sc%ndim, size(sc%parts%gid)), source=0.0_dp)
     self%dt_max = dt_max
     self%dt_next = dt_max
     self%opt%method = method
@@ -84,11 +81,12 @@ contains
     type(error_t), allocatable, intent(out) :: err
     type(newton_report_t) :: rep
     real(dp) :: dt, dt_min
+    real(dp), allocatable :: accel(:, :)
     character(len=:), allocatable :: why
     integer, allocatable :: before(:)
     allocate (before(sc%parts%n))
     before(:) = sc%parts%gid(1:sc%parts%n)
-    call hand_off(sc, err, self%accel)
+    call hand_off(sc, err)
     if (allocated(err)) return
     ! Algorithm 1's warm start holds the last solve's particles in their order
     if (allocated(sc%nl%dl)) then
@@ -105,7 +103,10 @@ contains
     do
       sc%dt = dt
       ! quasi-static: accel unallocated, so absent in advance_implicit
-      call advance_implicit(sc, self%solver, self%opt, rep, err, self%accel)
+      ! (taken out of the scene for the call: no alias of sc)
+      call move_alloc(sc%accel, accel)
+      call advance_implicit(sc, self%solver, self%opt, rep, err, accel)
+      call move_alloc(accel, sc%accel)
       if (.not. allocated(err)) exit
       if (err%status /= status_cutback) return
       self%cutbacks = self%cutbacks + 1

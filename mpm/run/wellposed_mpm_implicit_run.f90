@@ -20,8 +20,8 @@ contains
 
   !> The stepper of scene sc: steps of at most dt, linear solver `method`,
   !> the trapezoidal rule's dynamic steps when `dynamic`; sc%dt = dt. A
-  !> scene the scheme cannot step is the error, and so is a dynamic run
-  !> that `restart`s: a checkpoint lacks the particles' accelerations.
+  !> scene the scheme cannot step is the error. A dynamic run's particle
+  !> accelerations are the scene's (sc%accel, in its checkpoints).
   subroutine start_implicit(sc, dt, method, dynamic, restart, st, err)
     type(mpm_scene_t), intent(inout) :: sc
     real(dp), intent(in) :: dt
@@ -30,13 +30,6 @@ contains
     type(implicit_stepper_t), intent(inout) :: st
     type(error_t), allocatable, intent(out) :: err
     character(len=:), allocatable :: why
-    if (dynamic .and. restart) then
-      call new_error(err, status_invalid, 'restart', '--restart: a run of &time scheme = '// &
-        '''newmark'' cannot continue from a checkpoint yet: the checkpoint lacks the '// &
-        'particles'' accelerations, and starting them from zero would change the run; '// &
-        'run the deck again from its start')
-      return
-    end if
     ! the scheme's own refusals first: they hold whatever the materials
     why = ''
     if (dynamic) why = dynamic_refusal(sc)

@@ -1,7 +1,7 @@
 !> The state of a running MPM scene (bar or plate) in a checkpoint and back
 !> (--restart), on any number of ranks: time, step, time step, every rank's
 !> partial sums and the kind's scalars (scene_kind_t), Algorithm 1's totals
-!> and every particle, bit for bit. Entries `mpm/<field>`, one per value (the
+!> and every particle (a Newmark run's with its acceleration), bit for bit. Entries `mpm/<field>`, one per value (the
 !> layout's sizes, t, dt, nstep, ...) beside the particle records and the
 !> kind's own arrays; another layout, cell size or time step is refused.
 !> Called by wellposed_mpm_checkpoints; design: docs/guide/parallel.md.
@@ -33,14 +33,17 @@ contains
     type(checkpoint_t), intent(inout) :: ckpt
     real(dp), allocatable :: rec(:), recs(:), partials(:)
     integer, allocatable :: counts(:), pcounts(:)
-    integer :: plen, reclen, p, nsub, moved
+    integer :: plen, reclen, p, nsub, moved, na, k
     plen = particle_record_length(scene%parts)
-    reclen = plen + 2
+    na = accel_rows(scene)
+    reclen = plen + 2 + na
     allocate (rec(reclen*scene%parts%n))
     do p = 1, scene%parts%n
-      call pack_particle(scene%parts, p, rec((p - 1)*reclen + 1:(p - 1)*reclen + plen))
-      rec((p - 1)*reclen + plen + 1) = scene%q(p)
-      rec(p*reclen) = real(scene%mat(p), dp)
+      k = (p - 1)*reclen
+      call pack_particle(scene%parts, p, rec(k + 1:k + plen))
+      rec(k + plen + 1) = scene%q(p)
+      rec(k + plen + 2) = real(scene%mat(p), dp)
+      if (na > 0) rec(k + plen + 3:k + plen + 2 + na) = scene%accel(:, p)
     end do
     if (scene%exchange%nranks() == 1) then
       counts = [size(rec)]   ! one rank: the records are the checkpoint's, not copied
@@ -61,6 +64,7 @@ contains
     call ckpt%put('mpm/ntotal', scene%ntotal)
     call ckpt%put('mpm/nranks', size(counts))
     call ckpt%put('mpm/record_length', reclen)
+    call ckpt%put('mpm/accel_rows', na)
     call ckpt%put('mpm/counts', counts/reclen)
     call ckpt%put_moved('mpm/particles', recs)
     call ckpt%put('mpm/partials', partials)
@@ -94,7 +98,7 @@ contains
     real(dp), allocatable :: recs(:), partials(:), kind_sc(:)
     integer :: layout(7), steps(3), nl(5)
     real(dp) :: sc(3)
-    integer :: plen, reclen, nsaved, p, m, k, rank, nranks, npart
+    integer :: plen, reclen, nsaved, p, m, k, rank, nranks, npart, na, j
     call get_ints(ckpt, [character(len=24) :: 'layout_version', 'ndim', 'nsup', 'nstatv', &
                   'ntotal', 'nranks', 'record_length'], layout, err)
     if (allocated(err)) return
@@ -107,6 +111,16 @@ contains
     end if
     reclen = layout(7)
     nsaved = layout(6)
+    ! the accelerations of a Newmark run (none in a checkpoint before them)
+    na = 0
+    if (ckpt%has('mpm/accel_rows')) then
+      call ckpt%get('mpm/accel_rows', na, err); if (allocated(err)) return
+    end if
+    if (na /= accel_rows(scene)) then
+      call refuse(err, 'its particles carry '//int_text(na)//' acceleration components, '// &
+        'this run '//int_text(accel_rows(scene))//': a checkpoint of a Newmark run '// &
+        'continues a Newmark run only, and one of another scheme none'); return
+    end if
     do k = 1, 3
       call ckpt%get('mpm/'//trim(real_names(k)), sc(k), err); if (allocated(err)) return
     end do
@@ -115,7 +129,7 @@ contains
     if (size(kind_sc) /= size(scene%kind%scalars())) then
       call refuse(err, 'its kind_scalars entry is garbled'); return
     end if
-    call check_scene_matches(scene, layout, sc, plen, err); if (allocated(err)) return
+    call check_scene_matches(scene, layout, sc, plen + na, err); if (allocated(err)) return
     call ckpt%get('mpm/counts', counts, err); if (allocated(err)) return
     call ckpt%get('mpm/particles', recs, err); if (allocated(err)) return
     call ckpt%get('mpm/partials', partials, err); if (allocated(err)) return
@@ -133,11 +147,17 @@ contains
     scene%parts%n = 0
     call ensure_capacity(scene%parts, m)
     call size_workspace(scene)
+    if (na > 0) then
+      deallocate (scene%accel)
+      allocate (scene%accel(na, size(scene%parts%gid)), source=0.0_dp)
+    end if
     do k = 1, m
       p = order(k)
-      call unpack_particle(scene%parts, k, recs((p - 1)*reclen + 1:(p - 1)*reclen + plen))
-      scene%q(k) = recs((p - 1)*reclen + plen + 1)
-      scene%mat(k) = nint(recs(p*reclen))
+      j = (p - 1)*reclen
+      call unpack_particle(scene%parts, k, recs(j + 1:j + plen))
+      scene%q(k) = recs(j + plen + 1)
+      scene%mat(k) = nint(recs(j + plen + 2))
+      if (na > 0) scene%accel(:, k) = recs(j + plen + 3:j + plen + 2 + na)
     end do
     scene%parts%n = m
     scene%t = sc(1)
@@ -161,8 +181,9 @@ contains
   end subroutine restore_scene
 
   !> The checkpoint's dx, dt (sc(3), sc(2)) and particle layout (layout:
-  !> version, ndim, nsup, nstatv, ntotal, nranks, record length) against
-  !> the scene the deck built: another deck or other overrides are refused.
+  !> version, ndim, nsup, nstatv, ntotal, nranks, record length: plen + 2)
+  !> against the scene the deck built: another deck or other overrides are
+  !> refused.
   subroutine check_scene_matches(scene, layout, sc, plen, err)
     type(mpm_scene_t), intent(in) :: scene
     integer, intent(in) :: layout(7), plen
@@ -185,6 +206,14 @@ contains
                   int_text(scene%parts%nstatv)//' (another deck?)')
     end if
   end subroutine check_scene_matches
+
+  !> Acceleration components a particle record carries: ndim in a Newmark
+  !> run (scene%accel allocated), else 0.
+  pure integer function accel_rows(scene) result(na)
+    type(mpm_scene_t), intent(in) :: scene
+    na = 0
+    if (allocated(scene%accel)) na = size(scene%accel, 1)
+  end function accel_rows
 
   !> Which saved records (1-based, `order`) this rank takes: saved on as
   !> many ranks as now, its own in their order; else those of its cell
