@@ -92,30 +92,42 @@ contains
       no_speed = no_pulse
       no_ideal = no_pulse
     end if
-    ! the quasi-static step has no inertia: every station loads at once
-    if (cfg%scheme == scheme_implicit) no_speed = 'scheme = ''implicit'' is quasi-static: '// &
-      'no wave, every station loads at once'
+
     c_h = head%c
     no_head = no_speed
     if (.not. c_h > 0.0_dp) no_head = head%what
     ! the admissible solution of reference A is the local model's (C_P, C_E)
     ideal = .not. ramp .and. c_p >= c_e
-    call sm%add('c_head', meas%c_head, 'm/s, least-squares fit of x against t_head', no_speed)
-    call sm%add('c_tail', meas%c_tail, 'm/s, least-squares fit of x against t_tail', no_speed)
+    if (cfg%scheme == scheme_implicit) then
+      ! the quasi-static step has no inertia: every station loads at once
+      no_speed = 'scheme = ''implicit'' is quasi-static: no wave, every station loads at once'
+      call sm%not_applicable('c_head', no_speed)
+      call sm%not_applicable('c_tail', no_speed)
+    else
+      call sm%add('c_head', meas%c_head, 'm/s, least-squares fit of x against t_head', no_speed)
+      call sm%add('c_tail', meas%c_tail, 'm/s, least-squares fit of x against t_tail', no_speed)
+    end if
     if (c_h > 0.0_dp) then
       call sm%add('c_plastic_head', c_h, head%what)
     else
       call sm%not_applicable('c_plastic_head', head%what)
     end if
     ! divided only where c_h > 0 (a division by 0 traps under -ffpe-trap)
-    if (c_h > 0.0_dp) then
+    if (cfg%scheme == scheme_implicit) then
+      call sm%not_applicable('c_head_over_c_plastic', no_speed)
+    else if (c_h > 0.0_dp) then
       call sm%add('c_head_over_c_plastic', meas%c_head/c_h, 'c_head/c_plastic_head', no_head)
     else
       call sm%not_applicable('c_head_over_c_plastic', no_head)
     end if
-    call sm%add('c_tail_over_c_elastic', meas%c_tail/c_e, why=no_speed)
-    call sm%add('separation_rate', meas%c_head - meas%c_tail, &
-                'm/s, head minus tail speed (ideal Sandler-Rubin: C_P - C_E)', no_speed)
+    if (cfg%scheme == scheme_implicit) then
+      call sm%not_applicable('c_tail_over_c_elastic', no_speed)
+      call sm%not_applicable('separation_rate', no_speed)
+    else
+      call sm%add('c_tail_over_c_elastic', meas%c_tail/c_e, why=no_speed)
+      call sm%add('separation_rate', meas%c_head - meas%c_tail, &
+                  'm/s, head minus tail speed (ideal Sandler-Rubin: C_P - C_E)', no_speed)
+    end if
     call sm%add('c_plastic_minus_c_elastic', c_p - c_e, 'm/s')
     call sm%add('arrival_threshold', meas%threshold, 'Pa, half the load peak, signed as it')
     call sm%add('arrival_definition', 'head = last crossing of arrival_threshold towards '// &
