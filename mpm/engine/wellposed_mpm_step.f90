@@ -158,13 +158,15 @@ contains
   end subroutine tick
 
   !> Particles to the rank of their cell layer (collective), with their
-  !> material, viscous pressure and (a Newmark run) acceleration; the
-  !> workspace follows the capacity.
-  subroutine hand_off(self, err)
+  !> material, viscous pressure, (a Newmark run) acceleration and, given,
+  !> their values of `carry` (one a particle: the implicit step's warm
+  !> start of Algorithm 1); the workspace follows the capacity.
+  subroutine hand_off(self, err, carry)
     type(mpm_scene_t), intent(inout) :: self
     type(error_t), allocatable, intent(out) :: err
+    real(dp), allocatable, intent(inout), optional :: carry(:)
     real(dp), allocatable :: extra(:, :)
-    integer :: n, moved, na
+    integer :: n, moved, na, nc
     if (self%exchange%nranks() == 1) then
       call size_workspace(self)
       return
@@ -172,10 +174,15 @@ contains
     n = self%parts%n
     na = 0
     if (allocated(self%accel)) na = self%ndim
-    allocate (extra(2 + na, size(self%parts%gid)))
+    nc = 0
+    if (present(carry)) then
+      if (allocated(carry)) nc = 1
+    end if
+    allocate (extra(2 + na + nc, size(self%parts%gid)))
     extra(1, 1:n) = self%q(1:n)
     extra(2, 1:n) = real(self%mat(1:n), dp)
-    if (na > 0) extra(3:, 1:n) = self%accel(:, 1:n)
+    if (na > 0) extra(3:2 + na, 1:n) = self%accel(:, 1:n)
+    if (nc > 0) extra(3 + na, 1:n) = carry(1:n)
     call self%exchange%hand_off(self%parts, extra, err, moved)
     if (allocated(err)) return
     self%moved = self%moved + moved
@@ -183,7 +190,8 @@ contains
     call size_workspace(self)
     self%q(1:n) = extra(1, 1:n)
     self%mat(1:n) = nint(extra(2, 1:n))
-    if (na > 0) self%accel(:, 1:n) = extra(3:, 1:n)
+    if (na > 0) self%accel(:, 1:n) = extra(3:2 + na, 1:n)
+    if (nc > 0) carry = extra(3 + na, 1:n)
   end subroutine hand_off
 
   !> Bulk artificial viscosity of particle p (shared reference B): q = rho

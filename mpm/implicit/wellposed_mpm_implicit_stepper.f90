@@ -83,18 +83,19 @@ contains
     real(dp) :: dt, dt_min
     real(dp), allocatable :: accel(:, :)
     character(len=:), allocatable :: why
-    integer, allocatable :: before(:)
-    allocate (before(sc%parts%n))
-    before(:) = sc%parts%gid(1:sc%parts%n)
-    call hand_off(sc, err)
+    real(dp), allocatable :: warm(:)
+    ! Algorithm 1's warm start (the last solve's dlambda) travels with the
+    ! particles, so one rank and many start each solve alike
+    if (allocated(sc%nl%dl) .and. sc%exchange%nranks() > 1) then
+      if (size(sc%nl%dl) == sc%parts%n) warm = sc%nl%dl
+    end if
+    call hand_off(sc, err, warm)
     if (allocated(err)) return
-    ! Algorithm 1's warm start holds the last solve's particles in their order
-    if (allocated(sc%nl%dl)) then
-      if (size(before) /= sc%parts%n) then
-        deallocate (sc%nl%dl)
-      else if (any(before /= sc%parts%gid(1:sc%parts%n))) then
-        deallocate (sc%nl%dl)
-      end if
+    if (allocated(warm)) then
+      ! sized to the particles now here (plastic: Algorithm 1's, set anew)
+      deallocate (sc%nl%dl, sc%nl%plastic)
+      allocate (sc%nl%plastic(sc%parts%n), source=.false.)
+      call move_alloc(warm, sc%nl%dl)
     end if
     dt_min = self%dt_max/2.0_dp**max_halvings
     dt = min(self%dt_next, t_end - sc%t)
